@@ -1,0 +1,253 @@
+//! The rayon-parallel CPU backend: the reference implementation of every stage.
+//!
+//! Every loop is a gather (particle `i` writes only its own slots), and every global sum goes
+//! through `math::sum_in_order`, so results are bitwise identical for any thread count.
+
+use super::params::StepParams;
+use super::{Backend, ForceTerms, StateExtremes};
+use crate::boundary::{solid_force::force_on_solid, wall_pressure::WallPressureSums};
+use crate::fields::{FLUID, Fields, PermuteScratch};
+use crate::grid::{Grid, GridError};
+use crate::math::{Real, Vector, max_in_order, sum_by_group, sum_in_order, to_xyz};
+use crate::physics::{
+    artificial_viscosity::artificial_viscous_acceleration,
+    density::density_term, eos, pressure::pressure_acceleration, viscosity::viscous_acceleration,
+};
+use rayon::prelude::*;
+
+/// CPU backend state: the neighbour grid and reusable scratch buffers.
+#[derive(Debug, Default)]
+pub struct CpuBackend<const D: usize> {
+    /// The neighbour grid of the last `sort_by_cell`.
+    pub grid: Grid<D>,
+    scratch: PermuteScratch<D>,
+    wall: Vec<(Real, Real)>,
+}
+
+impl<const D: usize> CpuBackend<D> {
+    /// A backend with empty buffers.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Bytes held by the grid and scratch buffers.
+    pub fn heap_bytes(&self) -> usize {
+        self.grid.heap_bytes() + self.wall.capacity() * 8
+    }
+}
+
+/// Eqs. (15)–(17) for fluid particle `i`, monomorphised on whether viscosity is on.
+#[inline(always)]
+fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: bool>(
+    grid: &Grid<D>,
+    fields: &Fields<D>,
+    params: &StepParams<D>,
+    i: usize,
+) -> Vector<D> {
+    let kernel = params.smoothing();
+    let (p_i, rho_i, u_i) = (fields.pressure[i], fields.density[i], fields.velocity[i]);
+    let mut a = params.gravity; // eq. (6)
+    grid.for_each_neighbour(&fields.position, i, |j, d, r2| {
+        if j == i {
+            return;
+        }
+        let r = r2.sqrt();
+        let (m_j, rho_j) = (fields.mass[j], fields.density[j]);
+        let grad = kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale;
+        a += pressure_acceleration(p_i, rho_i, fields.pressure[j], rho_j, m_j, &grad);
+        if ARTIFICIAL {
+            let u_ij = u_i - fields.velocity[j];
+            a += artificial_viscous_acceleration(params.alpha, params.c, params.h, &d, &u_ij, rho_i, rho_j, m_j, &grad);
+        }
+        if VISCOUS {
+            let lap = kernel.laplacian_w_viscosity(r);
+            a += viscous_acceleration(params.mu, &u_i, &fields.velocity[j], rho_i, rho_j, m_j, lap);
+        }
+    });
+    a
+}
+
+impl<const D: usize> Backend<D> for CpuBackend<D> {
+    fn name(&self) -> &'static str {
+        "cpu"
+    }
+
+    fn sort_by_cell(&mut self, fields: &mut Fields<D>, h: f32) -> Result<(), GridError> {
+        let perm = self.grid.sort(&fields.position, h)?;
+        fields.permute(perm, &mut self.scratch);
+        self.grid.link();
+        Ok(())
+    }
+
+    fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        let kernel = params.smoothing();
+        let grid = &self.grid;
+        let (position, mass, kind) = (&fields.position, &fields.mass, &fields.kind);
+        fields.density.par_iter_mut().enumerate().for_each(|(i, rho)| {
+            if kind[i] != FLUID {
+                return;
+            }
+            let mut sum = 0.0;
+            grid.for_each_neighbour(position, i, |j, _, r2| sum += density_term(&kernel, mass[j], r2));
+            *rho = sum;
+        });
+    }
+
+    fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        let kind = &fields.kind;
+        let density = &fields.density;
+        fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
+            if kind[i] == FLUID {
+                *p = eos::pressure(density[i], params.rho0, params.c2);
+            }
+        });
+    }
+
+    fn wall_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        let kernel = params.smoothing();
+        let grid = &self.grid;
+        let f = &*fields;
+        self.wall.clear();
+        self.wall.par_extend((0..f.len()).into_par_iter().map(|w| {
+            if f.kind[w] == FLUID {
+                return (f.pressure[w], f.density[w]);
+            }
+            let mut sums = WallPressureSums::<D>::default();
+            grid.for_each_neighbour(&f.position, w, |j, d, r2| {
+                if f.kind[j] == FLUID {
+                    sums.add(f.pressure[j], f.density[j], &d, kernel.w(r2));
+                }
+            });
+            let p = sums.pressure(&params.gravity);
+            (p, eos::density_from_pressure(p, params.rho0, params.c2))
+        }));
+        let wall = &self.wall;
+        fields.pressure.par_iter_mut().zip(fields.density.par_iter_mut()).enumerate().for_each(
+            |(i, (p, rho))| {
+                (*p, *rho) = wall[i];
+            },
+        );
+    }
+
+    fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
+        let grid = &self.grid;
+        let mut acceleration = std::mem::take(&mut fields.acceleration);
+        let f = &*fields;
+        acceleration.par_iter_mut().enumerate().for_each(|(i, a)| {
+            *a = if f.kind[i] != FLUID {
+                Vector::zeros()
+            } else {
+                match (terms.viscosity, terms.artificial_viscosity) {
+                    (false, false) => fluid_acceleration::<D, false, false>(grid, f, params, i),
+                    (true, false) => fluid_acceleration::<D, true, false>(grid, f, params, i),
+                    (false, true) => fluid_acceleration::<D, false, true>(grid, f, params, i),
+                    (true, true) => fluid_acceleration::<D, true, true>(grid, f, params, i),
+                }
+            };
+        });
+        fields.acceleration = acceleration;
+    }
+
+    fn solid_forces(&mut self, fields: &Fields<D>, params: &StepParams<D>, solids: usize) -> Vec<[f64; 3]> {
+        let kernel = params.smoothing();
+        let grid = &self.grid;
+        let f = fields;
+        sum_by_group(f.len(), solids, |s| {
+            let kind = f.kind[s];
+            if kind == FLUID {
+                return None;
+            }
+            let mut force = Vector::<D>::zeros();
+            grid.for_each_neighbour(&f.position, s, |j, d, r2| {
+                if f.kind[j] != FLUID {
+                    return;
+                }
+                let r = r2.sqrt();
+                force += force_on_solid(
+                    params,
+                    [f.mass[s], f.pressure[s], f.density[s]],
+                    [f.mass[j], f.pressure[j], f.density[j]],
+                    &d,
+                    &f.velocity[j],
+                    &(kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale),
+                    kernel.laplacian_w_viscosity(r),
+                );
+            });
+            Some((kind as usize - 1, to_xyz(&force)))
+        })
+    }
+
+    fn state_extremes(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> StateExtremes {
+        let f = fields;
+        let n = f.len();
+        let rho0 = f64::from(params.rho0);
+        let fluid = |i: usize| f.kind[i] == FLUID;
+        let max_speed = max_in_order(n, |i| if fluid(i) { f64::from(f.velocity[i].norm()) } else { 0.0 });
+        let max_acceleration =
+            max_in_order(n, |i| if fluid(i) { f64::from(f.acceleration[i].norm()) } else { 0.0 });
+        let [count, abs_sum, comp_sum] = sum_in_order(n, |i| {
+            if !fluid(i) {
+                return [0.0; 3];
+            }
+            let e = (f64::from(f.density[i]) - rho0) / rho0;
+            [1.0, e.abs(), e.max(0.0)]
+        });
+        let max_abs = max_in_order(n, |i| {
+            if fluid(i) { ((f64::from(f.density[i]) - rho0) / rho0).abs() } else { 0.0 }
+        });
+        let max_comp = max_in_order(n, |i| {
+            if fluid(i) { ((f64::from(f.density[i]) - rho0) / rho0).max(0.0) } else { 0.0 }
+        });
+        let non_finite = if (max_speed + max_acceleration + max_abs).is_finite() {
+            None
+        } else {
+            first_non_finite(f)
+        };
+        let outside = |x: &Vector<D>| (0..D).any(|k| x[k] < params.domain_min[k] || x[k] > params.domain_max[k]);
+        let escaped = (0..n).into_par_iter().find_first(|&i| fluid(i) && outside(&f.position[i]));
+        let mean = |s: f64| if count > 0.0 { s / count } else { 0.0 };
+        StateExtremes {
+            max_speed: max_speed.max(0.0),
+            max_acceleration: max_acceleration.max(0.0),
+            max_abs_density_error: max_abs.max(0.0),
+            mean_abs_density_error: mean(abs_sum),
+            max_compression: max_comp.max(0.0),
+            mean_compression: mean(comp_sum),
+            non_finite,
+            escaped,
+        }
+    }
+
+    fn integrate(&mut self, fields: &mut Fields<D>, dt: f32) {
+        let kind = &fields.kind;
+        let acceleration = &fields.acceleration;
+        fields.velocity.par_iter_mut().zip(fields.position.par_iter_mut()).enumerate().for_each(
+            |(i, (u, x))| {
+                if kind[i] == FLUID {
+                    *u += acceleration[i] * dt;
+                    *x += *u * dt;
+                }
+            },
+        );
+    }
+}
+
+/// First particle with a non-finite position, velocity, acceleration, density or pressure.
+fn first_non_finite<const D: usize>(f: &Fields<D>) -> Option<(usize, &'static str)> {
+    let finite = |v: &Vector<D>| v.iter().all(|c| c.is_finite());
+    (0..f.len()).find_map(|i| {
+        if !finite(&f.position[i]) {
+            Some((i, "position"))
+        } else if !finite(&f.velocity[i]) {
+            Some((i, "velocity"))
+        } else if !finite(&f.acceleration[i]) {
+            Some((i, "acceleration"))
+        } else if !f.density[i].is_finite() {
+            Some((i, "density"))
+        } else if !f.pressure[i].is_finite() {
+            Some((i, "pressure"))
+        } else {
+            None
+        }
+    })
+}

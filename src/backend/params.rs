@@ -1,0 +1,43 @@
+//! Parameters passed to every stage: the DualSPHysics `StInterParms` idea, one small struct
+//! instead of loose arguments. `#[repr(C)]` so the CUDA backend can mirror it in
+//! `kernels/params.cuh`.
+
+use crate::math::{Real, Vector};
+use crate::smoothing::Smoothing;
+
+/// Physical constants of a step, in SI units.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepParams<const D: usize> {
+    /// Kernel support radius `h` [m].
+    pub h: Real,
+    /// Rest density `ρ0` [kg/m³].
+    pub rho0: Real,
+    /// Squared sound speed `C²` [m²/s²] of eq. (19).
+    pub c2: Real,
+    /// Dynamic viscosity `μ` [Pa s] of eq. (17); 0 when the scene has no viscosity.
+    pub mu: Real,
+    /// Artificial-viscosity coefficient `α` ([M92]); 0 when the scene has no such effect.
+    pub alpha: Real,
+    /// Sound speed `C` [m/s] (used by the artificial viscosity).
+    pub c: Real,
+    /// `1/κ`: scale of the spiky gradient in the pressure force (16), see
+    /// `physics::lattice::lattice_gradient_moment`.
+    pub pressure_gradient_scale: Real,
+    /// Gravity `g` [m/s²] at the current time (eq. 6); zero when the scene has no gravity.
+    pub gravity: Vector<D>,
+    /// Lower corner of the domain [m]; a fluid particle outside the domain stops the run.
+    pub domain_min: Vector<D>,
+    /// Upper corner of the domain [m].
+    pub domain_max: Vector<D>,
+}
+
+impl<const D: usize> StepParams<D> {
+    /// The kernels for this `h`.
+    ///
+    /// `h` was validated at construction (`Simulation::new`), so the dimension is supported.
+    pub fn smoothing(&self) -> Smoothing<D> {
+        // Invariant: Simulation::new only builds D = 2 or 3; other D never reach a stage.
+        Smoothing::new(self.h).unwrap_or_else(|_| unreachable!("dimension checked at construction"))
+    }
+}

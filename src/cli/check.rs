@@ -1,0 +1,35 @@
+//! `sph check SCENE`: validate and report.
+
+use crate::scene::{bytes_per_particle, count_particles, load_scene};
+use anyhow::Context;
+use std::path::Path;
+
+/// Validates the scene and prints counts, memory and plan.
+pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
+    let scene = load_scene(path, sets).with_context(|| format!("checking scene {}", path.display()))?;
+    let counts = count_particles(&scene)?;
+    println!("scene {}: valid ({}D, solver {:?})", path.display(), scene.dimension, scene.solver);
+    println!("  spacing {} m, support radius h {} m", scene.spacing, scene.smoothing_length);
+    println!("  fluid particles  {:>12}", counts.fluid);
+    for (name, n) in &counts.solid {
+        println!("  solid {name:<10} {n:>12}");
+    }
+    println!("  total particles  {:>12}", counts.total);
+    let bytes = counts.total * bytes_per_particle(scene.dimension);
+    println!(
+        "  memory needed    {:>12.1} MiB ({} bytes per particle)",
+        bytes as f64 / (1024.0 * 1024.0),
+        bytes_per_particle(scene.dimension)
+    );
+    let effects: Vec<&str> = scene.effects.iter().map(|e| e.name()).collect();
+    println!("  effects          {}", if effects.is_empty() { "none".into() } else { effects.join(", ") });
+    let viscosity = scene.viscosity.is_some();
+    let plan = crate::solver::plan::wcsph_plan(crate::solver::plan::PlanInputs {
+        viscosity,
+        artificial_viscosity: scene.artificial_viscosity.is_some(),
+        solids: !scene.solids.is_empty(),
+    });
+    let names: Vec<&str> = plan.iter().map(|s| s.name()).collect();
+    println!("  plan             {}{}", names.join(" → "), if viscosity { " (forces with viscosity)" } else { "" });
+    Ok(())
+}

@@ -1,0 +1,77 @@
+//! The `sph` command line: the only place that prints or exits.
+//!
+//! `sph run SCENE` runs a scene and writes its results; `sph check SCENE` validates a scene and
+//! prints its particle counts, memory estimate and stage plan.
+
+mod check;
+mod run;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// Incompressible free-surface SPH (Gugushvili & Evstigneev) — CPU reference solver.
+#[derive(Parser, Debug)]
+#[command(name = "sph", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// Backend choice on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum BackendArg {
+    /// rayon CPU reference backend.
+    Cpu,
+    /// CUDA backend (needs `--features cuda` and an NVIDIA GPU).
+    Cuda,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scene to its end time and write summary.json, frames (.vtu/.pvd) and forces.csv.
+    Run {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Output directory [default: out/<scene name>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads [default: all cores].
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Backend.
+        #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
+        backend: BackendArg,
+        /// Override the scene's end time [s] (same as --set solver.end_time=T).
+        #[arg(long)]
+        end_time: Option<f64>,
+        /// Override any scene key by its dotted TOML path, e.g. --set solver.dt=1e-4.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+    },
+    /// Validate a scene; print particle counts, memory needed and the stage plan.
+    Check {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Override any scene key by its dotted TOML path.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+    },
+}
+
+/// Parses `args` and runs the command.
+pub fn run<I, T>(args: I) -> anyhow::Result<()>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = Cli::try_parse_from(args).unwrap_or_else(|e| e.exit());
+    match cli.command {
+        Command::Run { scene, out, threads, backend, end_time, mut sets } => {
+            if let Some(t) = end_time {
+                sets.push(format!("solver.end_time={t:e}"));
+            }
+            run::run(&scene, out, threads, backend, &sets)
+        }
+        Command::Check { scene, sets } => check::check(&scene, &sets),
+    }
+}

@@ -1,0 +1,75 @@
+//! `sph run SCENE`: run and write results, with a progress bar on a terminal.
+
+use super::BackendArg;
+use crate::backend::BackendKind;
+use crate::run::{RunOptions, run_scene};
+use crate::scene::load_scene;
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+/// Runs the scene at `path`.
+pub fn run(
+    path: &Path,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+    backend: BackendArg,
+    sets: &[String],
+) -> anyhow::Result<()> {
+    let scene = load_scene(path, sets).with_context(|| format!("loading scene {}", path.display()))?;
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&stem));
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        anyhow::ensure!(n > 0, "--threads must be at least 1");
+        builder = builder.num_threads(n);
+    }
+    let pool = builder.build().context("starting the worker threads")?;
+    let options = RunOptions {
+        out_dir: Some(out.clone()),
+        backend: match backend {
+            BackendArg::Cpu => BackendKind::Cpu,
+            BackendArg::Cuda => BackendKind::Cuda,
+        },
+        threads: pool.current_num_threads(),
+        scene_name: scene.name.clone().unwrap_or(stem),
+    };
+    let target = if std::io::stderr().is_terminal() {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    };
+    let bar = ProgressBar::with_draw_target(Some(1000), target);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} t = {msg} ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut last = std::time::Instant::now();
+    let summary = pool.install(|| {
+        run_scene(&scene, &options, &mut |p| {
+            if last.elapsed().as_millis() >= 100 || p.time >= p.end_time {
+                last = std::time::Instant::now();
+                bar.set_position((1000.0 * p.time / p.end_time) as u64);
+                bar.set_message(format!(
+                    "{:.4}/{} s, {} steps, {:.3e} particle-steps/s",
+                    p.time, p.end_time, p.steps, p.particle_steps_per_second
+                ));
+            }
+        })
+    });
+    bar.finish_and_clear();
+    let summary = summary.with_context(|| format!("running scene {} (results so far in {})", path.display(), out.display()))?;
+    println!(
+        "{}: {} particles ({} fluid), {} steps to t = {:.4} s in {:.1} s wall, {:.3e} particle-steps/s; results in {}",
+        summary.scene,
+        summary.particles,
+        summary.fluid_particles,
+        summary.steps,
+        summary.simulated_time,
+        summary.wall_seconds,
+        summary.particle_steps_per_second,
+        out.display()
+    );
+    Ok(())
+}

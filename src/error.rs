@@ -1,0 +1,21 @@
+//! The crate's error type, gathering each boundary's typed errors.
+
+/// Any error of the library.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The scene file is missing, malformed or impossible.
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+    /// The simulation could not be set up.
+    #[error(transparent)]
+    Setup(#[from] crate::solver::SetupError),
+    /// A step failed (non-finite value, escaped particle, grid overflow).
+    #[error(transparent)]
+    Step(#[from] crate::solver::StepError),
+    /// Writing results failed.
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
+    /// The requested backend is not available.
+    #[error(transparent)]
+    Backend(#[from] crate::backend::BackendError),
+}

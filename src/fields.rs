@@ -1,0 +1,93 @@
+//! Struct-of-arrays particle fields and the registry every reorder goes through.
+//!
+//! Fluid and solid particles live in the same arrays (sorted together by cell, section 3 of the
+//! paper); `kind` tells them apart. Every per-particle quantity is a field of [`Fields`], and
+//! [`Fields::permute`] reorders all of them: adding a field means adding it there too
+//! (`tests/grid.rs` checks that a reorder permutes every field).
+
+use crate::math::{Real, Vector};
+use rayon::prelude::*;
+
+/// `kind` value of a fluid particle; solid particles carry `1 + index of their solid`.
+pub const FLUID: u32 = 0;
+
+/// Per-particle state, struct of arrays, all in the same (cell-sorted) order.
+#[derive(Debug, Clone, Default)]
+pub struct Fields<const D: usize> {
+    /// Position `x` [m].
+    pub position: Vec<Vector<D>>,
+    /// Velocity `u` [m/s]; zero for fixed solids.
+    pub velocity: Vec<Vector<D>>,
+    /// Acceleration `dV/dt` of eq. (15) [m/s²]; zero for solids.
+    pub acceleration: Vec<Vector<D>>,
+    /// Density `ρ` [kg/m³]: eq. (18) for fluid, the boundary model's value for solids.
+    pub density: Vec<Real>,
+    /// Pressure `p` [Pa]: eq. (19) for fluid, the boundary model's value for solids.
+    pub pressure: Vec<Real>,
+    /// Mass `m` [kg] (per unit depth [kg/m] in 2D).
+    pub mass: Vec<Real>,
+    /// [`FLUID`], or `1 + k` for a particle of the k-th named solid.
+    pub kind: Vec<u32>,
+    /// Index of the particle in the initial layout (stable across reorders).
+    pub id: Vec<u32>,
+}
+
+/// Scratch buffers reused by [`Fields::permute`], so reordering does not allocate per step.
+#[derive(Debug, Clone, Default)]
+pub struct PermuteScratch<const D: usize> {
+    vector: Vec<Vector<D>>,
+    real: Vec<Real>,
+    index: Vec<u32>,
+}
+
+/// Gathers `field[perm[i]]` into `scratch`, then swaps it in.
+fn gather<T: Copy + Send + Sync>(field: &mut Vec<T>, perm: &[u32], scratch: &mut Vec<T>) {
+    scratch.clear();
+    scratch.par_extend(perm.par_iter().map(|&p| field[p as usize]));
+    std::mem::swap(field, scratch);
+}
+
+impl<const D: usize> Fields<D> {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    /// True when there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    /// Appends one particle with zero acceleration, density `rho` and zero pressure.
+    pub fn push(&mut self, position: Vector<D>, velocity: Vector<D>, mass: Real, rho: Real, kind: u32) {
+        self.id.push(self.position.len() as u32);
+        self.position.push(position);
+        self.velocity.push(velocity);
+        self.acceleration.push(Vector::zeros());
+        self.density.push(rho);
+        self.pressure.push(0.0);
+        self.mass.push(mass);
+        self.kind.push(kind);
+    }
+
+    /// Reorders every field by `perm` (new index → old index). The one place fields are permuted.
+    pub fn permute(&mut self, perm: &[u32], scratch: &mut PermuteScratch<D>) {
+        debug_assert_eq!(perm.len(), self.len());
+        gather(&mut self.position, perm, &mut scratch.vector);
+        gather(&mut self.velocity, perm, &mut scratch.vector);
+        gather(&mut self.acceleration, perm, &mut scratch.vector);
+        gather(&mut self.density, perm, &mut scratch.real);
+        gather(&mut self.pressure, perm, &mut scratch.real);
+        gather(&mut self.mass, perm, &mut scratch.real);
+        gather(&mut self.kind, perm, &mut scratch.index);
+        gather(&mut self.id, perm, &mut scratch.index);
+    }
+
+    /// Bytes per particle held by the fields (for memory reports and scene validation).
+    pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
+
+    /// Bytes held by the fields' arrays.
+    pub fn heap_bytes(&self) -> usize {
+        self.position.capacity() * D * 4 * 3 + (self.density.capacity() * 3 + self.kind.capacity() * 2) * 4
+    }
+}

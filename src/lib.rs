@@ -1,0 +1,31 @@
+//! # sph — incompressible free-surface SPH
+//!
+//! Smoothed-particle hydrodynamics for free-surface water flows after Gugushvili & Evstigneev
+//! (the seed paper; `../shared/PAPER.md` restates it with equation numbers). This crate is the
+//! CPU reference solver (rayon): smoothing kernels (20)–(22), a hash-grid neighbour search with
+//! radix sort (section 3), the weakly compressible step (15)–(19), solid boundaries with forces
+//! on named solids, TOML scenes, VTK/CSV/JSON output and the `sph` command-line tool.
+//!
+//! Flow of the public API: a [`scene::Scene`] is loaded and validated, turned into a
+//! [`solver::Simulation`] (through [`run::AnySimulation`] which picks the dimension once), and
+//! stepped; fields are read back from `Simulation::fields`.
+
+#![warn(missing_docs)]
+
+pub use nalgebra;
+
+pub mod backend;
+pub mod boundary;
+pub mod cli;
+pub mod error;
+pub mod fields;
+pub mod grid;
+pub mod math;
+pub mod output;
+pub mod physics;
+pub mod run;
+pub mod scene;
+pub mod smoothing;
+pub mod solver;
+
+pub use error::Error;

@@ -1,0 +1,86 @@
+//! The JSON run summary written at the end of (or during) a run.
+
+use std::io::Write;
+use std::path::Path;
+
+use serde::{Deserialize, Deserializer, Serialize};
+
+use super::{OutputError, write_atomically};
+
+/// Reads an `f64` that may have been written as `null` (serde_json writes
+/// non-finite floats as `null`); `null` becomes NaN.
+fn f64_or_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// Summary of one solver run, serialised as pretty JSON by
+/// [`write_summary`].
+///
+/// Non-finite floating-point values (e.g. errors of a diverged run) are
+/// written as JSON `null` and read back as NaN.
+#[derive(Serialize, Deserialize, Debug, Clone, Default, PartialEq)]
+pub struct Summary {
+    /// Scene name (usually the scene file stem).
+    pub scene: String,
+    /// Spatial dimension, 2 or 3.
+    pub dimension: usize,
+    /// Solver / pressure-correction scheme name.
+    pub solver: String,
+    /// Compute backend (e.g. `"cpu"`, `"cuda"`).
+    pub backend: String,
+    /// Number of CPU worker threads used.
+    pub threads: usize,
+    /// Total number of particles (fluid + solid/boundary).
+    pub particles: u64,
+    /// Number of fluid particles (kind 0).
+    pub fluid_particles: u64,
+    /// Number of completed time steps.
+    pub steps: u64,
+    /// Simulated physical time reached, in seconds.
+    #[serde(deserialize_with = "f64_or_nan")]
+    pub simulated_time: f64,
+    /// Wall-clock duration of the time loop, in seconds.
+    #[serde(deserialize_with = "f64_or_nan")]
+    pub wall_seconds: f64,
+    /// Throughput: `particles * steps / wall_seconds`, in particle-steps per
+    /// second.
+    #[serde(deserialize_with = "f64_or_nan")]
+    pub particle_steps_per_second: f64,
+    /// Maximum relative density error over the run (dimensionless): the
+    /// maximum over all steps and fluid particles of `|rho - rho0| / rho0`.
+    #[serde(deserialize_with = "f64_or_nan")]
+    pub max_density_error: f64,
+    /// Mean relative density error (dimensionless): the average over steps
+    /// of the per-step mean over fluid particles of `|rho - rho0| / rho0`.
+    #[serde(deserialize_with = "f64_or_nan")]
+    pub mean_density_error: f64,
+    /// Final status of the run, e.g. `"ok"`, `"diverged"`, `"interrupted"`.
+    pub status: String,
+    /// Number of `.vtu` frames written.
+    pub output_frames: u64,
+    /// Free-form additional values (scene- or backend-specific metrics).
+    #[serde(default)]
+    pub extra: serde_json::Map<String, serde_json::Value>,
+}
+
+/// Writes `summary` to `path` as pretty-printed JSON (temporary file +
+/// rename).
+pub fn write_summary(path: &Path, summary: &Summary) -> Result<(), OutputError> {
+    let json = serde_json::to_vec_pretty(summary).map_err(|source| OutputError::Json {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    write_atomically(path, |w| {
+        w.write_all(&json)?;
+        w.write_all(b"\n")
+    })
+}
+
+/// Reads a summary written by [`write_summary`].
+pub fn read_summary(path: &Path) -> Result<Summary, OutputError> {
+    let text = std::fs::read(path).map_err(|e| OutputError::io(path, e))?;
+    serde_json::from_slice(&text).map_err(|source| OutputError::Json {
+        path: path.to_path_buf(),
+        source,
+    })
+}

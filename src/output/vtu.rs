@@ -1,0 +1,708 @@
+//! VTK XML `UnstructuredGrid` (`.vtu`) frames with raw appended binary data.
+//!
+//! Layout written by [`write_vtu`] (all binary data little-endian, each block
+//! preceded by a `UInt64` byte count, offsets relative to the byte after the
+//! `_` marker in `<AppendedData>`):
+//!
+//! | section     | array          | type              | components |
+//! |-------------|----------------|-------------------|------------|
+//! | `FieldData` | `TimeValue`    | Float64 (ascii)   | 1          |
+//! | `PointData` | `velocity`     | Float32           | 3          |
+//! | `PointData` | `density`      | Float32           | 1          |
+//! | `PointData` | `pressure`     | Float32           | 1          |
+//! | `PointData` | `kind`         | UInt32            | 1          |
+//! | `Points`    | `Points`       | Float32           | 3          |
+//! | `Cells`     | `connectivity` | Int32 (Int64 if N > i32::MAX) | 1 |
+//! | `Cells`     | `offsets`      | Int32 (Int64 if N > i32::MAX) | 1 |
+//! | `Cells`     | `types`        | UInt8 (= 1, `VTK_VERTEX`)     | 1 |
+//!
+//! Vectors of 1D/2D runs are padded with zeros to three components.
+//! [`read_vtu`] reads such files back exactly.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use nalgebra::SVector;
+
+use super::xml::{self, TagKind};
+use super::{OutputError, fmt_f64, write_atomically};
+
+/// One output frame: borrowed per-particle state at simulated time `time`.
+///
+/// All slices must have the same length (the number of particles).
+#[derive(Debug, Clone, Copy)]
+pub struct Frame<'a, const D: usize> {
+    /// Simulated time of the frame, in seconds (stored as the VTK `TimeValue`
+    /// field).
+    pub time: f64,
+    /// Particle positions, in metres.
+    pub position: &'a [SVector<f32, D>],
+    /// Particle velocities, in metres per second.
+    pub velocity: &'a [SVector<f32, D>],
+    /// Particle densities, in kg/m^D.
+    pub density: &'a [f32],
+    /// Particle pressures, in Pa (force per unit length in 2D).
+    pub pressure: &'a [f32],
+    /// Particle kind: 0 = fluid, k > 0 = the k-th named solid.
+    pub kind: &'a [u32],
+}
+
+impl<const D: usize> Frame<'_, D> {
+    /// Number of particles, after checking that all slices have the same
+    /// length as `position`.
+    pub fn checked_len(&self) -> Result<usize, OutputError> {
+        let n = self.position.len();
+        let fields = [
+            ("velocity", self.velocity.len()),
+            ("density", self.density.len()),
+            ("pressure", self.pressure.len()),
+            ("kind", self.kind.len()),
+        ];
+        for (field, found) in fields {
+            if found != n {
+                return Err(OutputError::LengthMismatch {
+                    field,
+                    expected: n,
+                    found,
+                });
+            }
+        }
+        Ok(n)
+    }
+}
+
+/// A VTK scalar data type, as named in the `type` attribute of a `DataArray`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VtkType {
+    /// `Int8`
+    Int8,
+    /// `UInt8`
+    UInt8,
+    /// `Int16`
+    Int16,
+    /// `UInt16`
+    UInt16,
+    /// `Int32`
+    Int32,
+    /// `UInt32`
+    UInt32,
+    /// `Int64`
+    Int64,
+    /// `UInt64`
+    UInt64,
+    /// `Float32`
+    Float32,
+    /// `Float64`
+    Float64,
+}
+
+impl VtkType {
+    /// Size of one value in bytes.
+    pub fn size(self) -> usize {
+        match self {
+            VtkType::Int8 | VtkType::UInt8 => 1,
+            VtkType::Int16 | VtkType::UInt16 => 2,
+            VtkType::Int32 | VtkType::UInt32 | VtkType::Float32 => 4,
+            VtkType::Int64 | VtkType::UInt64 | VtkType::Float64 => 8,
+        }
+    }
+
+    /// The VTK name of the type (`"Float32"`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            VtkType::Int8 => "Int8",
+            VtkType::UInt8 => "UInt8",
+            VtkType::Int16 => "Int16",
+            VtkType::UInt16 => "UInt16",
+            VtkType::Int32 => "Int32",
+            VtkType::UInt32 => "UInt32",
+            VtkType::Int64 => "Int64",
+            VtkType::UInt64 => "UInt64",
+            VtkType::Float32 => "Float32",
+            VtkType::Float64 => "Float64",
+        }
+    }
+
+    /// Parses a VTK type name (also accepts the legacy lower-case C names).
+    pub fn parse(s: &str) -> Option<VtkType> {
+        Some(match s {
+            "Int8" | "char" => VtkType::Int8,
+            "UInt8" | "unsigned_char" => VtkType::UInt8,
+            "Int16" | "short" => VtkType::Int16,
+            "UInt16" | "unsigned_short" => VtkType::UInt16,
+            "Int32" | "int" => VtkType::Int32,
+            "UInt32" | "unsigned_int" => VtkType::UInt32,
+            "Int64" | "long" | "long_long" => VtkType::Int64,
+            "UInt64" | "unsigned_long" | "unsigned_long_long" => VtkType::UInt64,
+            "Float32" | "float" => VtkType::Float32,
+            "Float64" | "double" => VtkType::Float64,
+            _ => return None,
+        })
+    }
+
+    /// Decodes little-endian values (length must be a multiple of
+    /// [`size`](Self::size)) to `f64`. Exact for every type except 64-bit
+    /// integers beyond 2^53.
+    fn decode_le(self, bytes: &[u8]) -> Vec<f64> {
+        fn conv<const N: usize>(bytes: &[u8], f: impl Fn([u8; N]) -> f64) -> Vec<f64> {
+            bytes
+                .chunks_exact(N)
+                .map(|c| {
+                    let mut a = [0u8; N];
+                    a.copy_from_slice(c);
+                    f(a)
+                })
+                .collect()
+        }
+        match self {
+            VtkType::Int8 => conv(bytes, |a: [u8; 1]| f64::from(i8::from_le_bytes(a))),
+            VtkType::UInt8 => conv(bytes, |a: [u8; 1]| f64::from(a[0])),
+            VtkType::Int16 => conv(bytes, |a| f64::from(i16::from_le_bytes(a))),
+            VtkType::UInt16 => conv(bytes, |a| f64::from(u16::from_le_bytes(a))),
+            VtkType::Int32 => conv(bytes, |a| f64::from(i32::from_le_bytes(a))),
+            VtkType::UInt32 => conv(bytes, |a| f64::from(u32::from_le_bytes(a))),
+            VtkType::Int64 => conv(bytes, |a| i64::from_le_bytes(a) as f64),
+            VtkType::UInt64 => conv(bytes, |a| u64::from_le_bytes(a) as f64),
+            VtkType::Float32 => conv(bytes, |a| f64::from(f32::from_le_bytes(a))),
+            VtkType::Float64 => conv(bytes, f64::from_le_bytes),
+        }
+    }
+}
+
+/// Which part of the `Piece` a `DataArray` belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VtuSection {
+    /// `<FieldData>` (dataset-wide values such as `TimeValue`).
+    FieldData,
+    /// `<PointData>` (one tuple per point).
+    PointData,
+    /// `<CellData>` (one tuple per cell).
+    CellData,
+    /// `<Points>` (point coordinates).
+    Points,
+    /// `<Cells>` (connectivity, offsets, types).
+    Cells,
+}
+
+/// Description of one `DataArray` in a `.vtu` header.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VtuArrayInfo {
+    /// Section the array appears in.
+    pub section: VtuSection,
+    /// The `Name` attribute (`"Points"` if a `Points` array has none).
+    pub name: String,
+    /// Scalar type.
+    pub data_type: VtkType,
+    /// `NumberOfComponents` (1 if absent).
+    pub components: usize,
+    /// Byte offset of the block within the appended data (relative to the
+    /// byte after `_`); `None` for inline ascii arrays.
+    pub offset: Option<u64>,
+    /// Values of an inline ascii array (empty for appended arrays).
+    pub ascii_values: Vec<f64>,
+}
+
+/// Parsed header of a raw-appended `.vtu` file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VtuHeader {
+    /// `NumberOfPoints` of the (single) piece.
+    pub number_of_points: usize,
+    /// `NumberOfCells` of the (single) piece.
+    pub number_of_cells: usize,
+    /// The `TimeValue` field-data value, if present.
+    pub time: Option<f64>,
+    /// `true` if `header_type="UInt64"`, `false` for `UInt32`.
+    pub header_u64: bool,
+    /// All data arrays in document order.
+    pub arrays: Vec<VtuArrayInfo>,
+    /// Absolute file position of the first appended byte (just after `_`).
+    pub appended_start: u64,
+    /// Total file length in bytes.
+    pub file_len: u64,
+}
+
+/// One data array read back from a `.vtu` file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VtuArray {
+    /// Array name.
+    pub name: String,
+    /// Scalar type stored in the file.
+    pub data_type: VtkType,
+    /// Number of components per tuple.
+    pub components: usize,
+    /// All values, tuple-major, converted to `f64` (exact for `Float32`,
+    /// `Float64` and integers up to 32 bits).
+    pub values: Vec<f64>,
+}
+
+/// Contents of a `.vtu` file read by [`read_vtu`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct VtuData {
+    /// Parsed header.
+    pub header: VtuHeader,
+    /// Point coordinates (converted to `f32`; exact for `Float32` files).
+    pub points: Vec<[f32; 3]>,
+    /// `PointData` arrays in document order.
+    pub point_data: Vec<VtuArray>,
+    /// `Cells` arrays (`connectivity`, `offsets`, `types`) in document order.
+    pub cells: Vec<VtuArray>,
+}
+
+impl VtuData {
+    /// The `PointData` array called `name`.
+    pub fn point_array(&self, name: &str) -> Option<&VtuArray> {
+        self.point_data.iter().find(|a| a.name == name)
+    }
+
+    /// The `Cells` array called `name`.
+    pub fn cell_array(&self, name: &str) -> Option<&VtuArray> {
+        self.cells.iter().find(|a| a.name == name)
+    }
+}
+
+const APPENDED_TAG: &[u8] = b"<AppendedData";
+
+/// Writes `frame` as a VTK XML unstructured grid with raw appended binary
+/// data (see the [module documentation](self) for the layout).
+///
+/// The file is written to `path` with `.tmp` appended and then renamed onto
+/// `path`. Errors: [`OutputError::LengthMismatch`] if the slices differ in
+/// length, [`OutputError::UnsupportedDimension`] if `D > 3`,
+/// [`OutputError::Io`] on any file-system failure.
+pub fn write_vtu<const D: usize>(path: &Path, frame: &Frame<D>) -> Result<(), OutputError> {
+    if D > 3 {
+        return Err(OutputError::UnsupportedDimension(D));
+    }
+    let n = frame.checked_len()?;
+    let wide = n > i32::MAX as usize;
+    let int_type = if wide { VtkType::Int64 } else { VtkType::Int32 };
+    let isz = int_type.size() as u64;
+    let nn = n as u64;
+
+    // (section, name, type, components, bytes)
+    let blocks: [(VtuSection, &str, VtkType, usize, u64); 8] = [
+        (
+            VtuSection::PointData,
+            "velocity",
+            VtkType::Float32,
+            3,
+            nn * 12,
+        ),
+        (
+            VtuSection::PointData,
+            "density",
+            VtkType::Float32,
+            1,
+            nn * 4,
+        ),
+        (
+            VtuSection::PointData,
+            "pressure",
+            VtkType::Float32,
+            1,
+            nn * 4,
+        ),
+        (VtuSection::PointData, "kind", VtkType::UInt32, 1, nn * 4),
+        (VtuSection::Points, "Points", VtkType::Float32, 3, nn * 12),
+        (VtuSection::Cells, "connectivity", int_type, 1, nn * isz),
+        (VtuSection::Cells, "offsets", int_type, 1, nn * isz),
+        (VtuSection::Cells, "types", VtkType::UInt8, 1, nn),
+    ];
+
+    let mut header = String::with_capacity(2048);
+    header.push_str("<?xml version=\"1.0\"?>\n");
+    header.push_str(
+        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n",
+    );
+    header.push_str("  <UnstructuredGrid>\n");
+    header.push_str("    <FieldData>\n");
+    header.push_str(&format!(
+        "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{}</DataArray>\n",
+        fmt_f64(frame.time)
+    ));
+    header.push_str("    </FieldData>\n");
+    header.push_str(&format!(
+        "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">\n"
+    ));
+    let mut offset = 0u64;
+    let mut open: Option<VtuSection> = None;
+    for (section, name, ty, comps, bytes) in blocks {
+        if open != Some(section) {
+            if let Some(prev) = open {
+                header.push_str(&format!("      </{}>\n", section_tag(prev)));
+            }
+            if section == VtuSection::PointData {
+                header.push_str("      <PointData Scalars=\"density\" Vectors=\"velocity\">\n");
+            } else {
+                header.push_str(&format!("      <{}>\n", section_tag(section)));
+            }
+            open = Some(section);
+        }
+        let comp_attr = if comps > 1 {
+            format!(" NumberOfComponents=\"{comps}\"")
+        } else {
+            String::new()
+        };
+        header.push_str(&format!(
+            "        <DataArray type=\"{}\" Name=\"{name}\"{comp_attr} format=\"appended\" offset=\"{offset}\"/>\n",
+            ty.name()
+        ));
+        offset += 8 + bytes;
+    }
+    if let Some(prev) = open {
+        header.push_str(&format!("      </{}>\n", section_tag(prev)));
+    }
+    header.push_str("    </Piece>\n");
+    header.push_str("  </UnstructuredGrid>\n");
+    header.push_str("  <AppendedData encoding=\"raw\">\n   _");
+
+    write_atomically(path, |w| {
+        w.write_all(header.as_bytes())?;
+        let block = |w: &mut BufWriter<File>, i: usize| w.write_all(&blocks[i].4.to_le_bytes());
+        block(w, 0)?;
+        write_vec3(w, frame.velocity)?;
+        block(w, 1)?;
+        for x in frame.density {
+            w.write_all(&x.to_le_bytes())?;
+        }
+        block(w, 2)?;
+        for x in frame.pressure {
+            w.write_all(&x.to_le_bytes())?;
+        }
+        block(w, 3)?;
+        for x in frame.kind {
+            w.write_all(&x.to_le_bytes())?;
+        }
+        block(w, 4)?;
+        write_vec3(w, frame.position)?;
+        for (blk, first) in [(5usize, 0u64), (6, 1)] {
+            block(w, blk)?;
+            for i in first..first + nn {
+                if wide {
+                    w.write_all(&(i as i64).to_le_bytes())?;
+                } else {
+                    w.write_all(&(i as i32).to_le_bytes())?;
+                }
+            }
+        }
+        block(w, 7)?;
+        const VERTICES: [u8; 4096] = [1u8; 4096];
+        let mut left = n;
+        while left > 0 {
+            let k = left.min(VERTICES.len());
+            w.write_all(&VERTICES[..k])?;
+            left -= k;
+        }
+        w.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
+    })
+}
+
+/// Writes vectors as three little-endian `f32` components, zero-padded.
+fn write_vec3<W: Write, const D: usize>(w: &mut W, v: &[SVector<f32, D>]) -> std::io::Result<()> {
+    let mut buf = [0u8; 12];
+    for p in v {
+        for c in 0..D.min(3) {
+            buf[4 * c..4 * c + 4].copy_from_slice(&p[c].to_le_bytes());
+        }
+        w.write_all(&buf)?;
+    }
+    Ok(())
+}
+
+fn section_tag(s: VtuSection) -> &'static str {
+    match s {
+        VtuSection::FieldData => "FieldData",
+        VtuSection::PointData => "PointData",
+        VtuSection::CellData => "CellData",
+        VtuSection::Points => "Points",
+        VtuSection::Cells => "Cells",
+    }
+}
+
+fn section_of(tag: &str) -> Option<VtuSection> {
+    Some(match tag {
+        "FieldData" => VtuSection::FieldData,
+        "PointData" => VtuSection::PointData,
+        "CellData" => VtuSection::CellData,
+        "Points" => VtuSection::Points,
+        "Cells" => VtuSection::Cells,
+        _ => return None,
+    })
+}
+
+fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    hay.windows(needle.len()).position(|w| w == needle)
+}
+
+fn parse_attr<T: std::str::FromStr>(
+    path: &Path,
+    tag: &xml::Tag,
+    key: &str,
+) -> Result<Option<T>, OutputError> {
+    match tag.attr(key) {
+        None => Ok(None),
+        Some(v) => v.trim().parse::<T>().map(Some).map_err(|_| {
+            OutputError::malformed(path, format!("bad {key}=\"{v}\" in <{}>", tag.name))
+        }),
+    }
+}
+
+/// Parses the XML header of an in-memory raw-appended `.vtu` file.
+fn parse_header(path: &Path, data: &[u8]) -> Result<VtuHeader, OutputError> {
+    let bad = |reason: String| OutputError::malformed(path, reason);
+    let app = find(data, APPENDED_TAG).ok_or_else(|| {
+        bad("no <AppendedData> element (only raw appended files are supported)".into())
+    })?;
+    let after_tag = &data[app..];
+    let gt = after_tag
+        .iter()
+        .position(|&b| b == b'>')
+        .ok_or_else(|| bad("unterminated <AppendedData> tag".into()))?;
+    let underscore = after_tag[gt + 1..]
+        .iter()
+        .position(|&b| !b.is_ascii_whitespace())
+        .map(|p| app + gt + 1 + p)
+        .filter(|&p| data[p] == b'_')
+        .ok_or_else(|| bad("missing '_' marker at start of appended data".into()))?;
+    let head = std::str::from_utf8(&data[..app + gt + 1])
+        .map_err(|_| bad("XML header is not valid UTF-8".into()))?;
+    let tags = xml::scan(head).map_err(bad)?;
+
+    let mut header = VtuHeader {
+        number_of_points: 0,
+        number_of_cells: 0,
+        time: None,
+        header_u64: false,
+        arrays: Vec::new(),
+        appended_start: (underscore + 1) as u64,
+        file_len: data.len() as u64,
+    };
+    let mut saw_file = false;
+    let mut pieces = 0usize;
+    let mut section: Option<VtuSection> = None;
+    for tag in &tags {
+        match (tag.name.as_str(), tag.kind) {
+            ("VTKFile", TagKind::Start) => {
+                saw_file = true;
+                if tag.attr("type") != Some("UnstructuredGrid") {
+                    return Err(bad("VTKFile type is not UnstructuredGrid".into()));
+                }
+                match tag.attr("byte_order") {
+                    Some("LittleEndian") | None => {}
+                    Some(o) => return Err(bad(format!("unsupported byte_order {o}"))),
+                }
+                header.header_u64 = match tag.attr("header_type") {
+                    Some("UInt64") => true,
+                    Some("UInt32") | None => false,
+                    Some(h) => return Err(bad(format!("unsupported header_type {h}"))),
+                };
+                if tag.attr("compressor").is_some_and(|c| !c.is_empty()) {
+                    return Err(bad("compressed files are not supported".into()));
+                }
+            }
+            ("Piece", TagKind::Start | TagKind::Empty) => {
+                pieces += 1;
+                if pieces > 1 {
+                    return Err(bad("more than one Piece is not supported".into()));
+                }
+                header.number_of_points = parse_attr(path, tag, "NumberOfPoints")?.unwrap_or(0);
+                header.number_of_cells = parse_attr(path, tag, "NumberOfCells")?.unwrap_or(0);
+            }
+            ("AppendedData", _) if tag.attr("encoding") != Some("raw") => {
+                return Err(bad("AppendedData encoding is not raw".into()));
+            }
+            ("DataArray", TagKind::Start | TagKind::Empty) => {
+                let sec = section.ok_or_else(|| bad("DataArray outside a known section".into()))?;
+                let ty_name = tag.attr("type").unwrap_or("");
+                let data_type = VtkType::parse(ty_name)
+                    .ok_or_else(|| bad(format!("unknown DataArray type \"{ty_name}\"")))?;
+                let name = match tag.attr("Name") {
+                    Some(n) => n.to_owned(),
+                    None if sec == VtuSection::Points => "Points".to_owned(),
+                    None => return Err(bad("DataArray without Name".into())),
+                };
+                let components: usize = parse_attr(path, tag, "NumberOfComponents")?.unwrap_or(1);
+                if components == 0 {
+                    return Err(bad(format!("array {name} has 0 components")));
+                }
+                let mut info = VtuArrayInfo {
+                    section: sec,
+                    name,
+                    data_type,
+                    components,
+                    offset: None,
+                    ascii_values: Vec::new(),
+                };
+                match tag.attr("format") {
+                    Some("appended") => {
+                        info.offset = Some(parse_attr(path, tag, "offset")?.ok_or_else(|| {
+                            bad(format!("appended array {} without offset", info.name))
+                        })?);
+                    }
+                    Some("ascii") => {
+                        if tag.kind == TagKind::Start {
+                            info.ascii_values = tag
+                                .text
+                                .split_whitespace()
+                                .map(|t| t.parse::<f64>())
+                                .collect::<Result<_, _>>()
+                                .map_err(|_| bad(format!("bad ascii values in {}", info.name)))?;
+                        }
+                        if sec == VtuSection::FieldData && info.name == "TimeValue" {
+                            header.time = info.ascii_values.first().copied();
+                        }
+                    }
+                    other => {
+                        return Err(bad(format!(
+                            "unsupported DataArray format {:?} for {}",
+                            other.unwrap_or(""),
+                            info.name
+                        )));
+                    }
+                }
+                header.arrays.push(info);
+            }
+            (name, TagKind::Start) if section_of(name).is_some() => {
+                section = section_of(name);
+            }
+            (name, TagKind::End) if section_of(name).is_some() => {
+                section = None;
+            }
+            _ => {}
+        }
+    }
+    if !saw_file {
+        return Err(bad("no <VTKFile> element".into()));
+    }
+    if pieces == 0 {
+        return Err(bad("no <Piece> element".into()));
+    }
+    Ok(header)
+}
+
+/// Reads and parses only the XML header of a `.vtu` file written by
+/// [`write_vtu`] (or any single-piece, uncompressed, raw-appended
+/// little-endian unstructured grid).
+pub fn read_vtu_header(path: &Path) -> Result<VtuHeader, OutputError> {
+    let data = std::fs::read(path).map_err(|e| OutputError::io(path, e))?;
+    parse_header(path, &data)
+}
+
+/// Reads a `.vtu` file written by [`write_vtu`] (or any single-piece,
+/// uncompressed, raw-appended little-endian unstructured grid).
+///
+/// Every appended block is bounds-checked and its size checked against the
+/// header (`NumberOfPoints` x components for points and point data); any
+/// inconsistency is reported as [`OutputError::Malformed`].
+pub fn read_vtu(path: &Path) -> Result<VtuData, OutputError> {
+    let data = std::fs::read(path).map_err(|e| OutputError::io(path, e))?;
+    let header = parse_header(path, &data)?;
+    let bad = |reason: String| OutputError::malformed(path, reason);
+    let start = header.appended_start as usize;
+    let appended = &data[start.min(data.len())..];
+    let hsize = if header.header_u64 { 8 } else { 4 };
+
+    let mut out = VtuData {
+        points: Vec::new(),
+        point_data: Vec::new(),
+        cells: Vec::new(),
+        header: header.clone(),
+    };
+    let mut saw_points = false;
+    for info in &header.arrays {
+        let Some(offset) = info.offset else { continue };
+        let off = usize::try_from(offset)
+            .ok()
+            .filter(|o| o.checked_add(hsize).is_some_and(|e| e <= appended.len()))
+            .ok_or_else(|| bad(format!("offset of {} lies beyond end of file", info.name)))?;
+        let len_bytes = &appended[off..off + hsize];
+        let nbytes = if hsize == 8 {
+            let mut a = [0u8; 8];
+            a.copy_from_slice(len_bytes);
+            u64::from_le_bytes(a)
+        } else {
+            let mut a = [0u8; 4];
+            a.copy_from_slice(len_bytes);
+            u64::from(u32::from_le_bytes(a))
+        };
+        let body_start = off + hsize;
+        let body = usize::try_from(nbytes)
+            .ok()
+            .and_then(|nb| body_start.checked_add(nb))
+            .filter(|&end| end <= appended.len())
+            .map(|end| &appended[body_start..end])
+            .ok_or_else(|| bad(format!("block of {} runs past end of file", info.name)))?;
+        let tuple_bytes = info.data_type.size() * info.components;
+        if body.len() % tuple_bytes != 0 {
+            return Err(bad(format!(
+                "block of {} has {} bytes, not a whole number of tuples",
+                info.name,
+                body.len()
+            )));
+        }
+        let tuples = body.len() / tuple_bytes;
+        let expected = match info.section {
+            VtuSection::Points | VtuSection::PointData => Some(header.number_of_points),
+            VtuSection::CellData => Some(header.number_of_cells),
+            VtuSection::Cells if info.name == "types" => Some(header.number_of_cells),
+            _ => None,
+        };
+        if let Some(e) = expected
+            && e != tuples
+        {
+            return Err(bad(format!(
+                "array {} has {tuples} tuples, expected {e}",
+                info.name
+            )));
+        }
+        let values = info.data_type.decode_le(body);
+        match info.section {
+            VtuSection::Points => {
+                if saw_points {
+                    return Err(bad("more than one Points array".into()));
+                }
+                saw_points = true;
+                if info.components != 3 {
+                    return Err(bad("Points array must have 3 components".into()));
+                }
+                out.points = values
+                    .chunks_exact(3)
+                    .map(|c| [c[0] as f32, c[1] as f32, c[2] as f32])
+                    .collect();
+            }
+            section => {
+                let arr = VtuArray {
+                    name: info.name.clone(),
+                    data_type: info.data_type,
+                    components: info.components,
+                    values,
+                };
+                match section {
+                    VtuSection::PointData => out.point_data.push(arr),
+                    VtuSection::Cells => out.cells.push(arr),
+                    _ => {}
+                }
+            }
+        }
+    }
+    if !saw_points && header.number_of_points > 0 {
+        return Err(bad("no Points array".into()));
+    }
+    Ok(out)
+}
+
+/// `PointData` arrays as `(name, components, values)` triples.
+pub type NamedArrays = Vec<(String, usize, Vec<f64>)>;
+
+/// Minimal convenience reader: point coordinates plus the `PointData`
+/// arrays as `(name, components, values)`.
+pub fn read_vtu_points(path: &Path) -> Result<(Vec<[f32; 3]>, NamedArrays), OutputError> {
+    let data = read_vtu(path)?;
+    let arrays = data
+        .point_data
+        .into_iter()
+        .map(|a| (a.name, a.components, a.values))
+        .collect();
+    Ok((data.points, arrays))
+}

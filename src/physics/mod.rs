@@ -1,0 +1,12 @@
+//! The physical terms of the model, one file per term, as pure per-pair or per-particle math.
+//!
+//! Nothing here loops over particles or knows about backends; the backends call these functions
+//! inside their loops. Equations: (6), (15)–(19) of the paper ([P], PAPER.md section 1).
+
+pub mod artificial_viscosity;
+pub mod density;
+pub mod eos;
+pub mod gravity;
+pub mod lattice;
+pub mod pressure;
+pub mod viscosity;

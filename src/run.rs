@@ -1,0 +1,238 @@
+//! A whole run: scene → simulation (dimension chosen once) → steps → output files.
+//!
+//! Output directory layout: `summary.json`, `forces.csv` (one row per solid per step),
+//! `particles.pvd` and `frames/frame_NNNNN.vtu`. The `.pvd` is rewritten after every frame and
+//! every file is written to a temporary name and renamed, so a run that stops (error or kill)
+//! leaves every frame written so far readable; on a step error `summary.json` records it.
+
+use crate::backend::{BackendKind, cuda};
+use crate::error::Error;
+use crate::math::Vector;
+use crate::output::{ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu};
+use crate::output::vtu::Frame;
+use crate::scene::{Effect, Scene, SceneError, SolverKind, generate};
+use crate::solver::{SimConfig, Simulation};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// A simulation of either dimension, chosen once at load time.
+pub enum AnySimulation {
+    /// A 2D simulation.
+    D2(Simulation<2>),
+    /// A 3D simulation.
+    D3(Simulation<3>),
+}
+
+/// Builds the `D`-dimensional simulation of a validated scene.
+pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation<D>, Error> {
+    let layout = generate::<D>(scene)?;
+    let vector = |v: &[f64]| Vector::<D>::from_iterator(v.iter().map(|&c| c as f32));
+    let config = SimConfig::<D> {
+        spacing: scene.spacing,
+        h: scene.smoothing_length,
+        rho0: scene.rho0,
+        sound_speed: scene.sound_speed,
+        viscosity: if scene.has(Effect::Viscosity) { scene.viscosity } else { None },
+        artificial_viscosity: if scene.has(Effect::ArtificialViscosity) { scene.artificial_viscosity } else { None },
+        gravity: if scene.has(Effect::Gravity) { scene.gravity.as_deref().map(vector) } else { None },
+        gravity_ramp: scene.gravity_ramp,
+        dt: scene.dt,
+        cfl: scene.cfl,
+        domain_min: vector(&scene.domain.min),
+        domain_max: vector(&scene.domain.max),
+    };
+    let solids: Vec<(String, Vec<Vector<D>>)> =
+        layout.solids.into_iter().map(|s| (s.name, s.position)).collect();
+    Ok(Simulation::new(config, &layout.fluid_position, &layout.fluid_velocity, &solids)?)
+}
+
+impl AnySimulation {
+    /// Builds the simulation of a validated scene in the scene's dimension.
+    pub fn from_scene(scene: &Scene) -> Result<Self, Error> {
+        match scene.dimension {
+            2 => Ok(Self::D2(simulation_from_scene::<2>(scene)?)),
+            3 => Ok(Self::D3(simulation_from_scene::<3>(scene)?)),
+            d => Err(SceneError::Dimension { scene: d, requested: 3 }.into()),
+        }
+    }
+}
+
+/// How to run a scene.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Output directory; `None` writes nothing (tests, benchmarks).
+    pub out_dir: Option<PathBuf>,
+    /// Backend to use.
+    pub backend: BackendKind,
+    /// Worker threads in use (reported in the summary).
+    pub threads: usize,
+    /// Scene name for the summary.
+    pub scene_name: String,
+}
+
+/// Progress of a run, reported after every step.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Simulated time [s].
+    pub time: f64,
+    /// End time [s].
+    pub end_time: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Particle updates per wall-clock second so far.
+    pub particle_steps_per_second: f64,
+}
+
+/// Runs `scene` to its end time. Returns the summary (also written to `summary.json`).
+pub fn run_scene(scene: &Scene, options: &RunOptions, progress: &mut dyn FnMut(&Progress)) -> Result<Summary, Error> {
+    if options.backend == BackendKind::Cuda {
+        cuda::probe()?;
+    }
+    match AnySimulation::from_scene(scene)? {
+        AnySimulation::D2(sim) => drive(sim, scene, options, progress),
+        AnySimulation::D3(sim) => drive(sim, scene, options, progress),
+    }
+}
+
+/// Output files of one run.
+struct Writers {
+    dir: PathBuf,
+    pvd: PvdSeries,
+    forces: Option<ForceLog>,
+}
+
+impl Writers {
+    fn create(dir: &Path, with_forces: bool) -> Result<Self, OutputError> {
+        std::fs::create_dir_all(dir.join("frames")).map_err(|e| OutputError::io(&dir.join("frames"), e))?;
+        let forces = if with_forces { Some(ForceLog::create(&dir.join("forces.csv"))?) } else { None };
+        Ok(Self { dir: dir.to_path_buf(), pvd: PvdSeries::new(), forces })
+    }
+
+    fn frame<const D: usize>(&mut self, sim: &Simulation<D>, write_frame: bool) -> Result<(), OutputError> {
+        if let Some(f) = self.forces.as_mut() {
+            f.flush()?;
+        }
+        if !write_frame {
+            return Ok(());
+        }
+        let f = &sim.fields;
+        let time = sim.clock().time;
+        let name = format!("frames/frame_{:05}.vtu", self.pvd.len());
+        let frame = Frame {
+            time,
+            position: &f.position,
+            velocity: &f.velocity,
+            density: &f.density,
+            pressure: &f.pressure,
+            kind: &f.kind,
+        };
+        write_vtu(&self.dir.join(&name), &frame)?;
+        self.pvd.push(time, name);
+        self.pvd.write(&self.dir.join("particles.pvd"))
+    }
+}
+
+fn drive<const D: usize>(
+    mut sim: Simulation<D>,
+    scene: &Scene,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Summary, Error> {
+    let end = scene.end_time;
+    let mut writers = match &options.out_dir {
+        Some(dir) => Some(Writers::create(dir, !sim.solid_names().is_empty())?),
+        None => None,
+    };
+    let solver = match scene.solver {
+        SolverKind::Wcsph => "wcsph",
+    };
+    let mut summary = Summary {
+        scene: options.scene_name.clone(),
+        dimension: D,
+        solver: solver.into(),
+        backend: sim.backend_name().into(),
+        threads: options.threads,
+        particles: sim.fields.len() as u64,
+        fluid_particles: sim.fluid_count() as u64,
+        status: "running".into(),
+        ..Summary::default()
+    };
+    if let Some(w) = writers.as_mut() {
+        w.frame(&sim, scene.write_frames)?;
+    }
+    let start = Instant::now();
+    let mut next_frame = scene.output_interval;
+    let mut limits = std::collections::BTreeMap::<String, u64>::new();
+    let mut failure = None;
+    while sim.clock().time < end {
+        match sim.step(end) {
+            Ok(report) => {
+                let name = serde_json::to_value(report.limit).ok().and_then(|v| v.as_str().map(String::from));
+                *limits.entry(name.unwrap_or_default()).or_default() += 1;
+            }
+            Err(e) => {
+                failure = Some(e);
+                break;
+            }
+        }
+        let clock = sim.clock();
+        if let Some(w) = writers.as_mut() {
+            if let Some(log) = w.forces.as_mut() {
+                for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
+                    log.push(clock.time, name, *force)?;
+                }
+            }
+            if clock.time >= next_frame - 1e-12 * end || clock.time >= end {
+                w.frame(&sim, scene.write_frames)?;
+                while next_frame <= clock.time + 1e-12 * end {
+                    next_frame += scene.output_interval;
+                }
+            }
+        }
+        let wall = start.elapsed().as_secs_f64();
+        progress(&Progress {
+            time: clock.time,
+            end_time: end,
+            steps: clock.step,
+            particle_steps_per_second: clock.step as f64 * sim.fields.len() as f64 / wall.max(1e-9),
+        });
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let clock = sim.clock();
+    let stats = sim.stats();
+    let steps = clock.step.max(1) as f64;
+    summary.steps = clock.step;
+    summary.simulated_time = clock.time;
+    summary.wall_seconds = wall;
+    summary.particle_steps_per_second = clock.step as f64 * sim.fields.len() as f64 / wall.max(1e-9);
+    summary.max_density_error = stats.max_abs_density_error;
+    summary.mean_density_error = stats.sum_mean_abs_density_error / steps;
+    summary.output_frames = writers.as_ref().map_or(0, |w| w.pvd.len() as u64);
+    summary.status = match &failure {
+        None => "completed".into(),
+        Some(e) => format!("failed: {e}"),
+    };
+    let extra = &mut summary.extra;
+    extra.insert("max_compression".into(), stats.max_compression.into());
+    extra.insert("mean_compression".into(), (stats.sum_mean_compression / steps).into());
+    extra.insert("fluid_mass".into(), sim.fluid_mass().into());
+    extra.insert("memory_bytes".into(), (sim.heap_bytes() as u64).into());
+    extra.insert(
+        "memory_bytes_per_particle".into(),
+        (sim.heap_bytes() as f64 / sim.fields.len().max(1) as f64).into(),
+    );
+    extra.insert("smoothing_length".into(), scene.smoothing_length.into());
+    extra.insert("spacing".into(), scene.spacing.into());
+    extra.insert(
+        "time_step_limits".into(),
+        serde_json::Value::Object(limits.into_iter().map(|(k, v)| (k, v.into())).collect()),
+    );
+    extra.insert("plan".into(), sim.plan().iter().map(|s| s.name()).collect::<Vec<_>>().into());
+    if let Some(w) = writers.as_mut() {
+        write_summary(&w.dir.join("summary.json"), &summary)?;
+    }
+    match failure {
+        None => Ok(summary),
+        Some(e) => Err(e.into()),
+    }
+}

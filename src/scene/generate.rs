@@ -1,0 +1,400 @@
+//! Initial particle placement on a Cartesian lattice.
+//!
+//! A box `[min, max]` with spacing dx holds `n_k = round((max_k - min_k) / dx)`
+//! particles along axis k, at `min_k + (i_k + 0.5) dx` for `i_k in 0..n_k`
+//! (computed in `f64`, stored as `f32`). Every particle therefore lies inside
+//! its box, at least dx/2 from a box face when `n_k dx` equals the extent.
+//!
+//! A container with inside box `[min, max]` has walls of
+//! `L = ceil(h / dx - 1e-9)` layers: lattice indices `i_k in -L..n_k + L` on
+//! every axis, keeping the points outside the inside index range on at least
+//! one axis; an open top drops `i_{D-1} >= n_{D-1}` (last axis = vertical).
+//! [`count_particles`] gives the exact counts by arithmetic alone.
+
+use nalgebra::SVector;
+
+use super::validate::RawProblem;
+use super::{Aabb, KeyPath, Location, Problem, Scene, SceneError, Solid, SolidShape};
+
+/// Largest supported dimension for counting.
+const MAX_DIM: usize = 3;
+
+/// Initial particles of a scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layout<const D: usize> {
+    /// Fluid particle positions \[m\], all fluid boxes in scene order.
+    pub fluid_position: Vec<SVector<f32, D>>,
+    /// Fluid particle velocities \[m/s\], parallel to `fluid_position`.
+    pub fluid_velocity: Vec<SVector<f32, D>>,
+    /// Solid particles, one entry per `[[solid]]`, in scene order.
+    pub solids: Vec<SolidParticles<D>>,
+}
+
+/// The particles of one solid body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolidParticles<const D: usize> {
+    /// The solid's name.
+    pub name: String,
+    /// Particle positions \[m\].
+    pub position: Vec<SVector<f32, D>>,
+}
+
+/// Particle counts of a scene, exactly as [`generate()`] would produce them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParticleCounts {
+    /// Number of fluid particles.
+    pub fluid: u64,
+    /// Number of particles of each solid, by name, in scene order.
+    pub solid: Vec<(String, u64)>,
+    /// `fluid` plus all solids.
+    pub total: u64,
+}
+
+/// Container wall thickness in layers: `L = ceil(h / dx - 1e-9)` for kernel
+/// support radius `h` \[m\] and spacing `dx` \[m\] (0 for non-finite input).
+pub fn wall_layers(h: f64, dx: f64) -> u64 {
+    let l = (h / dx - 1e-9).ceil();
+    if l.is_finite() && l > 0.0 {
+        l.min(f64::from(u32::MAX)) as u64
+    } else {
+        0
+    }
+}
+
+/// Lattice size of a box along each axis.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Dims {
+    n: [u64; MAX_DIM],
+    d: usize,
+}
+
+impl Dims {
+    fn axes(&self) -> &[u64] {
+        self.n.get(..self.d).unwrap_or_default()
+    }
+}
+
+/// Name of axis `k` for messages.
+pub(crate) fn axis_name(k: usize) -> String {
+    match k {
+        0 => "x".into(),
+        1 => "y".into(),
+        2 => "z".into(),
+        _ => format!("{k}"),
+    }
+}
+
+/// `n_k = round((max_k - min_k) / dx)` per axis; `path` names the box.
+pub(crate) fn lattice_dims(
+    min: &[f64],
+    max: &[f64],
+    dx: f64,
+    path: &KeyPath,
+) -> Result<Dims, RawProblem> {
+    if min.len() != max.len() || min.len() > MAX_DIM || min.is_empty() {
+        return Err(RawProblem::new(
+            path.clone(),
+            format!("box corners must have 1 to {MAX_DIM} equal-length entries"),
+        ));
+    }
+    let mut n = [0u64; MAX_DIM];
+    for (k, ((&lo, &hi), slot)) in min.iter().zip(max).zip(n.iter_mut()).enumerate() {
+        let ratio = ((hi - lo) / dx).round();
+        if !ratio.is_finite() || ratio > f64::from(u32::MAX) {
+            return Err(RawProblem::new(
+                path.k("max"),
+                format!(
+                    "too many particles along axis {}: extent {} m / spacing {dx} m is not below {}",
+                    axis_name(k),
+                    hi - lo,
+                    u32::MAX
+                ),
+            ));
+        }
+        if ratio < 1.0 {
+            return Err(RawProblem::new(
+                path.k("max"),
+                format!(
+                    "box is thinner than the particle spacing along axis {}: max - min = {} m, spacing = {dx} m",
+                    axis_name(k),
+                    hi - lo
+                ),
+            ));
+        }
+        *slot = ratio as u64;
+    }
+    Ok(Dims { n, d: min.len() })
+}
+
+fn overflow(path: &KeyPath) -> RawProblem {
+    RawProblem::new(
+        path.clone(),
+        "particle count overflows a 64-bit integer".to_string(),
+    )
+}
+
+/// Product of the lattice sizes, checked.
+fn product(mut iter: impl Iterator<Item = Option<u64>>) -> Option<u64> {
+    iter.try_fold(1u64, |acc, n| acc.checked_mul(n?))
+}
+
+/// Particles of a filled lattice box.
+pub(crate) fn box_count(
+    min: &[f64],
+    max: &[f64],
+    dx: f64,
+    path: &KeyPath,
+) -> Result<u64, RawProblem> {
+    let dims = lattice_dims(min, max, dx, path)?;
+    product(dims.axes().iter().map(|&n| Some(n))).ok_or_else(|| overflow(path))
+}
+
+/// Particles of one solid (box or container with `layers` wall layers).
+pub(crate) fn solid_count(
+    solid: &Solid,
+    dx: f64,
+    layers: u64,
+    path: &KeyPath,
+) -> Result<u64, RawProblem> {
+    let (min, max) = (&solid.region.min, &solid.region.max);
+    match solid.shape {
+        SolidShape::Box => box_count(min, max, dx, path),
+        SolidShape::Container => {
+            let dims = lattice_dims(min, max, dx, path)?;
+            let axes = dims.axes();
+            let last = axes.len().saturating_sub(1);
+            let outer = product(axes.iter().enumerate().map(|(k, &n)| {
+                let grow = if solid.open_top && k == last {
+                    layers
+                } else {
+                    layers.checked_mul(2)?
+                };
+                n.checked_add(grow)
+            }));
+            let inner = product(axes.iter().map(|&n| Some(n)));
+            match (outer, inner) {
+                (Some(o), Some(i)) => o.checked_sub(i).ok_or_else(|| overflow(path)),
+                _ => Err(overflow(path)),
+            }
+        }
+    }
+}
+
+/// Counts the particles of every fluid box and solid; the first problem found
+/// is returned.
+pub(crate) fn count_raw(scene: &Scene) -> Result<ParticleCounts, RawProblem> {
+    let dx = scene.spacing;
+    let layers = scene.wall_layers();
+    let mut fluid = 0u64;
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        let path = KeyPath::key("fluid_box").i(i);
+        let n = box_count(&fb.region.min, &fb.region.max, dx, &path)?;
+        fluid = fluid.checked_add(n).ok_or_else(|| overflow(&path))?;
+    }
+    let mut total = fluid;
+    let mut solid = Vec::with_capacity(scene.solids.len());
+    for (i, s) in scene.solids.iter().enumerate() {
+        let path = KeyPath::key("solid").i(i);
+        let n = solid_count(s, dx, layers, &path)?;
+        total = total.checked_add(n).ok_or_else(|| overflow(&path))?;
+        solid.push((s.name.clone(), n));
+    }
+    Ok(ParticleCounts {
+        fluid,
+        solid,
+        total,
+    })
+}
+
+fn generate_error(raw: RawProblem) -> SceneError {
+    SceneError::Invalid {
+        origin: "scene".into(),
+        problems: vec![Problem {
+            key: raw.path.to_string(),
+            location: Location::Unknown,
+            reason: raw.reason,
+        }],
+    }
+}
+
+/// Counts the particles [`generate()`] would create, without creating them
+/// (pure checked `u64` arithmetic).
+pub fn count_particles(scene: &Scene) -> Result<ParticleCounts, SceneError> {
+    count_raw(scene).map_err(generate_error)
+}
+
+/// Corner as a fixed-size array, or an error naming `path`.
+fn corner<const D: usize>(v: &[f64], path: &KeyPath) -> Result<[f64; D], SceneError> {
+    <[f64; D]>::try_from(v).map_err(|_| {
+        generate_error(RawProblem::new(
+            path.clone(),
+            format!("expected {D} entries, found {}", v.len()),
+        ))
+    })
+}
+
+/// Visits every lattice index in `lo..hi` (per axis) with axis 0 fastest.
+fn for_each_index<const D: usize>(lo: [i64; D], hi: [i64; D], mut visit: impl FnMut(&[i64; D])) {
+    if lo.iter().zip(&hi).any(|(l, h)| l >= h) {
+        return;
+    }
+    let mut idx = lo;
+    loop {
+        visit(&idx);
+        let mut k = 0;
+        loop {
+            let (Some(i), Some(&l), Some(&h)) = (idx.get_mut(k), lo.get(k), hi.get(k)) else {
+                return;
+            };
+            *i += 1;
+            if *i < h {
+                break;
+            }
+            *i = l;
+            k += 1;
+        }
+    }
+}
+
+/// Position of lattice index `idx` relative to corner `min` \[m\].
+fn lattice_point<const D: usize>(min: &[f64; D], idx: &[i64; D], dx: f64) -> SVector<f32, D> {
+    SVector::<f32, D>::from_fn(|k, _| (min[k] + (idx[k] as f64 + 0.5) * dx) as f32)
+}
+
+fn reserve<T>(v: &mut Vec<T>, n: u64) -> Result<(), SceneError> {
+    let n = usize::try_from(n).unwrap_or(usize::MAX);
+    v.try_reserve_exact(n).map_err(|e| {
+        generate_error(RawProblem::new(
+            KeyPath::key("particles").k("spacing"),
+            format!("cannot allocate {n} particles: {e}"),
+        ))
+    })
+}
+
+/// Lattice sizes as `i64` indices.
+fn dims_i64<const D: usize>(dims: &Dims) -> [i64; D] {
+    let mut out = [0i64; D];
+    for (o, &n) in out.iter_mut().zip(dims.axes()) {
+        *o = i64::try_from(n).unwrap_or(i64::MAX);
+    }
+    out
+}
+
+/// Generates the initial particles of `scene` in `D` dimensions.
+///
+/// Errors if `D != scene.dimension`, if a vector has the wrong length, a box
+/// is thinner than the spacing, or the count exceeds `u32::MAX` or memory.
+pub fn generate<const D: usize>(scene: &Scene) -> Result<Layout<D>, SceneError> {
+    if D != scene.dimension {
+        return Err(SceneError::Dimension {
+            scene: scene.dimension,
+            requested: D,
+        });
+    }
+    let counts = count_particles(scene)?;
+    if counts.total > u64::from(u32::MAX) {
+        return Err(generate_error(RawProblem::new(
+            KeyPath::key("particles").k("spacing"),
+            format!("{} particles exceed the u32 index limit", counts.total),
+        )));
+    }
+    let dx = scene.spacing;
+    let layers = i64::try_from(scene.wall_layers()).unwrap_or(i64::MAX);
+    let mut layout = Layout {
+        fluid_position: Vec::new(),
+        fluid_velocity: Vec::new(),
+        solids: Vec::with_capacity(scene.solids.len()),
+    };
+    reserve(&mut layout.fluid_position, counts.fluid)?;
+    reserve(&mut layout.fluid_velocity, counts.fluid)?;
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        let path = KeyPath::key("fluid_box").i(i);
+        let min = corner::<D>(&fb.region.min, &path.k("min"))?;
+        let vel = corner::<D>(&fb.velocity, &path.k("velocity"))?;
+        let v = SVector::<f32, D>::from_fn(|k, _| vel[k] as f32);
+        let dims =
+            lattice_dims(&fb.region.min, &fb.region.max, dx, &path).map_err(generate_error)?;
+        for_each_index([0; D], dims_i64::<D>(&dims), |idx| {
+            layout.fluid_position.push(lattice_point(&min, idx, dx));
+            layout.fluid_velocity.push(v);
+        });
+    }
+    for (i, (s, (_, n))) in scene.solids.iter().zip(&counts.solid).enumerate() {
+        let path = KeyPath::key("solid").i(i);
+        let min = corner::<D>(&s.region.min, &path.k("min"))?;
+        let dims = lattice_dims(&s.region.min, &s.region.max, dx, &path).map_err(generate_error)?;
+        let n_in = dims_i64::<D>(&dims);
+        let mut position = Vec::new();
+        reserve(&mut position, *n)?;
+        match s.shape {
+            SolidShape::Box => {
+                for_each_index([0; D], n_in, |idx| {
+                    position.push(lattice_point(&min, idx, dx))
+                });
+            }
+            SolidShape::Container => {
+                let lo = [-layers; D];
+                let mut hi = n_in.map(|n| n.saturating_add(layers));
+                if s.open_top {
+                    if let (Some(h), Some(&n)) = (hi.last_mut(), n_in.last()) {
+                        *h = n;
+                    }
+                }
+                for_each_index(lo, hi, |idx| {
+                    let outside = idx.iter().zip(&n_in).any(|(&i, &n)| i < 0 || i >= n);
+                    if outside {
+                        position.push(lattice_point(&min, idx, dx));
+                    }
+                });
+            }
+        }
+        layout.solids.push(SolidParticles {
+            name: s.name.clone(),
+            position,
+        });
+    }
+    Ok(layout)
+}
+
+/// The box occupied by a solid's particles, including container walls.
+pub(crate) fn solid_extent(s: &Solid, dx: f64, layers: u64) -> Aabb {
+    match s.shape {
+        SolidShape::Box => s.region.clone(),
+        SolidShape::Container => {
+            let w = layers as f64 * dx;
+            let last = s.region.max.len().saturating_sub(1);
+            Aabb {
+                min: s.region.min.iter().map(|m| m - w).collect(),
+                max: s
+                    .region
+                    .max
+                    .iter()
+                    .enumerate()
+                    .map(|(k, m)| if s.open_top && k == last { *m } else { m + w })
+                    .collect(),
+            }
+        }
+    }
+}
+
+pub(crate) fn fmt_box(b: &Aabb) -> String {
+    format!("[{:?}, {:?}]", b.min, b.max)
+}
+
+/// First axis on which `inner` sticks out of `outer` by more than `tol`.
+pub(crate) fn outside_axis(inner: &Aabb, outer: &Aabb, tol: f64) -> Option<usize> {
+    (0..inner.min.len().min(outer.min.len())).find(|&k| {
+        let (a, b) = (inner.min.get(k), inner.max.get(k));
+        let (lo, hi) = (outer.min.get(k), outer.max.get(k));
+        matches!((a, lo), (Some(a), Some(lo)) if *a < lo - tol)
+            || matches!((b, hi), (Some(b), Some(hi)) if *b > hi + tol)
+    })
+}
+
+/// Intersection of two boxes if it has positive volume (widths > `tol`).
+pub(crate) fn intersection(a: &Aabb, b: &Aabb, tol: f64) -> Option<Aabb> {
+    let min: Vec<f64> = a.min.iter().zip(&b.min).map(|(x, y)| x.max(*y)).collect();
+    let max: Vec<f64> = a.max.iter().zip(&b.max).map(|(x, y)| x.min(*y)).collect();
+    let positive = min.iter().zip(&max).all(|(lo, hi)| hi - lo > tol);
+    positive.then_some(Aabb { min, max })
+}

@@ -1,0 +1,509 @@
+//! Scene loading: TOML scene files, command-line overrides, validation and
+//! initial particle generation.
+//!
+//! The pipeline is
+//! `text --parse--> toml::Table --overrides--> SceneFile --validate--> Scene`,
+//! followed by [`generate()`] (particles) or [`count_particles`] (counts only).
+//! Every problem found on the way is reported as a [`Problem`] naming the key
+//! path (`fluid_box[1].max`) and its location in the file (or the `--set`
+//! override that produced it). Validation collects all problems it finds.
+//!
+//! All physical quantities are SI: lengths in m, times in s, velocities in
+//! m/s, densities in kg/m^3, dynamic viscosity in Pa s.
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use toml::de::{DeTable, DeValue};
+
+pub mod generate;
+pub mod overrides;
+pub mod schema;
+pub mod validate;
+
+pub use generate::{
+    Layout, ParticleCounts, SolidParticles, count_particles, generate, wall_layers,
+};
+pub use overrides::apply_overrides;
+pub use schema::{Effect, SceneFile, SolidShape, SolverKind};
+pub use validate::{bytes_per_particle, validate};
+
+/// A validated scene with all defaults resolved. Floats are `f64`, SI units.
+///
+/// Every vector (`domain`, box corners, velocities, gravity) has exactly
+/// `dimension` entries, all finite; every box has `min < max` on every axis.
+/// Build it with [`load_scene`], [`parse_scene`] or [`validate()`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Optional scene name from the file.
+    pub name: Option<String>,
+    /// Spatial dimension, 2 or 3.
+    pub dimension: usize,
+    /// Enabled effects, without duplicates, in file order.
+    pub effects: Vec<Effect>,
+    /// Simulation domain \[m\]; all particles lie inside it.
+    pub domain: Aabb,
+    /// Initial particle spacing dx \[m\].
+    pub spacing: f64,
+    /// Kernel support radius h \[m\] (resolved from `smoothing_ratio * spacing`
+    /// or given directly as `smoothing_length`); `1 <= h / dx <= 5`.
+    pub smoothing_length: f64,
+    /// Rest density rho0 \[kg/m^3\].
+    pub rho0: f64,
+    /// Numerical speed of sound c0 \[m/s\].
+    pub sound_speed: f64,
+    /// Dynamic viscosity \[Pa s\]; `Some` iff [`Effect::Viscosity`] is enabled.
+    pub viscosity: Option<f64>,
+    /// Artificial-viscosity coefficient alpha; `Some` iff [`Effect::ArtificialViscosity`] is on.
+    pub artificial_viscosity: Option<f64>,
+    /// Gravitational acceleration \[m/s^2\]; `Some` iff [`Effect::Gravity`] is enabled.
+    pub gravity: Option<Vec<f64>>,
+    /// Gravity ramp-in time \[s\] (0 = full gravity from t = 0).
+    pub gravity_ramp: f64,
+    /// Initial fluid blocks, in file order (non-empty, non-overlapping).
+    pub fluid_boxes: Vec<FluidBox>,
+    /// Solid bodies, in file order, with unique names.
+    pub solids: Vec<Solid>,
+    /// Time-integration scheme.
+    pub solver: SolverKind,
+    /// Fixed time step \[s\]; `None` means adaptive.
+    pub dt: Option<f64>,
+    /// CFL number in (0, 1].
+    pub cfl: f64,
+    /// Simulated time \[s\].
+    pub end_time: f64,
+    /// Time between particle frames \[s\] (default `end_time / 50`).
+    pub output_interval: f64,
+    /// Whether particle frames are written.
+    pub write_frames: bool,
+}
+
+impl Scene {
+    /// Whether `effect` is enabled.
+    pub fn has(&self, effect: Effect) -> bool {
+        self.effects.contains(&effect)
+    }
+
+    /// Number of particle layers L of container walls: `ceil(h / dx - 1e-9)`.
+    pub fn wall_layers(&self) -> u64 {
+        wall_layers(self.smoothing_length, self.spacing)
+    }
+}
+
+/// An axis-aligned box `[min, max]` \[m\], `dimension` entries each.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Aabb {
+    /// Lower corner \[m\].
+    pub min: Vec<f64>,
+    /// Upper corner \[m\].
+    pub max: Vec<f64>,
+}
+
+/// A block of fluid particles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FluidBox {
+    /// The region filled with fluid \[m\].
+    pub region: Aabb,
+    /// Initial velocity \[m/s\] (zero unless given).
+    pub velocity: Vec<f64>,
+}
+
+/// A solid body made of boundary particles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solid {
+    /// Unique name (`[A-Za-z0-9_-]+`).
+    pub name: String,
+    /// Filled box or container walls.
+    pub shape: SolidShape,
+    /// The filled box, or the inside of the container \[m\].
+    pub region: Aabb,
+    /// Container without lid (always `false` for [`SolidShape::Box`]).
+    pub open_top: bool,
+}
+
+/// Where a [`Problem`] is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Location {
+    /// 1-based line and column (in characters) in the scene text.
+    Line {
+        /// 1-based line.
+        line: usize,
+        /// 1-based column, counted in characters.
+        column: usize,
+    },
+    /// The value comes from the command-line override `--set KEY=...`; holds KEY.
+    Override(String),
+    /// No position is known (e.g. a missing top-level key).
+    Unknown,
+}
+
+/// One thing wrong with a scene.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Problem {
+    /// Key path such as `particles.spacing` or `fluid_box[1].max`; empty for
+    /// TOML syntax errors that are not inside any key.
+    pub key: String,
+    /// Where the key is.
+    pub location: Location,
+    /// What is wrong.
+    pub reason: String,
+}
+
+impl Problem {
+    /// Renders the problem as `origin:LINE:COL: key: reason` (or
+    /// `origin: --set KEY: key: reason`, or `origin: key: reason`).
+    pub fn render(&self, origin: &str) -> String {
+        let key = if self.key.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", self.key)
+        };
+        match &self.location {
+            Location::Line { line, column } => {
+                format!("{origin}:{line}:{column}: {key}{}", self.reason)
+            }
+            Location::Override(k) => format!("{origin}: --set {k}: {key}{}", self.reason),
+            Location::Unknown => format!("{origin}: {key}{}", self.reason),
+        }
+    }
+}
+
+fn render_problems(origin: &str, problems: &[Problem]) -> String {
+    if problems.is_empty() {
+        return format!("{origin}: invalid scene");
+    }
+    let lines: Vec<String> = problems.iter().map(|p| p.render(origin)).collect();
+    lines.join("\n")
+}
+
+/// Errors from loading, validating or generating a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scene file could not be read (missing, a directory, unreadable).
+    #[error("cannot read scene file {}: {source}", path.display())]
+    Io {
+        /// The path given.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The scene is malformed or invalid; one line per problem.
+    #[error("{}", render_problems(origin, problems))]
+    Invalid {
+        /// File name (or `--set`, `generate`) shown in messages.
+        origin: String,
+        /// Everything found wrong, in discovery order (never empty).
+        problems: Vec<Problem>,
+    },
+    /// [`generate()`] was asked for a dimension other than the scene's.
+    #[error("scene is {scene}-dimensional but {requested}-dimensional particles were requested")]
+    Dimension {
+        /// `dimension` of the scene.
+        scene: usize,
+        /// The `D` requested.
+        requested: usize,
+    },
+}
+
+impl SceneError {
+    /// The problems of an [`SceneError::Invalid`] error (empty otherwise).
+    pub fn problems(&self) -> &[Problem] {
+        match self {
+            SceneError::Invalid { problems, .. } => problems,
+            _ => &[],
+        }
+    }
+}
+
+/// Reads, overrides, deserializes and validates the scene file at `path`.
+///
+/// `sets` are `KEY=VALUE` overrides (see [`apply_overrides`]). Errors: the
+/// file is missing, a directory or unreadable ([`SceneError::Io`]); not UTF-8,
+/// bad TOML, schema mismatch or invalid values ([`SceneError::Invalid`]).
+pub fn load_scene(path: &Path, sets: &[String]) -> Result<Scene, SceneError> {
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let origin = path.display().to_string();
+    let text = match String::from_utf8(bytes) {
+        Ok(t) => t,
+        Err(e) => {
+            let bytes = e.as_bytes();
+            let good = e.utf8_error().valid_up_to();
+            let prefix = bytes.get(..good).unwrap_or_default();
+            let prefix = std::str::from_utf8(prefix).unwrap_or_default();
+            let (line, column) = line_col(prefix, prefix.len());
+            return Err(SceneError::Invalid {
+                origin,
+                problems: vec![Problem {
+                    key: String::new(),
+                    location: Location::Line { line, column },
+                    reason: format!("file is not valid UTF-8 (bad byte at offset {good})"),
+                }],
+            });
+        }
+    };
+    parse_scene(&text, &origin, sets)
+}
+
+/// Parses scene `text` (named `origin` in messages), applies the `sets`
+/// overrides, deserializes and validates it.
+pub fn parse_scene(text: &str, origin: &str, sets: &[String]) -> Result<Scene, SceneError> {
+    let invalid = |problems: Vec<Problem>| SceneError::Invalid {
+        origin: origin.to_string(),
+        problems,
+    };
+    let original = SpanIndex::build(text);
+    let mut table: toml::Table = match text.parse() {
+        Ok(t) => t,
+        Err(e) => {
+            let here = |path: &KeyPath| locate(path, text, &original, &[]);
+            return Err(invalid(vec![toml_problem(
+                &e, text, &original, &here, true,
+            )]));
+        }
+    };
+    let override_paths = match apply_overrides(&mut table, sets) {
+        Ok(()) => overrides::override_paths(sets),
+        Err(e) => return Err(invalid(e.problems().to_vec())),
+    };
+    let locate = |path: &KeyPath| locate(path, text, &original, &override_paths);
+
+    let file: SceneFile = if sets.is_empty() {
+        toml::from_str(text)
+            .map_err(|e| invalid(vec![toml_problem(&e, text, &original, &locate, true)]))?
+    } else {
+        // Deserialize the overridden table from its re-serialized text, map
+        // error spans to key paths there, and key paths back to the file.
+        let canonical = toml::to_string(&table).map_err(|e| {
+            invalid(vec![Problem {
+                key: String::new(),
+                location: Location::Unknown,
+                reason: format!("cannot re-serialize the overridden scene: {e}"),
+            }])
+        })?;
+        let index = SpanIndex::build(&canonical);
+        toml::from_str(&canonical)
+            .map_err(|e| invalid(vec![toml_problem(&e, &canonical, &index, &locate, false)]))?
+    };
+    validate::validate_raw(&file).map_err(|raw| {
+        invalid(
+            raw.into_iter()
+                .map(|r| Problem {
+                    key: r.path.to_string(),
+                    location: locate(&r.path),
+                    reason: r.reason,
+                })
+                .collect(),
+        )
+    })
+}
+
+/// Converts a TOML / serde error on `text` into a [`Problem`]. The key path
+/// comes from the error span; the location from the span when `use_span`
+/// (and the error is not a missing field), else from `relocate(path)`.
+fn toml_problem(
+    e: &toml::de::Error,
+    text: &str,
+    index: &SpanIndex,
+    relocate: &dyn Fn(&KeyPath) -> Location,
+    use_span: bool,
+) -> Problem {
+    let message = e.message().trim();
+    let span = e.span();
+    let mut path = span.as_ref().map(|s| index.path_at(s)).unwrap_or_default();
+    let missing = missing_field(message);
+    if let Some(field) = missing {
+        path.0.push(Seg::Key(field.to_string()));
+    }
+    let location = match &span {
+        Some(s) if use_span && missing.is_none() => {
+            let (line, column) = line_col(text, s.start);
+            Location::Line { line, column }
+        }
+        _ if path.0.is_empty() => Location::Unknown,
+        _ => relocate(&path),
+    };
+    let reason = if message.is_empty() {
+        "invalid TOML".to_string()
+    } else {
+        message.to_string()
+    };
+    Problem {
+        key: path.to_string(),
+        location,
+        reason,
+    }
+}
+
+/// The field name in serde's "missing field `x`" message.
+fn missing_field(message: &str) -> Option<&str> {
+    let rest = message.strip_prefix("missing field `")?;
+    rest.split('`').next()
+}
+
+/// Location of `path`: an override when an override key is a prefix of it,
+/// else its position (or that of its longest present prefix) in the file.
+fn locate(
+    path: &KeyPath,
+    text: &str,
+    index: &SpanIndex,
+    overrides: &[(KeyPath, String)],
+) -> Location {
+    if let Some((_, raw)) = overrides.iter().find(|(o, _)| path.starts_with(o)) {
+        return Location::Override(raw.clone());
+    }
+    if let Some(span) = index.span_of(path) {
+        let (line, column) = line_col(text, span.start);
+        return Location::Line { line, column };
+    }
+    if let Some((_, raw)) = overrides.iter().find(|(o, _)| o.starts_with(path)) {
+        return Location::Override(raw.clone());
+    }
+    Location::Unknown
+}
+
+/// 1-based line and column (in characters) of byte `offset` in `text`.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let (mut line, mut column) = (1, 1);
+    for (i, c) in text.char_indices() {
+        if i >= offset {
+            break;
+        }
+        if c == '\n' {
+            line += 1;
+            column = 1;
+        } else {
+            column += 1;
+        }
+    }
+    (line, column)
+}
+
+/// One step of a key path.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) enum Seg {
+    /// A table key.
+    Key(String),
+    /// An array index.
+    Index(usize),
+}
+
+/// A key path such as `fluid_box[1].max`.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub(crate) struct KeyPath(pub(crate) Vec<Seg>);
+
+impl KeyPath {
+    /// Path of a single top-level key.
+    pub(crate) fn key(k: &str) -> Self {
+        KeyPath(vec![Seg::Key(k.to_string())])
+    }
+
+    /// This path extended by a key.
+    pub(crate) fn k(&self, k: &str) -> Self {
+        let mut p = self.clone();
+        p.0.push(Seg::Key(k.to_string()));
+        p
+    }
+
+    /// This path extended by an index.
+    pub(crate) fn i(&self, i: usize) -> Self {
+        let mut p = self.clone();
+        p.0.push(Seg::Index(i));
+        p
+    }
+
+    fn starts_with(&self, prefix: &KeyPath) -> bool {
+        self.0.starts_with(&prefix.0)
+    }
+}
+
+impl fmt::Display for KeyPath {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (n, seg) in self.0.iter().enumerate() {
+            match seg {
+                Seg::Key(k) if n == 0 => write!(f, "{k}")?,
+                Seg::Key(k) => write!(f, ".{k}")?,
+                Seg::Index(i) => write!(f, "[{i}]")?,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Byte spans of every key and value in a TOML document.
+struct SpanIndex {
+    /// (path, span of the key or array element, span of the value).
+    entries: Vec<(KeyPath, Range<usize>, Range<usize>)>,
+}
+
+impl SpanIndex {
+    /// Indexes `text`, recovering what it can from malformed TOML.
+    fn build(text: &str) -> Self {
+        let (doc, _errors) = DeTable::parse_recoverable(text);
+        let mut entries = Vec::new();
+        index_table(doc.get_ref(), &KeyPath::default(), &mut entries);
+        SpanIndex { entries }
+    }
+
+    /// Span of `path`'s key (or array element), or of its longest indexed prefix.
+    fn span_of(&self, path: &KeyPath) -> Option<Range<usize>> {
+        (0..=path.0.len()).rev().find_map(|n| {
+            let prefix = path.0.get(..n)?;
+            self.entries
+                .iter()
+                .find(|(p, _, _)| p.0 == prefix && !p.0.is_empty())
+                .map(|(_, key, _)| key.clone())
+        })
+    }
+
+    /// The deepest path whose key or value span contains the whole `span`
+    /// (the root for an empty span at the start, as for missing top-level keys).
+    fn path_at(&self, span: &Range<usize>) -> KeyPath {
+        if span.is_empty() && span.start == 0 {
+            return KeyPath::default();
+        }
+        let hit = |r: &Range<usize>| r.start <= span.start && span.end <= r.end;
+        self.entries
+            .iter()
+            .filter(|(_, k, v)| hit(k) || hit(v))
+            .max_by_key(|(p, _, _)| p.0.len())
+            .map(|(p, _, _)| p.clone())
+            .unwrap_or_default()
+    }
+}
+
+fn index_table(
+    table: &DeTable<'_>,
+    prefix: &KeyPath,
+    out: &mut Vec<(KeyPath, Range<usize>, Range<usize>)>,
+) {
+    for (key, value) in table.iter() {
+        let path = prefix.k(key.get_ref());
+        // Position of a key: its start, or the `[header]` for a table.
+        let (k, v) = (key.span(), value.span());
+        let start = k.start.min(v.start);
+        out.push((path.clone(), start..k.end.max(start), v));
+        index_value(value.get_ref(), &path, out);
+    }
+}
+
+fn index_value(
+    value: &DeValue<'_>,
+    path: &KeyPath,
+    out: &mut Vec<(KeyPath, Range<usize>, Range<usize>)>,
+) {
+    match value {
+        DeValue::Table(t) => index_table(t, path, out),
+        DeValue::Array(a) => {
+            for (i, elem) in a.iter().enumerate() {
+                let p = path.i(i);
+                out.push((p.clone(), elem.span(), elem.span()));
+                index_value(elem.get_ref(), &p, out);
+            }
+        }
+        _ => {}
+    }
+}

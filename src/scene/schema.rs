@@ -1,0 +1,171 @@
+//! The scene file as deserialized from TOML, before validation.
+//!
+//! Every struct denies unknown fields, so a misspelt key is an error that
+//! names the key. Values here are unchecked; see [`super::validate()`] for the
+//! rules and [`super::Scene`] for the resolved, validated form.
+
+use serde::Deserialize;
+
+/// A physical effect switched on in a scene (`effects = [...]`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Effect {
+    /// Body force `fluid.gravity` \[m/s^2\], optionally ramped in over `fluid.gravity_ramp` \[s\].
+    Gravity,
+    /// Physical viscosity with dynamic viscosity `fluid.viscosity` \[Pa s\].
+    Viscosity,
+    /// Monaghan's artificial viscosity with coefficient `fluid.artificial_viscosity` (alpha).
+    ArtificialViscosity,
+}
+
+impl Effect {
+    /// The name used in scene files (`"gravity"`, `"viscosity"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Effect::Gravity => "gravity",
+            Effect::Viscosity => "viscosity",
+            Effect::ArtificialViscosity => "artificial_viscosity",
+        }
+    }
+}
+
+/// Shape of a `[[solid]]` body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolidShape {
+    /// A box `[min, max]` filled with solid particles.
+    Box,
+    /// Walls of `L` particle layers around the inside box `[min, max]`;
+    /// open at the top (last axis) unless `open_top = false`.
+    Container,
+}
+
+/// The time-integration scheme (`solver.kind`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverKind {
+    /// Weakly compressible SPH with a stiff equation of state.
+    Wcsph,
+}
+
+/// The whole scene file (top-level table).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Optional human-readable scene name.
+    pub name: Option<String>,
+    /// Spatial dimension, 2 or 3 (signed so that bad values reach validation).
+    pub dimension: i64,
+    /// Enabled effects; absent means none. Duplicates are an error.
+    #[serde(default)]
+    pub effects: Vec<Effect>,
+    /// The simulation domain \[m\].
+    pub domain: BoxFile,
+    /// Particle resolution.
+    pub particles: ParticlesFile,
+    /// Fluid material.
+    pub fluid: FluidFile,
+    /// Initial fluid regions (`[[fluid_box]]`); at least one is required.
+    #[serde(default)]
+    pub fluid_box: Vec<FluidBoxFile>,
+    /// Solid bodies (`[[solid]]`); zero or more.
+    #[serde(default)]
+    pub solid: Vec<SolidFile>,
+    /// Time integration.
+    pub solver: SolverFile,
+    /// Output control; optional.
+    pub output: Option<OutputFile>,
+}
+
+/// An axis-aligned box `[min, max]` \[m\].
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxFile {
+    /// Lower corner \[m\], `dimension` entries.
+    pub min: Vec<f64>,
+    /// Upper corner \[m\], `dimension` entries, strictly greater than `min`.
+    pub max: Vec<f64>,
+}
+
+/// `[particles]`: resolution and kernel size.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticlesFile {
+    /// Initial particle spacing dx \[m\], > 0.
+    pub spacing: f64,
+    /// h / dx, in [1, 5]; exactly one of this and `smoothing_length`.
+    pub smoothing_ratio: Option<f64>,
+    /// Kernel support radius h \[m\]; exactly one of this and `smoothing_ratio`.
+    pub smoothing_length: Option<f64>,
+}
+
+/// `[fluid]`: material constants and body force.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidFile {
+    /// Rest density \[kg/m^3\], > 0.
+    pub rho0: f64,
+    /// Numerical speed of sound \[m/s\], > 0.
+    pub sound_speed: f64,
+    /// Dynamic viscosity \[Pa s\], >= 0; required iff the `viscosity` effect is on.
+    pub viscosity: Option<f64>,
+    /// Artificial-viscosity coefficient alpha (dimensionless), >= 0; required iff the
+    /// `artificial_viscosity` effect is on.
+    pub artificial_viscosity: Option<f64>,
+    /// Gravitational acceleration \[m/s^2\]; required iff the `gravity` effect is on.
+    pub gravity: Option<Vec<f64>>,
+    /// Time over which gravity is ramped in \[s\], >= 0; only with the `gravity` effect.
+    pub gravity_ramp: Option<f64>,
+}
+
+/// `[[fluid_box]]`: a block of fluid particles on the lattice.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidBoxFile {
+    /// Lower corner \[m\].
+    pub min: Vec<f64>,
+    /// Upper corner \[m\].
+    pub max: Vec<f64>,
+    /// Initial velocity \[m/s\]; default zero.
+    pub velocity: Option<Vec<f64>>,
+}
+
+/// `[[solid]]`: a rigid boundary body made of particles.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolidFile {
+    /// Unique non-empty name of `[A-Za-z0-9_-]` characters.
+    pub name: String,
+    /// Box or container.
+    pub shape: SolidShape,
+    /// Lower corner \[m\] (of the filled box, or of the container's inside).
+    pub min: Vec<f64>,
+    /// Upper corner \[m\] (of the filled box, or of the container's inside).
+    pub max: Vec<f64>,
+    /// Container only: no lid when true (default true). An error for `box`.
+    pub open_top: Option<bool>,
+}
+
+/// `[solver]`: time integration.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverFile {
+    /// Scheme.
+    pub kind: SolverKind,
+    /// Fixed time step \[s\] > 0; absent means adaptive.
+    pub dt: Option<f64>,
+    /// CFL number in (0, 1]; default 0.2.
+    pub cfl: Option<f64>,
+    /// Simulated time \[s\] > 0, and >= `dt` when `dt` is given.
+    pub end_time: f64,
+}
+
+/// `[output]`: what to write and how often.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputFile {
+    /// Time between particle frames \[s\] > 0; default `end_time / 50`.
+    pub interval: Option<f64>,
+    /// Whether to write particle frames; default true.
+    pub frames: Option<bool>,
+}

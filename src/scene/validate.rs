@@ -1,0 +1,611 @@
+//! Validation of a deserialized [`SceneFile`] into a [`Scene`].
+//!
+//! All floats must be finite; every box needs `min < max` on every axis and
+//! vectors need exactly `dimension` entries. Beyond the per-key rules,
+//! validation checks that fluid boxes and solids (including container walls)
+//! lie inside the domain, that fluid boxes overlap neither each other nor a
+//! solid (the interior of a container is fine), and that the particle count
+//! fits `u32` indices and the available memory. All problems are collected.
+
+use super::generate::{self, axis_name, fmt_box, intersection, outside_axis, solid_extent};
+use super::schema::{BoxFile, Effect, SceneFile, SolidShape};
+use super::{Aabb, FluidBox, KeyPath, Location, Problem, Scene, SceneError, Solid};
+
+/// A problem with a structured key path (turned into a [`Problem`] later).
+#[derive(Debug, Clone)]
+pub(crate) struct RawProblem {
+    pub(crate) path: KeyPath,
+    pub(crate) reason: String,
+}
+
+impl RawProblem {
+    pub(crate) fn new(path: KeyPath, reason: String) -> Self {
+        RawProblem { path, reason }
+    }
+}
+
+/// Estimated memory per particle \[bytes\] in `dim` dimensions:
+/// `4 * (5 * dim + 8) + 64`.
+///
+/// This is a placeholder formula meant to cover the `f32`/`u32` particle
+/// fields (position, velocity, acceleration and the other per-particle
+/// vectors and scalars), the neighbour-grid cell keys and sort permutation,
+/// and one reorder scratch buffer. The solver should adjust it to its real
+/// storage.
+pub fn bytes_per_particle(dim: usize) -> u64 {
+    let dim = u64::try_from(dim).unwrap_or(u64::MAX);
+    dim.saturating_mul(5)
+        .saturating_add(8)
+        .saturating_mul(4)
+        .saturating_add(64)
+}
+
+/// Available memory \[bytes\]: `MemAvailable` from `/proc/meminfo`, or `None`
+/// if it cannot be read (callers then compare against `isize::MAX`).
+fn mem_available() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+/// Validates `file` without source positions (problem locations are
+/// [`Location::Unknown`], origin `"scene"`).
+///
+/// The particle-memory check compares the estimated bytes
+/// (`total particles * bytes_per_particle(dimension)`) with `MemAvailable`
+/// from `/proc/meminfo`, or with `isize::MAX` if that file is unreadable;
+/// counts above `u32::MAX` are always rejected.
+pub fn validate(file: &SceneFile) -> Result<Scene, SceneError> {
+    validate_raw(file).map_err(|raw| SceneError::Invalid {
+        origin: "scene".into(),
+        problems: raw
+            .into_iter()
+            .map(|r| Problem {
+                key: r.path.to_string(),
+                location: Location::Unknown,
+                reason: r.reason,
+            })
+            .collect(),
+    })
+}
+
+/// Collects problems.
+struct Checker {
+    problems: Vec<RawProblem>,
+}
+
+impl Checker {
+    fn err(&mut self, path: KeyPath, reason: String) {
+        self.problems.push(RawProblem { path, reason });
+    }
+
+    fn finite(&mut self, path: KeyPath, v: f64) -> Option<f64> {
+        if v.is_finite() {
+            Some(v)
+        } else {
+            self.err(path, format!("must be a finite number, got {v}"));
+            None
+        }
+    }
+
+    fn positive(&mut self, path: KeyPath, v: f64) -> Option<f64> {
+        let v = self.finite(path.clone(), v)?;
+        if v > 0.0 {
+            Some(v)
+        } else {
+            self.err(path, format!("must be > 0, got {v}"));
+            None
+        }
+    }
+
+    fn non_negative(&mut self, path: KeyPath, v: f64) -> Option<f64> {
+        let v = self.finite(path.clone(), v)?;
+        if v >= 0.0 {
+            Some(v)
+        } else {
+            self.err(path, format!("must be >= 0, got {v}"));
+            None
+        }
+    }
+
+    fn vector(&mut self, path: KeyPath, v: &[f64], dim: Option<usize>) -> Option<Vec<f64>> {
+        let dim = dim?;
+        if v.len() != dim {
+            self.err(
+                path,
+                format!(
+                    "expected {dim} entries (dimension = {dim}), found {}",
+                    v.len()
+                ),
+            );
+            return None;
+        }
+        let mut ok = true;
+        for (i, &x) in v.iter().enumerate() {
+            ok &= self.finite(path.i(i), x).is_some();
+        }
+        ok.then(|| v.to_vec())
+    }
+
+    fn aabb(
+        &mut self,
+        path: &KeyPath,
+        min: &[f64],
+        max: &[f64],
+        dim: Option<usize>,
+    ) -> Option<Aabb> {
+        let lo = self.vector(path.k("min"), min, dim);
+        let hi = self.vector(path.k("max"), max, dim);
+        let (lo, hi) = (lo?, hi?);
+        let mut ok = true;
+        for (k, (a, b)) in lo.iter().zip(&hi).enumerate() {
+            if a >= b {
+                ok = false;
+                self.err(
+                    path.k("max"),
+                    format!(
+                        "max must be greater than min on every axis, but on axis {} max = {b} <= min = {a}",
+                        axis_name(k)
+                    ),
+                );
+            }
+        }
+        ok.then_some(Aabb { min: lo, max: hi })
+    }
+}
+
+fn in_range(
+    c: &mut Checker,
+    path: KeyPath,
+    v: f64,
+    lo: f64,
+    hi: f64,
+    lo_open: bool,
+) -> Option<f64> {
+    let v = c.finite(path.clone(), v)?;
+    let low_ok = if lo_open { v > lo } else { v >= lo };
+    if low_ok && v <= hi {
+        Some(v)
+    } else {
+        let open = if lo_open { "(" } else { "[" };
+        c.err(path, format!("must be in {open}{lo}, {hi}], got {v}"));
+        None
+    }
+}
+
+/// Validates `file`, returning every problem with its key path.
+pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
+    let mut c = Checker {
+        problems: Vec::new(),
+    };
+    let dim = match file.dimension {
+        2 => Some(2usize),
+        3 => Some(3),
+        d => {
+            c.err(
+                KeyPath::key("dimension"),
+                format!("must be 2 or 3, got {d}"),
+            );
+            None
+        }
+    };
+
+    let mut effects: Vec<Effect> = Vec::new();
+    for (i, &e) in file.effects.iter().enumerate() {
+        if effects.contains(&e) {
+            c.err(
+                KeyPath::key("effects").i(i),
+                format!("duplicate effect \"{}\"", e.name()),
+            );
+        } else {
+            effects.push(e);
+        }
+    }
+
+    let domain = check_box(&mut c, &KeyPath::key("domain"), &file.domain, dim);
+
+    // [particles]
+    let pp = KeyPath::key("particles");
+    let p = &file.particles;
+    let spacing = c.positive(pp.k("spacing"), p.spacing);
+    let h = match (p.smoothing_ratio, p.smoothing_length) {
+        (Some(_), Some(_)) => {
+            c.err(
+                pp.k("smoothing_length"),
+                "give exactly one of particles.smoothing_ratio and particles.smoothing_length, not both"
+                    .into(),
+            );
+            None
+        }
+        (None, None) => {
+            c.err(
+                pp.clone(),
+                "one of smoothing_ratio (h / dx) or smoothing_length (h [m]) is required".into(),
+            );
+            None
+        }
+        (Some(r), None) => {
+            let r = in_range(&mut c, pp.k("smoothing_ratio"), r, 1.0, 5.0, false);
+            r.zip(spacing).map(|(r, dx)| r * dx)
+        }
+        (None, Some(h)) => {
+            let h = c.positive(pp.k("smoothing_length"), h);
+            match (h, spacing) {
+                (Some(h), Some(dx)) if !(1.0..=5.0).contains(&(h / dx)) => {
+                    c.err(
+                        pp.k("smoothing_length"),
+                        format!(
+                            "smoothing_length / spacing must be in [1, 5], got {h} / {dx} = {}",
+                            h / dx
+                        ),
+                    );
+                    None
+                }
+                (h, _) => h,
+            }
+        }
+    };
+
+    // [fluid]
+    let fp = KeyPath::key("fluid");
+    let f = &file.fluid;
+    let rho0 = c.positive(fp.k("rho0"), f.rho0);
+    let sound_speed = c.positive(fp.k("sound_speed"), f.sound_speed);
+    let has_visc = effects.contains(&Effect::Viscosity);
+    let has_grav = effects.contains(&Effect::Gravity);
+    let viscosity = match (f.viscosity, has_visc) {
+        (Some(v), true) => c.non_negative(fp.k("viscosity"), v),
+        (None, true) => {
+            c.err(
+                fp.k("viscosity"),
+                "required because effect \"viscosity\" is enabled".into(),
+            );
+            None
+        }
+        (Some(_), false) => {
+            c.err(
+                fp.k("viscosity"),
+                "given but effect \"viscosity\" is not enabled (add it to `effects` or remove this key)"
+                    .into(),
+            );
+            None
+        }
+        (None, false) => None,
+    };
+    let has_art = effects.contains(&Effect::ArtificialViscosity);
+    let artificial_viscosity = match (f.artificial_viscosity, has_art) {
+        (Some(v), true) => c.non_negative(fp.k("artificial_viscosity"), v),
+        (None, true) => {
+            c.err(
+                fp.k("artificial_viscosity"),
+                "required because effect \"artificial_viscosity\" is enabled".into(),
+            );
+            None
+        }
+        (Some(_), false) => {
+            c.err(
+                fp.k("artificial_viscosity"),
+                "given but effect \"artificial_viscosity\" is not enabled (add it to `effects` or remove this key)"
+                    .into(),
+            );
+            None
+        }
+        (None, false) => None,
+    };
+    let gravity = match (&f.gravity, has_grav) {
+        (Some(g), true) => c.vector(fp.k("gravity"), g, dim),
+        (None, true) => {
+            c.err(
+                fp.k("gravity"),
+                "required because effect \"gravity\" is enabled".into(),
+            );
+            None
+        }
+        (Some(_), false) => {
+            c.err(
+                fp.k("gravity"),
+                "given but effect \"gravity\" is not enabled (add it to `effects` or remove this key)"
+                    .into(),
+            );
+            None
+        }
+        (None, false) => None,
+    };
+    let gravity_ramp = match (f.gravity_ramp, has_grav) {
+        (Some(r), true) => c.non_negative(fp.k("gravity_ramp"), r),
+        (Some(_), false) => {
+            c.err(
+                fp.k("gravity_ramp"),
+                "given but effect \"gravity\" is not enabled".into(),
+            );
+            None
+        }
+        (None, _) => Some(0.0),
+    };
+
+    // [[fluid_box]]
+    if file.fluid_box.is_empty() {
+        c.err(
+            KeyPath::key("fluid_box"),
+            "at least one [[fluid_box]] is required".into(),
+        );
+    }
+    let mut fluid_boxes = Vec::new();
+    let mut boxes_ok = true;
+    for (i, fb) in file.fluid_box.iter().enumerate() {
+        let path = KeyPath::key("fluid_box").i(i);
+        let region = c.aabb(&path, &fb.min, &fb.max, dim);
+        let velocity = match &fb.velocity {
+            Some(v) => c.vector(path.k("velocity"), v, dim),
+            None => dim.map(|d| vec![0.0; d]),
+        };
+        match (region, velocity) {
+            (Some(region), Some(velocity)) => fluid_boxes.push(FluidBox { region, velocity }),
+            _ => boxes_ok = false,
+        }
+    }
+
+    // [[solid]]
+    let mut solids = Vec::new();
+    for (i, s) in file.solid.iter().enumerate() {
+        let path = KeyPath::key("solid").i(i);
+        let mut ok = true;
+        if s.name.is_empty() {
+            c.err(path.k("name"), "must not be empty".into());
+            ok = false;
+        } else if let Some(bad) = s
+            .name
+            .chars()
+            .find(|ch| !(ch.is_ascii_alphanumeric() || *ch == '_' || *ch == '-'))
+        {
+            c.err(
+                path.k("name"),
+                format!("may only contain A-Z, a-z, 0-9, '_' and '-', found {bad:?}"),
+            );
+            ok = false;
+        } else if let Some(j) = file.solid.iter().take(i).position(|o| o.name == s.name) {
+            c.err(
+                path.k("name"),
+                format!(
+                    "duplicate solid name \"{}\" (already used by solid[{j}])",
+                    s.name
+                ),
+            );
+            ok = false;
+        }
+        let open_top = match (s.shape, s.open_top) {
+            (SolidShape::Box, Some(_)) => {
+                c.err(
+                    path.k("open_top"),
+                    "only allowed for shape = \"container\"".into(),
+                );
+                ok = false;
+                false
+            }
+            (SolidShape::Box, None) => false,
+            (SolidShape::Container, o) => o.unwrap_or(true),
+        };
+        match c.aabb(&path, &s.min, &s.max, dim) {
+            Some(region) if ok => solids.push(Solid {
+                name: s.name.clone(),
+                shape: s.shape,
+                region,
+                open_top,
+            }),
+            _ => boxes_ok = false,
+        }
+    }
+
+    // [solver]
+    let sp = KeyPath::key("solver");
+    let sv = &file.solver;
+    let dt = sv.dt.map(|dt| c.positive(sp.k("dt"), dt));
+    let cfl = in_range(&mut c, sp.k("cfl"), sv.cfl.unwrap_or(0.2), 0.0, 1.0, true);
+    let end_time = c.positive(sp.k("end_time"), sv.end_time);
+    if let (Some(Some(dt)), Some(end)) = (dt, end_time) {
+        if end < dt {
+            c.err(
+                sp.k("end_time"),
+                format!("must be >= solver.dt = {dt}, got {end}"),
+            );
+        }
+    }
+
+    // [output]
+    let op = KeyPath::key("output");
+    let out = file.output.as_ref();
+    let interval = match out.and_then(|o| o.interval) {
+        Some(i) => c.positive(op.k("interval"), i),
+        None => end_time.map(|t| t / 50.0),
+    };
+    let write_frames = out.and_then(|o| o.frames).unwrap_or(true);
+
+    let resolved = (|| {
+        Some(Scene {
+            name: file.name.clone(),
+            dimension: dim?,
+            effects,
+            domain: domain?,
+            spacing: spacing?,
+            smoothing_length: h?,
+            rho0: rho0?,
+            sound_speed: sound_speed?,
+            viscosity,
+            artificial_viscosity,
+            gravity,
+            gravity_ramp: gravity_ramp?,
+            fluid_boxes,
+            solids,
+            solver: sv.kind,
+            dt: dt.flatten(),
+            cfl: cfl?,
+            end_time: end_time?,
+            output_interval: interval?,
+            write_frames,
+        })
+    })();
+    match resolved {
+        Some(scene) if boxes_ok => {
+            // Geometry is checked even when other keys have problems, so
+            // that everything is reported at once.
+            check_geometry(&mut c, &scene);
+            if c.problems.is_empty() {
+                Ok(scene)
+            } else {
+                Err(c.problems)
+            }
+        }
+        _ => Err(c.problems),
+    }
+}
+
+fn check_box(c: &mut Checker, path: &KeyPath, b: &BoxFile, dim: Option<usize>) -> Option<Aabb> {
+    c.aabb(path, &b.min, &b.max, dim)
+}
+
+/// Domain containment, overlaps and particle-count / memory limits.
+fn check_geometry(c: &mut Checker, scene: &Scene) {
+    let dx = scene.spacing;
+    let tol = 1e-6 * dx;
+    let layers = scene.wall_layers();
+    let domain = &scene.domain;
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        if let Some(k) = outside_axis(&fb.region, domain, tol) {
+            c.err(
+                KeyPath::key("fluid_box").i(i),
+                format!(
+                    "fluid box {} extends outside the domain {} on axis {}",
+                    fmt_box(&fb.region),
+                    fmt_box(domain),
+                    axis_name(k)
+                ),
+            );
+        }
+    }
+    let extents: Vec<Aabb> = scene
+        .solids
+        .iter()
+        .map(|s| solid_extent(s, dx, layers))
+        .collect();
+    for (i, (s, ext)) in scene.solids.iter().zip(&extents).enumerate() {
+        if let Some(k) = outside_axis(ext, domain, tol) {
+            let walls = match s.shape {
+                SolidShape::Box => String::new(),
+                SolidShape::Container => format!(" (including walls of {layers} layers x {dx} m)"),
+            };
+            c.err(
+                KeyPath::key("solid").i(i),
+                format!(
+                    "solid \"{}\" occupies {}{walls}, outside the domain {} on axis {}",
+                    s.name,
+                    fmt_box(ext),
+                    fmt_box(domain),
+                    axis_name(k)
+                ),
+            );
+        }
+    }
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        let path = KeyPath::key("fluid_box").i(i);
+        for (s, ext) in scene.solids.iter().zip(&extents) {
+            let Some(cut) = intersection(&fb.region, ext, tol) else {
+                continue;
+            };
+            match s.shape {
+                SolidShape::Box => c.err(
+                    path.clone(),
+                    format!(
+                        "fluid box {} overlaps solid box \"{}\" {}",
+                        fmt_box(&fb.region),
+                        s.name,
+                        fmt_box(&s.region)
+                    ),
+                ),
+                SolidShape::Container => {
+                    if outside_axis(&cut, &s.region, tol).is_some() {
+                        c.err(
+                            path.clone(),
+                            format!(
+                                "fluid box {} overlaps the walls of container \"{}\" (walls occupy {} minus the inside {})",
+                                fmt_box(&fb.region),
+                                s.name,
+                                fmt_box(ext),
+                                fmt_box(&s.region)
+                            ),
+                        );
+                    }
+                }
+            }
+        }
+        for (j, other) in scene.fluid_boxes.iter().enumerate().take(i) {
+            if intersection(&fb.region, &other.region, tol).is_some() {
+                c.err(path.clone(), format!("fluid box overlaps fluid_box[{j}]"));
+            }
+        }
+    }
+    check_counts(c, scene);
+}
+
+fn check_counts(c: &mut Checker, scene: &Scene) {
+    let dx = scene.spacing;
+    let layers = scene.wall_layers();
+    let mut total: Option<u64> = Some(0);
+    let mut complete = true;
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        let path = KeyPath::key("fluid_box").i(i);
+        match generate::box_count(&fb.region.min, &fb.region.max, dx, &path) {
+            Ok(n) => total = total.and_then(|t| t.checked_add(n)),
+            Err(p) => {
+                c.problems.push(p);
+                complete = false;
+            }
+        }
+    }
+    for (i, s) in scene.solids.iter().enumerate() {
+        let path = KeyPath::key("solid").i(i);
+        match generate::solid_count(s, dx, layers, &path) {
+            Ok(n) => total = total.and_then(|t| t.checked_add(n)),
+            Err(p) => {
+                c.problems.push(p);
+                complete = false;
+            }
+        }
+    }
+    if !complete {
+        return;
+    }
+    let key = KeyPath::key("particles").k("spacing");
+    let Some(total) = total else {
+        c.err(
+            key,
+            format!("particle count overflows a 64-bit integer at spacing {dx} m"),
+        );
+        return;
+    };
+    let per = bytes_per_particle(scene.dimension);
+    let bytes = total.checked_mul(per);
+    let bytes_txt = bytes.map_or_else(|| "more than 2^64".to_string(), |b| format!("{b}"));
+    if total > u64::from(u32::MAX) {
+        c.err(
+            key,
+            format!(
+                "spacing {dx} m gives {total} particles (about {bytes_txt} bytes), more than the {} that u32 particle indices allow",
+                u32::MAX
+            ),
+        );
+        return;
+    }
+    let (limit, what) = match mem_available() {
+        Some(m) => (m, "MemAvailable"),
+        None => (isize::MAX as u64, "isize::MAX (/proc/meminfo unreadable)"),
+    };
+    if bytes.is_none_or(|b| b > limit) {
+        c.err(
+            key,
+            format!(
+                "spacing {dx} m gives {total} particles needing about {bytes_txt} bytes ({per} per particle), more than the {limit} bytes available ({what})"
+            ),
+        );
+    }
+}

@@ -1,0 +1,294 @@
+//! The solver: owns time and the order of stages; it never loops over particles itself.
+//!
+//! A [`Simulation`] holds the particle fields, the backend, the plan and the clock. The step
+//! driver (`step.rs`) walks the plan and calls one backend method per stage.
+
+pub mod plan;
+pub mod stage;
+pub mod step;
+pub mod timestep;
+
+use crate::backend::cpu::CpuBackend;
+use crate::backend::params::StepParams;
+use crate::fields::{FLUID, Fields};
+use crate::math::{Real, Vector, sum_in_order};
+use crate::physics::lattice::{lattice_gradient_moment, lattice_mass};
+use crate::physics::gravity::gravity_at;
+use crate::smoothing::{Smoothing, UnsupportedDimension};
+use stage::Stage;
+use timestep::TimeStepLimit;
+
+/// Physical and numerical settings of a run, resolved from a scene (SI units).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimConfig<const D: usize> {
+    /// Initial particle spacing `dx` [m].
+    pub spacing: f64,
+    /// Kernel support radius `h` [m].
+    pub h: f64,
+    /// Rest density `ρ0` [kg/m³].
+    pub rho0: f64,
+    /// Sound speed `C` [m/s] of eq. (19).
+    pub sound_speed: f64,
+    /// Dynamic viscosity `μ` [Pa s]; `None` when the scene has no viscosity effect.
+    pub viscosity: Option<f64>,
+    /// Artificial-viscosity coefficient `α`; `None` when the scene has no such effect.
+    pub artificial_viscosity: Option<f64>,
+    /// Gravity `g` [m/s²]; `None` when the scene has no gravity effect.
+    pub gravity: Option<Vector<D>>,
+    /// Time over which gravity is ramped in [s] (0 = none).
+    pub gravity_ramp: f64,
+    /// Fixed time step [s], or `None` for adaptive.
+    pub dt: Option<f64>,
+    /// CFL number of the adaptive step.
+    pub cfl: f64,
+    /// Lower corner of the domain [m].
+    pub domain_min: Vector<D>,
+    /// Upper corner of the domain [m].
+    pub domain_max: Vector<D>,
+}
+
+/// Errors that stop a step. Each names the step, the time, the particle and the quantity.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StepError {
+    /// A field became NaN or infinite.
+    #[error("step {step}, t = {time:.6} s: particle {particle} has a non-finite {quantity}")]
+    NonFinite {
+        /// Step number.
+        step: u64,
+        /// Simulated time [s].
+        time: f64,
+        /// Particle id (index in the initial layout).
+        particle: u32,
+        /// Name of the field.
+        quantity: &'static str,
+    },
+    /// A fluid particle left the domain box.
+    #[error("step {step}, t = {time:.6} s: fluid particle {particle} left the domain at {position:?} m")]
+    Escaped {
+        /// Step number.
+        step: u64,
+        /// Simulated time [s].
+        time: f64,
+        /// Particle id (index in the initial layout).
+        particle: u32,
+        /// Its position [m].
+        position: Vec<f64>,
+    },
+    /// The neighbour grid could not be built.
+    #[error("step {step}: {source}")]
+    Grid {
+        /// Step number.
+        step: u64,
+        /// The grid's error.
+        source: crate::grid::GridError,
+    },
+}
+
+/// Errors building a simulation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SetupError {
+    /// Dimension other than 2 or 3.
+    #[error(transparent)]
+    Dimension(#[from] UnsupportedDimension),
+    /// A numeric setting that cannot run (the scene validator normally catches these first).
+    #[error("invalid setting {key}: {reason}")]
+    Invalid {
+        /// The setting.
+        key: &'static str,
+        /// Why.
+        reason: String,
+    },
+}
+
+/// Simulated time and step count.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Clock {
+    /// Simulated time [s].
+    pub time: f64,
+    /// Steps taken.
+    pub step: u64,
+}
+
+/// What one step did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepReport {
+    /// The step taken [s].
+    pub dt: f64,
+    /// The criterion that limited it.
+    pub limit: TimeStepLimit,
+    /// Extremes of the state at the start of the step.
+    pub extremes: crate::backend::StateExtremes,
+}
+
+/// Density-error statistics over a run (fluid particles; see `StateExtremes`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RunStats {
+    /// Largest `|ρ − ρ0|/ρ0` seen.
+    pub max_abs_density_error: f64,
+    /// Sum over steps of the per-step mean `|ρ − ρ0|/ρ0`.
+    pub sum_mean_abs_density_error: f64,
+    /// Largest compression `max(ρ − ρ0, 0)/ρ0` seen.
+    pub max_compression: f64,
+    /// Sum over steps of the per-step mean compression.
+    pub sum_mean_compression: f64,
+}
+
+/// A running simulation in dimension `D` (2 or 3).
+pub struct Simulation<const D: usize> {
+    /// Particle fields (cell-sorted after the first step).
+    pub fields: Fields<D>,
+    backend: CpuBackend<D>,
+    plan: Vec<Stage>,
+    config: SimConfig<D>,
+    solid_names: Vec<String>,
+    /// `1/κ` of the pressure gradient (see `physics::lattice`).
+    pressure_gradient_scale: Real,
+    clock: Clock,
+    stats: RunStats,
+    /// Force of the fluid on each named solid at the last step [N] (2D: [N/m]).
+    solid_force: Vec<[f64; 3]>,
+    fluid_count: usize,
+}
+
+impl<const D: usize> Simulation<D> {
+    /// Builds a simulation from fluid particles (positions [m], velocities [m/s]) and named
+    /// solids. Every particle gets the lattice mass (see `physics::lattice::lattice_mass`).
+    pub fn new(
+        config: SimConfig<D>,
+        fluid_position: &[Vector<D>],
+        fluid_velocity: &[Vector<D>],
+        solids: &[(String, Vec<Vector<D>>)],
+    ) -> Result<Self, SetupError> {
+        let positive = |key: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(SetupError::Invalid { key, reason: format!("must be positive and finite, got {v}") })
+            }
+        };
+        positive("particles.spacing", config.spacing)?;
+        positive("particles.smoothing_length", config.h)?;
+        positive("fluid.rho0", config.rho0)?;
+        positive("fluid.sound_speed", config.sound_speed)?;
+        positive("solver.cfl", config.cfl)?;
+        if fluid_position.len() != fluid_velocity.len() {
+            return Err(SetupError::Invalid {
+                key: "fluid_box",
+                reason: "positions and velocities differ in length".into(),
+            });
+        }
+        let kernel = Smoothing::<D>::new(config.h as Real)?;
+        let mass = lattice_mass(&kernel, config.spacing, config.rho0) as Real;
+        let kappa = lattice_gradient_moment(&kernel, config.spacing, config.rho0);
+        let rho0 = config.rho0 as Real;
+        let mut fields = Fields::default();
+        for (x, u) in fluid_position.iter().zip(fluid_velocity) {
+            fields.push(*x, *u, mass, rho0, FLUID);
+        }
+        for (k, (_, xs)) in solids.iter().enumerate() {
+            for x in xs {
+                fields.push(*x, Vector::zeros(), mass, rho0, k as u32 + 1);
+            }
+        }
+        let plan = plan::wcsph_plan(plan::PlanInputs {
+            viscosity: config.viscosity.is_some(),
+            artificial_viscosity: config.artificial_viscosity.is_some(),
+            solids: !solids.is_empty(),
+        });
+        Ok(Self {
+            fields,
+            backend: CpuBackend::new(),
+            plan,
+            solid_names: solids.iter().map(|(n, _)| n.clone()).collect(),
+            pressure_gradient_scale: (1.0 / kappa) as Real,
+            clock: Clock::default(),
+            stats: RunStats::default(),
+            solid_force: vec![[0.0; 3]; solids.len()],
+            fluid_count: fluid_position.len(),
+            config,
+        })
+    }
+
+    /// The plan each step walks.
+    pub fn plan(&self) -> &[Stage] {
+        &self.plan
+    }
+
+    /// The settings of the run.
+    pub fn config(&self) -> &SimConfig<D> {
+        &self.config
+    }
+
+    /// Simulated time and step count.
+    pub fn clock(&self) -> Clock {
+        self.clock
+    }
+
+    /// Density-error statistics so far.
+    pub fn stats(&self) -> RunStats {
+        self.stats
+    }
+
+    /// Names of the solids, in scene order (solid `k` has `kind == k + 1`).
+    pub fn solid_names(&self) -> &[String] {
+        &self.solid_names
+    }
+
+    /// Force of the fluid on each solid during the last step [N] (per unit depth in 2D).
+    pub fn solid_forces(&self) -> &[[f64; 3]] {
+        &self.solid_force
+    }
+
+    /// Number of fluid particles.
+    pub fn fluid_count(&self) -> usize {
+        self.fluid_count
+    }
+
+    /// Backend name.
+    pub fn backend_name(&self) -> &'static str {
+        use crate::backend::Backend;
+        self.backend.name()
+    }
+
+    /// Bytes held by the particle fields, the grid and the scratch buffers.
+    pub fn heap_bytes(&self) -> usize {
+        self.fields.heap_bytes() + self.backend.heap_bytes()
+    }
+
+    /// Parameters for the stages at the current time.
+    pub fn step_params(&self) -> StepParams<D> {
+        let c = &self.config;
+        let g = c.gravity.map(|g| gravity_at(&g, self.clock.time, c.gravity_ramp)).unwrap_or_else(Vector::zeros);
+        StepParams {
+            h: c.h as Real,
+            rho0: c.rho0 as Real,
+            c2: (c.sound_speed * c.sound_speed) as Real,
+            mu: c.viscosity.unwrap_or(0.0) as Real,
+            alpha: c.artificial_viscosity.unwrap_or(0.0) as Real,
+            c: c.sound_speed as Real,
+            pressure_gradient_scale: self.pressure_gradient_scale,
+            gravity: g,
+            domain_min: c.domain_min,
+            domain_max: c.domain_max,
+        }
+    }
+
+    /// Total fluid mass [kg] (per unit depth in 2D), summed in f64.
+    pub fn fluid_mass(&self) -> f64 {
+        let f = &self.fields;
+        sum_in_order(f.len(), |i| [if f.kind[i] == FLUID { f64::from(f.mass[i]) } else { 0.0 }])[0]
+    }
+
+    /// Total fluid momentum [kg m/s] (per unit depth in 2D), summed in f64.
+    pub fn fluid_momentum(&self) -> [f64; 3] {
+        let f = &self.fields;
+        sum_in_order(f.len(), |i| {
+            if f.kind[i] != FLUID {
+                return [0.0; 3];
+            }
+            let m = f64::from(f.mass[i]);
+            let u = crate::math::to_xyz(&f.velocity[i]);
+            [m * u[0], m * u[1], m * u[2]]
+        })
+    }
+}

@@ -1,0 +1,41 @@
+//! The stages of a step. The same snake_case names appear as `Backend` methods (and, with the
+//! CUDA backend, as kernel names), so timers and benchmark rows line up by construction.
+
+use crate::backend::ForceTerms;
+
+/// One stage of the solver's plan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Section 3: cell keys, radix sort, reorder, cell ranges.
+    SortByCell,
+    /// Eq. (18): density by summation.
+    Density,
+    /// Eq. (19): pressure from density.
+    EquationOfState,
+    /// Boundary: solid-particle pressure ([A12] eq. 27). Only in scenes with solids.
+    WallPressure,
+    /// Eqs. (15)–(17), (6): fluid acceleration, with the terms the scene asks for.
+    Forces(ForceTerms),
+    /// Fig. 4: force of the fluid on each named solid. Only in scenes with solids.
+    SolidForces,
+    /// Time step from the state (or the scene's fixed step), and the state guards.
+    TimeStep,
+    /// Symplectic Euler update of velocity and position.
+    Integrate,
+}
+
+impl Stage {
+    /// The stage's snake_case name (as the backend method).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Stage::SortByCell => "sort_by_cell",
+            Stage::Density => "density",
+            Stage::EquationOfState => "equation_of_state",
+            Stage::WallPressure => "wall_pressure",
+            Stage::Forces(_) => "forces",
+            Stage::SolidForces => "solid_forces",
+            Stage::TimeStep => "time_step",
+            Stage::Integrate => "integrate",
+        }
+    }
+}
