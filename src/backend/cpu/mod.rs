@@ -113,12 +113,15 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 return (f.pressure[w], f.density[w]);
             }
             let mut sums = WallPressureSums::<D>::default();
+            let mut summed_density = 0.0;
             grid.for_each_neighbour(&f.position, w, |j, d, r2| {
+                let weight = kernel.w(r2);
+                summed_density += density_term(&kernel, f.mass[j], r2);
                 if f.kind[j] == FLUID {
-                    sums.add(f.pressure[j], f.density[j], &d, kernel.w(r2));
+                    sums.add(f.pressure[j], f.density[j], &d, weight);
                 }
             });
-            let p = sums.pressure(&params.gravity);
+            let p = sums.pressure(&params.gravity).max(eos::pressure(summed_density, params.rho0, params.c2));
             (p, eos::density_from_pressure(p, params.rho0, params.c2))
         }));
         let wall = &self.wall;

@@ -1,0 +1,357 @@
+//! The neighbour grid (`sph::grid`) against brute force, in 2D and 3D: after `sort`, permuting
+//! the positions by the returned permutation and `link`, `for_each_neighbour` visits exactly the
+//! particles `neighbours_naive` finds, once each, with the right offsets and squared distances.
+//! Also: memory independent of empty space, errors (not panics) for bad input, and
+//! `Fields::permute` moving every particle field.
+
+use proptest::prelude::*;
+use sph::fields::{Fields, PermuteScratch};
+use sph::grid::{Grid, GridError, neighbours_naive};
+use sph::math::{Real, Vector};
+
+/// Sorts `cloud` with `grid`, checks the permutation, permutes, links and compares every
+/// particle's neighbours with brute force. Returns the positions in sorted order.
+fn assert_neighbours_match<const D: usize>(grid: &mut Grid<D>, cloud: &[Vector<D>], h: Real) -> Vec<Vector<D>> {
+    let n = cloud.len();
+    let perm = grid.sort(cloud, h).expect("a finite cloud of modest extent sorts").to_vec();
+    assert_eq!(perm.len(), n, "permutation length");
+    let mut seen = vec![false; n];
+    for &p in &perm {
+        let p = p as usize;
+        assert!(p < n && !seen[p], "sort did not return a permutation: {perm:?}");
+        seen[p] = true;
+    }
+    let positions: Vec<Vector<D>> = perm.iter().map(|&p| cloud[p as usize]).collect();
+    grid.link();
+    assert_eq!(grid.cell_size(), h);
+    assert!(grid.cell_count() <= n, "{} non-empty cells for {n} particles", grid.cell_count());
+    for i in 0..n {
+        let mut visited = Vec::new();
+        grid.for_each_neighbour(&positions, i, |j, d, r2| {
+            assert_eq!(d, positions[i] - positions[j], "offset passed for pair ({i}, {j})");
+            assert_eq!(r2, d.norm_squared(), "r² passed for pair ({i}, {j})");
+            visited.push(j);
+        });
+        visited.sort_unstable();
+        let naive = neighbours_naive(&positions, i, h);
+        assert_eq!(
+            visited, naive,
+            "neighbours of particle {i} at {:?} (h = {h}): grid vs brute force",
+            positions[i]
+        );
+    }
+    positions
+}
+
+fn check<const D: usize>(cloud: &[Vector<D>], h: Real) -> Vec<Vector<D>> {
+    assert_neighbours_match(&mut Grid::<D>::default(), cloud, h)
+}
+
+fn v2(x: Real, y: Real) -> Vector<2> {
+    Vector::<2>::new(x, y)
+}
+
+fn v3(x: Real, y: Real, z: Real) -> Vector<3> {
+    Vector::<3>::new(x, y, z)
+}
+
+/// A coordinate: either anywhere in `[−span, span]·h`, or exactly on a cell face `k·h`.
+fn coordinate(h: Real, span: i32) -> impl Strategy<Value = Real> {
+    let s = span as Real;
+    prop_oneof![
+        3 => (-s..=s).prop_map(move |t| t * h),
+        1 => (-span..=span).prop_map(move |k| k as Real * h),
+    ]
+}
+
+/// A cloud of up to 150 particles in a box of `span` cells around the origin, possibly offset.
+fn cloud<const D: usize>() -> impl Strategy<Value = (Vec<Vector<D>>, Real)> {
+    (0.01f32..2.0, 1i32..8, -50i32..50).prop_flat_map(|(h, span, shift)| {
+        let point = prop::collection::vec(coordinate(h, span), D)
+            .prop_map(move |c| Vector::<D>::from_iterator(c.into_iter().map(|v| v + shift as Real * h)));
+        (prop::collection::vec(point, 0..150), Just(h))
+    })
+}
+
+/// A small deterministic generator (SplitMix64) for the explicit sparse-cloud cases.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next_unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+proptest! {
+    #[test]
+    fn grid_finds_exactly_the_brute_force_neighbours_in_2d((a, ha) in cloud::<2>(), (b, hb) in cloud::<2>()) {
+        // The same grid is reused for a second cloud, as the solver reuses it every step.
+        let mut grid = Grid::<2>::default();
+        assert_neighbours_match(&mut grid, &a, ha);
+        assert_neighbours_match(&mut grid, &b, hb);
+    }
+
+    #[test]
+    fn grid_finds_exactly_the_brute_force_neighbours_in_3d((a, ha) in cloud::<3>(), (b, hb) in cloud::<3>()) {
+        let mut grid = Grid::<3>::default();
+        assert_neighbours_match(&mut grid, &a, ha);
+        assert_neighbours_match(&mut grid, &b, hb);
+    }
+}
+
+#[test]
+fn grid_handles_all_points_in_one_cell() {
+    let h = 0.1;
+    let cloud2: Vec<_> = (0..40).map(|i| v2(0.01 + 0.002 * i as Real, 0.05 - 0.001 * i as Real)).collect();
+    check(&cloud2, h);
+    let cloud3: Vec<_> =
+        (0..40).map(|i| v3(0.01 + 0.002 * i as Real, 0.05 - 0.001 * i as Real, 0.099 - 0.002 * i as Real)).collect();
+    check(&cloud3, h);
+    let mut grid = Grid::<3>::default();
+    assert_neighbours_match(&mut grid, &cloud3, h);
+    assert_eq!(grid.cell_count(), 1);
+}
+
+#[test]
+fn grid_handles_points_exactly_on_cell_faces() {
+    for h in [0.1f32, 0.25, 1.0, 0.37] {
+        // Every lattice point k·h, k in −3..=3, including negative faces and the origin, and
+        // points half a cell off the faces.
+        let ks: Vec<Real> = (-6..=6).map(|k| k as Real * 0.5).collect();
+        let mut cloud2 = Vec::new();
+        let mut cloud3 = Vec::new();
+        for &a in &ks {
+            for &b in &ks {
+                cloud2.push(v2(a * h, b * h));
+                for &c in ks.iter().step_by(2) {
+                    cloud3.push(v3(a * h, b * h, c * h));
+                }
+            }
+        }
+        let on_face = check(&cloud2, h);
+        // On this lattice of spacing h/2 the origin's neighbours are its 3×3 block; the points
+        // (±h, 0) and (0, ±h) are exactly h away and excluded (the support is open).
+        let origin = on_face.iter().position(|x| *x == v2(0.0, 0.0)).expect("origin is in the cloud");
+        assert_eq!(neighbours_naive(&on_face, origin, h).len(), 9, "h = {h}");
+        check(&cloud3, h);
+    }
+}
+
+#[test]
+fn grid_memory_does_not_grow_with_empty_space() {
+    let h = 0.05;
+    let mut rng = SplitMix(7);
+    let mut cloud: Vec<Vector<3>> = (0..50)
+        .map(|_| {
+            let mut c = || (rng.next_unit() * 2.0e4 - 1.0e4) as Real;
+            v3(c(), c(), c())
+        })
+        .collect();
+    // A few close pairs so that some particles do have neighbours.
+    for i in 0..5 {
+        let x = cloud[i];
+        cloud.push(x + v3(0.03, 0.0, 0.01));
+    }
+    let mut grid = Grid::<3>::default();
+    let sorted = assert_neighbours_match(&mut grid, &cloud, h);
+    assert!(grid.heap_bytes() < 1 << 20, "grid holds {} bytes for {} particles", grid.heap_bytes(), cloud.len());
+    let with_neighbour = (0..sorted.len()).filter(|&i| neighbours_naive(&sorted, i, h).len() > 1).count();
+    assert_eq!(with_neighbour, 10);
+
+    let mut rng = SplitMix(11);
+    let cloud2: Vec<Vector<2>> = (0..50)
+        .map(|_| {
+            let mut c = || (rng.next_unit() * 2.0e4 - 1.0e4) as Real;
+            v2(c(), c())
+        })
+        .collect();
+    let mut grid2 = Grid::<2>::default();
+    assert_neighbours_match(&mut grid2, &cloud2, h);
+    assert!(grid2.heap_bytes() < 1 << 20, "2D grid holds {} bytes", grid2.heap_bytes());
+}
+
+#[test]
+fn grid_handles_one_and_zero_particles() {
+    let h = 0.1;
+    let mut grid = Grid::<3>::default();
+    assert_neighbours_match(&mut grid, &[], h);
+    assert_eq!(grid.cell_count(), 0);
+    let one = assert_neighbours_match(&mut grid, &[v3(-1.5, 2.0, 1.0e3)], h);
+    assert_eq!(grid.cell_count(), 1);
+    let mut visited = Vec::new();
+    grid.for_each_neighbour(&one, 0, |j, d, r2| visited.push((j, d, r2)));
+    assert_eq!(visited, vec![(0, Vector::<3>::zeros(), 0.0)]);
+    // Back to empty after a non-empty cloud (reuse of the buffers).
+    assert_neighbours_match(&mut grid, &[], h);
+    assert_eq!(grid.cell_count(), 0);
+
+    let mut grid2 = Grid::<2>::default();
+    assert_neighbours_match(&mut grid2, &[], h);
+    assert_neighbours_match(&mut grid2, &[v2(0.0, 0.0)], h);
+}
+
+#[test]
+fn grid_handles_coincident_points() {
+    let h = 0.2;
+    let mut cloud3 = vec![v3(0.3, -0.1, 0.2); 7];
+    cloud3.extend(vec![v3(0.0, 0.0, 0.0); 5]);
+    cloud3.extend(vec![v3(0.2, 0.0, 0.0); 3]); // exactly h from the origin: not neighbours
+    let sorted = check(&cloud3, h);
+    let i = sorted.iter().position(|x| *x == v3(0.0, 0.0, 0.0)).expect("present");
+    assert_eq!(neighbours_naive(&sorted, i, h).len(), 5);
+    let mut cloud2 = vec![v2(-0.4, -0.4); 9];
+    cloud2.push(v2(-0.39, -0.4));
+    check(&cloud2, h);
+}
+
+#[test]
+fn grid_rejects_non_finite_positions() {
+    let mut grid = Grid::<3>::default();
+    let mut cloud = vec![v3(0.0, 0.0, 0.0), v3(0.1, 0.0, 0.0), v3(0.0, 0.1, 0.0), v3(0.0, 0.0, 0.1)];
+    cloud[3].y = Real::NAN;
+    assert_eq!(grid.sort(&cloud, 0.1).map(<[u32]>::to_vec), Err(GridError::NonFinitePosition { particle: 3 }));
+    cloud[3].y = 0.0;
+    cloud[1].z = Real::INFINITY;
+    assert_eq!(grid.sort(&cloud, 0.1).map(<[u32]>::to_vec), Err(GridError::NonFinitePosition { particle: 1 }));
+    let mut grid2 = Grid::<2>::default();
+    let cloud2 = vec![v2(0.0, 0.0), v2(Real::NEG_INFINITY, 0.0)];
+    assert_eq!(grid2.sort(&cloud2, 0.1).map(<[u32]>::to_vec), Err(GridError::NonFinitePosition { particle: 1 }));
+    // The grid still works after an error.
+    check(&[v3(0.0, 0.0, 0.0), v3(0.05, 0.0, 0.0)], 0.1);
+    assert_neighbours_match(&mut grid, &[v3(0.0, 0.0, 0.0), v3(0.05, 0.0, 0.0)], 0.1);
+}
+
+fn too_many_cells<const D: usize>(extent: Real, h: Real) {
+    let mut a = Vector::<D>::zeros();
+    let mut b = Vector::<D>::zeros();
+    for k in 0..D {
+        a[k] = -extent;
+        b[k] = extent;
+    }
+    let mut grid = Grid::<D>::default();
+    // `catch_unwind` so that a panic is reported as this test's failure with the input named.
+    let result = std::panic::catch_unwind(move || grid.sort(&[a, b], h).map(<[u32]>::to_vec));
+    match result {
+        Ok(Err(GridError::TooManyCells { .. })) => {}
+        Ok(other) => panic!("{D}D, points at ±{extent:e}, h = {h:e}: expected TooManyCells, got {other:?}"),
+        Err(_) => panic!("{D}D, points at ±{extent:e}, h = {h:e}: sort panicked instead of returning TooManyCells"),
+    }
+}
+
+#[test]
+fn grid_rejects_extents_too_large_to_key() {
+    // Cell coordinates that fit an i64 but whose product overflows a 64-bit key.
+    too_many_cells::<3>(1.0e15, 1.0e-3);
+    too_many_cells::<2>(1.0e15, 1.0e-3);
+}
+
+#[test]
+fn grid_rejects_absurd_extents() {
+    // Cell coordinates beyond i64 (±1e36 cells).
+    too_many_cells::<3>(1.0e30, 1.0e-6);
+    too_many_cells::<2>(1.0e30, 1.0e-6);
+}
+
+/// Particles whose every field holds a value unique to the particle, derived from its id.
+fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
+    let vec = |i: usize, base: Real| Vector::<D>::from_fn(|k, _| base + i as Real + 0.125 * k as Real);
+    let mut f = Fields::<D>::default();
+    for i in 0..n {
+        f.push(vec(i, 0.0), vec(i, 1.0e4), 1.0 + i as Real, 1000.0 + i as Real, 7 * i as u32 + 1);
+    }
+    for i in 0..n {
+        f.acceleration[i] = vec(i, -2.0e4);
+        f.pressure[i] = -5.0 - i as Real;
+    }
+    f
+}
+
+/// Checks every field of `f` against `original` through `id`, and `id` against `perm`.
+fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, expected_id: &[u32]) {
+    // Destructured without `..`: adding a field to `Fields` fails to compile here until this
+    // test checks it too.
+    let Fields { position, velocity, acceleration, density, pressure, mass, kind, id } = f;
+    let n = original.len();
+    for field_len in [
+        position.len(),
+        velocity.len(),
+        acceleration.len(),
+        density.len(),
+        pressure.len(),
+        mass.len(),
+        kind.len(),
+        id.len(),
+    ] {
+        assert_eq!(field_len, n);
+    }
+    assert_eq!(id.as_slice(), expected_id, "ids after permute");
+    for i in 0..n {
+        let o = id[i] as usize;
+        assert_eq!(position[i], original.position[o], "position of new {i} (id {o})");
+        assert_eq!(velocity[i], original.velocity[o], "velocity of new {i} (id {o})");
+        assert_eq!(acceleration[i], original.acceleration[o], "acceleration of new {i} (id {o})");
+        assert_eq!(density[i], original.density[o], "density of new {i} (id {o})");
+        assert_eq!(pressure[i], original.pressure[o], "pressure of new {i} (id {o})");
+        assert_eq!(mass[i], original.mass[o], "mass of new {i} (id {o})");
+        assert_eq!(kind[i], original.kind[o], "kind of new {i} (id {o})");
+    }
+}
+
+fn permutes_every_field<const D: usize>(first: &[u32], second: &[u32]) {
+    let n = first.len();
+    let original = distinct_fields::<D>(n);
+    assert_eq!(original.id, (0..n as u32).collect::<Vec<_>>());
+    let mut f = original.clone();
+    let mut scratch = PermuteScratch::<D>::default();
+    f.permute(first, &mut scratch);
+    assert_moved_together(&f, &original, first);
+    // A second reorder reusing the scratch composes: new i holds old first[second[i]].
+    f.permute(second, &mut scratch);
+    let composed: Vec<u32> = second.iter().map(|&s| first[s as usize]).collect();
+    assert_moved_together(&f, &original, &composed);
+}
+
+fn permutation() -> impl Strategy<Value = (Vec<u32>, Vec<u32>)> {
+    (0usize..200).prop_flat_map(|n| {
+        let identity: Vec<u32> = (0..n as u32).collect();
+        (Just(identity.clone()).prop_shuffle(), Just(identity).prop_shuffle())
+    })
+}
+
+proptest! {
+    #[test]
+    fn fields_permute_moves_every_field_in_2d((first, second) in permutation()) {
+        permutes_every_field::<2>(&first, &second);
+    }
+
+    #[test]
+    fn fields_permute_moves_every_field_in_3d((first, second) in permutation()) {
+        permutes_every_field::<3>(&first, &second);
+    }
+}
+
+#[test]
+fn fields_permute_by_the_grid_sort_keeps_particles_whole() {
+    // The solver's use: sort by cell, then permute the fields by the returned permutation.
+    let n = 64;
+    let mut f = distinct_fields::<3>(n);
+    for i in 0..n {
+        f.position[i] = v3((i * 37 % 11) as Real * 0.07, (i * 13 % 7) as Real * -0.05, (i % 5) as Real * 0.11);
+    }
+    let original = f.clone();
+    let mut grid = Grid::<3>::default();
+    let perm = grid.sort(&f.position, 0.1).expect("finite").to_vec();
+    f.permute(&perm, &mut PermuteScratch::default());
+    grid.link();
+    assert_moved_together(&f, &original, &perm);
+    for i in 0..n {
+        let mut visited = Vec::new();
+        grid.for_each_neighbour(&f.position, i, |j, _, _| visited.push(j));
+        visited.sort_unstable();
+        assert_eq!(visited, neighbours_naive(&f.position, i, 0.1));
+    }
+}
