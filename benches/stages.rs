@@ -6,7 +6,9 @@
 //!
 //! Run with `cargo bench --bench stages`; sample sizes are small so it finishes in minutes.
 
-use criterion::{BatchSize, BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
+use criterion::{
+    BatchSize, BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
+};
 use sph::backend::Backend;
 use sph::backend::cpu::CpuBackend;
 use sph::scene::load_scene;
@@ -25,9 +27,11 @@ const WARM_STEPS: usize = 3;
 fn warmed_simulation() -> (Simulation<3>, f64) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(SCENE);
     let scene = load_scene(&path, &[]).unwrap_or_else(|e| panic!("cannot load {SCENE}: {e}"));
-    let mut sim = sph::run::simulation_from_scene::<3>(&scene).unwrap_or_else(|e| panic!("cannot build {SCENE}: {e}"));
+    let mut sim = sph::run::simulation_from_scene::<3>(&scene)
+        .unwrap_or_else(|e| panic!("cannot build {SCENE}: {e}"));
     for _ in 0..WARM_STEPS {
-        sim.step(scene.end_time).unwrap_or_else(|e| panic!("warm-up step of {SCENE} failed: {e}"));
+        sim.step(scene.end_time)
+            .unwrap_or_else(|e| panic!("warm-up step of {SCENE} failed: {e}"));
     }
     (sim, scene.end_time)
 }
@@ -38,7 +42,10 @@ fn stages(c: &mut Criterion) {
     let params = sim.step_params();
 
     let mut group = c.benchmark_group("sort_by_cell");
-    group.sample_size(10).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3));
     group.throughput(Throughput::Elements(n as u64));
     group.bench_with_input(BenchmarkId::new("cpu", n), &sim.fields, |b, fields| {
         let mut backend = CpuBackend::<3>::new();
@@ -47,7 +54,9 @@ fn stages(c: &mut Criterion) {
         b.iter_batched(
             || fields.clone(),
             |mut f| {
-                backend.sort_by_cell(&mut f, params.h).expect("the scene's particles are finite");
+                backend
+                    .sort_by_cell(&mut f, params.h)
+                    .expect("the scene's particles are finite");
                 f
             },
             BatchSize::LargeInput,
@@ -56,11 +65,16 @@ fn stages(c: &mut Criterion) {
     group.finish();
 
     let mut group = c.benchmark_group("density");
-    group.sample_size(10).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3));
     group.throughput(Throughput::Elements(n as u64));
     let mut backend = CpuBackend::<3>::new();
     let mut fields = sim.fields.clone();
-    backend.sort_by_cell(&mut fields, params.h).expect("the scene's particles are finite");
+    backend
+        .sort_by_cell(&mut fields, params.h)
+        .expect("the scene's particles are finite");
     group.bench_function(BenchmarkId::new("cpu", n), |b| {
         b.iter(|| {
             backend.density(&mut fields, &params);
@@ -79,7 +93,12 @@ fn stages(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(5));
     group.throughput(Throughput::Elements(n as u64));
     group.bench_function(BenchmarkId::new("cpu", n), |b| {
-        b.iter(|| black_box(sim.step(end_time).expect("a step of the column scene succeeds")));
+        b.iter(|| {
+            black_box(
+                sim.step(end_time)
+                    .expect("a step of the column scene succeeds"),
+            )
+        });
     });
     group.finish();
 }

@@ -11,24 +11,42 @@ use sph::math::{Real, Vector};
 
 /// Sorts `cloud` with `grid`, checks the permutation, permutes, links and compares every
 /// particle's neighbours with brute force. Returns the positions in sorted order.
-fn assert_neighbours_match<const D: usize>(grid: &mut Grid<D>, cloud: &[Vector<D>], h: Real) -> Vec<Vector<D>> {
+fn assert_neighbours_match<const D: usize>(
+    grid: &mut Grid<D>,
+    cloud: &[Vector<D>],
+    h: Real,
+) -> Vec<Vector<D>> {
     let n = cloud.len();
-    let perm = grid.sort(cloud, h).expect("a finite cloud of modest extent sorts").to_vec();
+    let perm = grid
+        .sort(cloud, h)
+        .expect("a finite cloud of modest extent sorts")
+        .to_vec();
     assert_eq!(perm.len(), n, "permutation length");
     let mut seen = vec![false; n];
     for &p in &perm {
         let p = p as usize;
-        assert!(p < n && !seen[p], "sort did not return a permutation: {perm:?}");
+        assert!(
+            p < n && !seen[p],
+            "sort did not return a permutation: {perm:?}"
+        );
         seen[p] = true;
     }
     let positions: Vec<Vector<D>> = perm.iter().map(|&p| cloud[p as usize]).collect();
     grid.link();
     assert_eq!(grid.cell_size(), h);
-    assert!(grid.cell_count() <= n, "{} non-empty cells for {n} particles", grid.cell_count());
+    assert!(
+        grid.cell_count() <= n,
+        "{} non-empty cells for {n} particles",
+        grid.cell_count()
+    );
     for i in 0..n {
         let mut visited = Vec::new();
         grid.for_each_neighbour(&positions, i, |j, d, r2| {
-            assert_eq!(d, positions[i] - positions[j], "offset passed for pair ({i}, {j})");
+            assert_eq!(
+                d,
+                positions[i] - positions[j],
+                "offset passed for pair ({i}, {j})"
+            );
             assert_eq!(r2, d.norm_squared(), "r² passed for pair ({i}, {j})");
             visited.push(j);
         });
@@ -67,8 +85,9 @@ fn coordinate(h: Real, span: i32) -> impl Strategy<Value = Real> {
 /// A cloud of up to 150 particles in a box of `span` cells around the origin, possibly offset.
 fn cloud<const D: usize>() -> impl Strategy<Value = (Vec<Vector<D>>, Real)> {
     (0.01f32..2.0, 1i32..8, -50i32..50).prop_flat_map(|(h, span, shift)| {
-        let point = prop::collection::vec(coordinate(h, span), D)
-            .prop_map(move |c| Vector::<D>::from_iterator(c.into_iter().map(|v| v + shift as Real * h)));
+        let point = prop::collection::vec(coordinate(h, span), D).prop_map(move |c| {
+            Vector::<D>::from_iterator(c.into_iter().map(|v| v + shift as Real * h))
+        });
         (prop::collection::vec(point, 0..150), Just(h))
     })
 }
@@ -106,10 +125,19 @@ proptest! {
 #[test]
 fn grid_handles_all_points_in_one_cell() {
     let h = 0.1;
-    let cloud2: Vec<_> = (0..40).map(|i| v2(0.01 + 0.002 * i as Real, 0.05 - 0.001 * i as Real)).collect();
+    let cloud2: Vec<_> = (0..40)
+        .map(|i| v2(0.01 + 0.002 * i as Real, 0.05 - 0.001 * i as Real))
+        .collect();
     check(&cloud2, h);
-    let cloud3: Vec<_> =
-        (0..40).map(|i| v3(0.01 + 0.002 * i as Real, 0.05 - 0.001 * i as Real, 0.099 - 0.002 * i as Real)).collect();
+    let cloud3: Vec<_> = (0..40)
+        .map(|i| {
+            v3(
+                0.01 + 0.002 * i as Real,
+                0.05 - 0.001 * i as Real,
+                0.099 - 0.002 * i as Real,
+            )
+        })
+        .collect();
     check(&cloud3, h);
     let mut grid = Grid::<3>::default();
     assert_neighbours_match(&mut grid, &cloud3, h);
@@ -135,7 +163,10 @@ fn grid_handles_points_exactly_on_cell_faces() {
         let on_face = check(&cloud2, h);
         // On this lattice of spacing h/2 the origin's neighbours are its 3×3 block; the points
         // (±h, 0) and (0, ±h) are exactly h away and excluded (the support is open).
-        let origin = on_face.iter().position(|x| *x == v2(0.0, 0.0)).expect("origin is in the cloud");
+        let origin = on_face
+            .iter()
+            .position(|x| *x == v2(0.0, 0.0))
+            .expect("origin is in the cloud");
         assert_eq!(neighbours_naive(&on_face, origin, h).len(), 9, "h = {h}");
         check(&cloud3, h);
     }
@@ -158,8 +189,15 @@ fn grid_memory_does_not_grow_with_empty_space() {
     }
     let mut grid = Grid::<3>::default();
     let sorted = assert_neighbours_match(&mut grid, &cloud, h);
-    assert!(grid.heap_bytes() < 1 << 20, "grid holds {} bytes for {} particles", grid.heap_bytes(), cloud.len());
-    let with_neighbour = (0..sorted.len()).filter(|&i| neighbours_naive(&sorted, i, h).len() > 1).count();
+    assert!(
+        grid.heap_bytes() < 1 << 20,
+        "grid holds {} bytes for {} particles",
+        grid.heap_bytes(),
+        cloud.len()
+    );
+    let with_neighbour = (0..sorted.len())
+        .filter(|&i| neighbours_naive(&sorted, i, h).len() > 1)
+        .count();
     assert_eq!(with_neighbour, 10);
 
     let mut rng = SplitMix(11);
@@ -171,7 +209,11 @@ fn grid_memory_does_not_grow_with_empty_space() {
         .collect();
     let mut grid2 = Grid::<2>::default();
     assert_neighbours_match(&mut grid2, &cloud2, h);
-    assert!(grid2.heap_bytes() < 1 << 20, "2D grid holds {} bytes", grid2.heap_bytes());
+    assert!(
+        grid2.heap_bytes() < 1 << 20,
+        "2D grid holds {} bytes",
+        grid2.heap_bytes()
+    );
 }
 
 #[test]
@@ -201,7 +243,10 @@ fn grid_handles_coincident_points() {
     cloud3.extend(vec![v3(0.0, 0.0, 0.0); 5]);
     cloud3.extend(vec![v3(0.2, 0.0, 0.0); 3]); // exactly h from the origin: not neighbours
     let sorted = check(&cloud3, h);
-    let i = sorted.iter().position(|x| *x == v3(0.0, 0.0, 0.0)).expect("present");
+    let i = sorted
+        .iter()
+        .position(|x| *x == v3(0.0, 0.0, 0.0))
+        .expect("present");
     assert_eq!(neighbours_naive(&sorted, i, h).len(), 5);
     let mut cloud2 = vec![v2(-0.4, -0.4); 9];
     cloud2.push(v2(-0.39, -0.4));
@@ -211,15 +256,29 @@ fn grid_handles_coincident_points() {
 #[test]
 fn grid_rejects_non_finite_positions() {
     let mut grid = Grid::<3>::default();
-    let mut cloud = vec![v3(0.0, 0.0, 0.0), v3(0.1, 0.0, 0.0), v3(0.0, 0.1, 0.0), v3(0.0, 0.0, 0.1)];
+    let mut cloud = vec![
+        v3(0.0, 0.0, 0.0),
+        v3(0.1, 0.0, 0.0),
+        v3(0.0, 0.1, 0.0),
+        v3(0.0, 0.0, 0.1),
+    ];
     cloud[3].y = Real::NAN;
-    assert_eq!(grid.sort(&cloud, 0.1).map(<[u32]>::to_vec), Err(GridError::NonFinitePosition { particle: 3 }));
+    assert_eq!(
+        grid.sort(&cloud, 0.1).map(<[u32]>::to_vec),
+        Err(GridError::NonFinitePosition { particle: 3 })
+    );
     cloud[3].y = 0.0;
     cloud[1].z = Real::INFINITY;
-    assert_eq!(grid.sort(&cloud, 0.1).map(<[u32]>::to_vec), Err(GridError::NonFinitePosition { particle: 1 }));
+    assert_eq!(
+        grid.sort(&cloud, 0.1).map(<[u32]>::to_vec),
+        Err(GridError::NonFinitePosition { particle: 1 })
+    );
     let mut grid2 = Grid::<2>::default();
     let cloud2 = vec![v2(0.0, 0.0), v2(Real::NEG_INFINITY, 0.0)];
-    assert_eq!(grid2.sort(&cloud2, 0.1).map(<[u32]>::to_vec), Err(GridError::NonFinitePosition { particle: 1 }));
+    assert_eq!(
+        grid2.sort(&cloud2, 0.1).map(<[u32]>::to_vec),
+        Err(GridError::NonFinitePosition { particle: 1 })
+    );
     // The grid still works after an error.
     check(&[v3(0.0, 0.0, 0.0), v3(0.05, 0.0, 0.0)], 0.1);
     assert_neighbours_match(&mut grid, &[v3(0.0, 0.0, 0.0), v3(0.05, 0.0, 0.0)], 0.1);
@@ -237,8 +296,12 @@ fn too_many_cells<const D: usize>(extent: Real, h: Real) {
     let result = std::panic::catch_unwind(move || grid.sort(&[a, b], h).map(<[u32]>::to_vec));
     match result {
         Ok(Err(GridError::TooManyCells { .. })) => {}
-        Ok(other) => panic!("{D}D, points at ±{extent:e}, h = {h:e}: expected TooManyCells, got {other:?}"),
-        Err(_) => panic!("{D}D, points at ±{extent:e}, h = {h:e}: sort panicked instead of returning TooManyCells"),
+        Ok(other) => {
+            panic!("{D}D, points at ±{extent:e}, h = {h:e}: expected TooManyCells, got {other:?}")
+        }
+        Err(_) => panic!(
+            "{D}D, points at ±{extent:e}, h = {h:e}: sort panicked instead of returning TooManyCells"
+        ),
     }
 }
 
@@ -258,10 +321,17 @@ fn grid_rejects_absurd_extents() {
 
 /// Particles whose every field holds a value unique to the particle, derived from its id.
 fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
-    let vec = |i: usize, base: Real| Vector::<D>::from_fn(|k, _| base + i as Real + 0.125 * k as Real);
+    let vec =
+        |i: usize, base: Real| Vector::<D>::from_fn(|k, _| base + i as Real + 0.125 * k as Real);
     let mut f = Fields::<D>::default();
     for i in 0..n {
-        f.push(vec(i, 0.0), vec(i, 1.0e4), 1.0 + i as Real, 1000.0 + i as Real, 7 * i as u32 + 1);
+        f.push(
+            vec(i, 0.0),
+            vec(i, 1.0e4),
+            1.0 + i as Real,
+            1000.0 + i as Real,
+            7 * i as u32 + 1,
+        );
     }
     for i in 0..n {
         f.acceleration[i] = vec(i, -2.0e4);
@@ -274,7 +344,16 @@ fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
 fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, expected_id: &[u32]) {
     // Destructured without `..`: adding a field to `Fields` fails to compile here until this
     // test checks it too.
-    let Fields { position, velocity, acceleration, density, pressure, mass, kind, id } = f;
+    let Fields {
+        position,
+        velocity,
+        acceleration,
+        density,
+        pressure,
+        mass,
+        kind,
+        id,
+    } = f;
     let n = original.len();
     for field_len in [
         position.len(),
@@ -291,11 +370,26 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
     assert_eq!(id.as_slice(), expected_id, "ids after permute");
     for i in 0..n {
         let o = id[i] as usize;
-        assert_eq!(position[i], original.position[o], "position of new {i} (id {o})");
-        assert_eq!(velocity[i], original.velocity[o], "velocity of new {i} (id {o})");
-        assert_eq!(acceleration[i], original.acceleration[o], "acceleration of new {i} (id {o})");
-        assert_eq!(density[i], original.density[o], "density of new {i} (id {o})");
-        assert_eq!(pressure[i], original.pressure[o], "pressure of new {i} (id {o})");
+        assert_eq!(
+            position[i], original.position[o],
+            "position of new {i} (id {o})"
+        );
+        assert_eq!(
+            velocity[i], original.velocity[o],
+            "velocity of new {i} (id {o})"
+        );
+        assert_eq!(
+            acceleration[i], original.acceleration[o],
+            "acceleration of new {i} (id {o})"
+        );
+        assert_eq!(
+            density[i], original.density[o],
+            "density of new {i} (id {o})"
+        );
+        assert_eq!(
+            pressure[i], original.pressure[o],
+            "pressure of new {i} (id {o})"
+        );
         assert_eq!(mass[i], original.mass[o], "mass of new {i} (id {o})");
         assert_eq!(kind[i], original.kind[o], "kind of new {i} (id {o})");
     }
@@ -318,7 +412,10 @@ fn permutes_every_field<const D: usize>(first: &[u32], second: &[u32]) {
 fn permutation() -> impl Strategy<Value = (Vec<u32>, Vec<u32>)> {
     (0usize..200).prop_flat_map(|n| {
         let identity: Vec<u32> = (0..n as u32).collect();
-        (Just(identity.clone()).prop_shuffle(), Just(identity).prop_shuffle())
+        (
+            Just(identity.clone()).prop_shuffle(),
+            Just(identity).prop_shuffle(),
+        )
     })
 }
 
@@ -340,7 +437,11 @@ fn fields_permute_by_the_grid_sort_keeps_particles_whole() {
     let n = 64;
     let mut f = distinct_fields::<3>(n);
     for i in 0..n {
-        f.position[i] = v3((i * 37 % 11) as Real * 0.07, (i * 13 % 7) as Real * -0.05, (i % 5) as Real * 0.11);
+        f.position[i] = v3(
+            (i * 37 % 11) as Real * 0.07,
+            (i * 13 % 7) as Real * -0.05,
+            (i % 5) as Real * 0.11,
+        );
     }
     let original = f.clone();
     let mut grid = Grid::<3>::default();

@@ -60,7 +60,11 @@ fn integrate(f: impl Fn(f64) -> f64, a: f64, b: f64, panels: usize) -> f64 {
     (0..panels)
         .map(|p| {
             let mid = a + (p as f64 + 0.5) * width;
-            rule.iter().map(|&(x, w)| w * f(mid + 0.5 * width * x)).sum::<f64>() * 0.5 * width
+            rule.iter()
+                .map(|&(x, w)| w * f(mid + 0.5 * width * x))
+                .sum::<f64>()
+                * 0.5
+                * width
         })
         .sum()
 }
@@ -84,12 +88,18 @@ fn viscosity_core_exact<const D: usize>(h: f64) -> f64 {
         // K = 10/(3π h²); ∫ 2π r (−r³/2h³ + r²/h² + h/2r − 1) dr
         2 => {
             let k = 10.0 / (3.0 * PI * h * h);
-            2.0 * PI * k * (-e.powi(5) / (10.0 * h.powi(3)) + e.powi(4) / (4.0 * h * h) + h * e / 2.0 - e * e / 2.0)
+            2.0 * PI
+                * k
+                * (-e.powi(5) / (10.0 * h.powi(3)) + e.powi(4) / (4.0 * h * h) + h * e / 2.0
+                    - e * e / 2.0)
         }
         // K = 15/(2π h³); ∫ 4π r² (…) dr
         3 => {
             let k = 15.0 / (2.0 * PI * h.powi(3));
-            4.0 * PI * k * (-e.powi(6) / (12.0 * h.powi(3)) + e.powi(5) / (5.0 * h * h) + h * e * e / 4.0 - e.powi(3) / 3.0)
+            4.0 * PI
+                * k
+                * (-e.powi(6) / (12.0 * h.powi(3)) + e.powi(5) / (5.0 * h * h) + h * e * e / 4.0
+                    - e.powi(3) / 3.0)
         }
         _ => unreachable!("only 2D and 3D kernels exist"),
     }
@@ -166,7 +176,11 @@ fn vector<const D: usize>(c: &[f64; D]) -> Vector<D> {
 }
 
 /// Every kernel value, gradient and Laplacian at offset `x`, `r = |x|`, flattened.
-fn all_values<const D: usize>(k: &Smoothing<D>, x: &Vector<D>, r: Real) -> Vec<(&'static str, Real)> {
+fn all_values<const D: usize>(
+    k: &Smoothing<D>,
+    x: &Vector<D>,
+    r: Real,
+) -> Vec<(&'static str, Real)> {
     let mut v = vec![
         ("w", k.w(r * r)),
         ("laplacian_w", k.laplacian_w(r * r)),
@@ -221,10 +235,26 @@ fn gradients_are_odd<const D: usize>(h: f64, c: &[f64], q: f64) -> Result<(), Te
     let (r, rm) = (x.norm(), minus.norm());
     for (name, g, gm) in [
         ("grad_w", k.grad_w(&x), k.grad_w(&minus)),
-        ("grad_w_spiky", k.grad_w_spiky(&x, r), k.grad_w_spiky(&minus, rm)),
-        ("grad_w_viscosity", k.grad_w_viscosity(&x, r), k.grad_w_viscosity(&minus, rm)),
+        (
+            "grad_w_spiky",
+            k.grad_w_spiky(&x, r),
+            k.grad_w_spiky(&minus, rm),
+        ),
+        (
+            "grad_w_viscosity",
+            k.grad_w_viscosity(&x, r),
+            k.grad_w_viscosity(&minus, rm),
+        ),
     ] {
-        prop_assert_eq!(gm, -g, "{}D {}: ∇W(−x) ≠ −∇W(x) at x = {:?}, h = {}", D, name, x, h);
+        prop_assert_eq!(
+            gm,
+            -g,
+            "{}D {}: ∇W(−x) ≠ −∇W(x) at x = {:?}, h = {}",
+            D,
+            name,
+            x,
+            h
+        );
     }
     Ok(())
 }
@@ -266,7 +296,10 @@ fn finite_near_zero<const D: usize>(h: f64, c: &[f64], q: f64) -> Result<(), Tes
     let x = vector::<D>(&u.map(|v| v * q * f64::from(h)));
     let r = x.norm();
     for (name, v) in all_values(&k, &x, r) {
-        prop_assert!(v.is_finite(), "{D}D {name} at r = {r} (x = {x:?}) is {v}, h = {h}");
+        prop_assert!(
+            v.is_finite(),
+            "{D}D {name} at r = {r} (x = {x:?}) is {v}, h = {h}"
+        );
     }
     Ok(())
 }
@@ -287,7 +320,11 @@ fn finite_difference<const D: usize>(x: &[f64; D], step: f64, w: impl Fn(f64) ->
 
 /// Each analytic gradient component is within `2e-3·|∇W| + 1e-4·W(0)/h` of the finite
 /// difference; the second term is the scale of the gradient, for components near zero.
-fn gradients_match_finite_differences<const D: usize>(h: f64, c: &[f64], q: f64) -> Result<(), TestCaseError> {
+fn gradients_match_finite_differences<const D: usize>(
+    h: f64,
+    c: &[f64],
+    q: f64,
+) -> Result<(), TestCaseError> {
     let Some(u) = unit::<D>(c) else { return Ok(()) };
     let hr = h as Real;
     let h = f64::from(hr);
@@ -301,8 +338,18 @@ fn gradients_match_finite_differences<const D: usize>(h: f64, c: &[f64], q: f64)
     let visc = finite_difference(&x64, step, |r| f64::from(k.w_viscosity(r as Real)));
     let cases = [
         ("grad_w", k.grad_w(&x), poly6, f64::from(k.w(0.0))),
-        ("grad_w_spiky", k.grad_w_spiky(&x, r), spiky, f64::from(k.w_spiky(0.0))),
-        ("grad_w_viscosity", k.grad_w_viscosity(&x, r), visc, f64::from(k.w_viscosity(0.05 * hr))),
+        (
+            "grad_w_spiky",
+            k.grad_w_spiky(&x, r),
+            spiky,
+            f64::from(k.w_spiky(0.0)),
+        ),
+        (
+            "grad_w_viscosity",
+            k.grad_w_viscosity(&x, r),
+            visc,
+            f64::from(k.w_viscosity(0.05 * hr)),
+        ),
     ];
     for (name, g, fd, w0) in cases {
         let norm = f64::from(g.norm());
