@@ -27,8 +27,8 @@ const WARM_STEPS: usize = 3;
 fn warmed_simulation() -> (Simulation<3>, f64) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(SCENE);
     let scene = load_scene(&path, &[]).unwrap_or_else(|e| panic!("cannot load {SCENE}: {e}"));
-    let mut sim = sph::run::simulation_from_scene::<3>(&scene)
-        .unwrap_or_else(|e| panic!("cannot build {SCENE}: {e}"));
+    let mut sim =
+        sph::run::simulation_from_scene::<3>(&scene).unwrap_or_else(|e| panic!("cannot build {SCENE}: {e}"));
     for _ in 0..WARM_STEPS {
         sim.step(scene.end_time)
             .unwrap_or_else(|e| panic!("warm-up step of {SCENE} failed: {e}"));
@@ -93,12 +93,7 @@ fn stages(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(5));
     group.throughput(Throughput::Elements(n as u64));
     group.bench_function(BenchmarkId::new("cpu", n), |b| {
-        b.iter(|| {
-            black_box(
-                sim.step(end_time)
-                    .expect("a step of the column scene succeeds"),
-            )
-        });
+        b.iter(|| black_box(sim.step(end_time).expect("a step of the column scene succeeds")));
     });
     group.finish();
 }

@@ -26,7 +26,9 @@ pub enum GridError {
         particle: usize,
     },
     /// The particles' bounding box has more cells than a 64-bit key can number.
-    #[error("the particles span {cells:.3e} grid cells of size {cell_size} m, more than a 64-bit key can address")]
+    #[error(
+        "the particles span {cells:.3e} grid cells of size {cell_size} m, more than a 64-bit key can address"
+    )]
     TooManyCells {
         /// Number of cells of the padded bounding box.
         cells: f64,
@@ -158,7 +160,12 @@ impl<const D: usize> Grid<D> {
         self.stride = stride;
         self.pairs.clear();
         let mut pairs = std::mem::take(&mut self.pairs);
-        pairs.par_extend(position.par_iter().enumerate().map(|(i, x)| (self.key_of(x), i as u32)));
+        pairs.par_extend(
+            position
+                .par_iter()
+                .enumerate()
+                .map(|(i, x)| (self.key_of(x), i as u32)),
+        );
         self.pairs = pairs;
         radsort::sort_by_key(&mut self.pairs, |p| p.0);
         self.keys.clear();
@@ -228,7 +235,9 @@ impl<const D: usize> Grid<D> {
     pub fn neighbour_ranges(&self, i: usize) -> impl Iterator<Item = Range<usize>> + '_ {
         let r = rows_per_cell(D);
         let c = self.cell_of[i] as usize;
-        self.rows[c * r..(c + 1) * r].iter().map(|&(a, b)| a as usize..b as usize)
+        self.rows[c * r..(c + 1) * r]
+            .iter()
+            .map(|&(a, b)| a as usize..b as usize)
     }
 
     /// Calls `f(j, x_i − x_j, |x_i − x_j|²)` for every particle `j` (including `i` itself) with
@@ -255,5 +264,7 @@ impl<const D: usize> Grid<D> {
 /// Brute-force reference: indices `j` with `|x_i − x_j| < h`, ascending. O(n) per query.
 pub fn neighbours_naive<const D: usize>(position: &[Vector<D>], i: usize, h: Real) -> Vec<usize> {
     let xi = position[i];
-    (0..position.len()).filter(|&j| (xi - position[j]).norm_squared() < h * h).collect()
+    (0..position.len())
+        .filter(|&j| (xi - position[j]).norm_squared() < h * h)
+        .collect()
 }

@@ -11,6 +11,8 @@
 //! stepped; fields are read back from `Simulation::fields`.
 
 #![warn(missing_docs)]
+// Units are written in square brackets (`[m]`, `[kg/m³]`) and references as `[A12]`, not as links.
+#![allow(rustdoc::broken_intra_doc_links)]
 
 pub use nalgebra;
 

@@ -54,10 +54,16 @@ pub fn max_in_order<F>(len: usize, term: F) -> f64
 where
     F: Fn(usize) -> f64 + Sync + Send,
 {
-    (0..len)
-        .into_par_iter()
-        .map(term)
-        .reduce(|| f64::NEG_INFINITY, |a, b| if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) })
+    (0..len).into_par_iter().map(term).reduce(
+        || f64::NEG_INFINITY,
+        |a, b| {
+            if a.is_nan() || b.is_nan() {
+                f64::NAN
+            } else {
+                a.max(b)
+            }
+        },
+    )
 }
 
 /// Sums `term(i)` per group: `term` returns the group (`< groups`) and the value, or `None` to
@@ -112,7 +118,10 @@ mod tests {
     fn sum_in_order_is_independent_of_thread_count() {
         let term = |i: usize| [((i as f64) * 0.1).sin(), 1.0];
         let a = sum_in_order(100_003, term);
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool");
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .expect("pool");
         let b = pool.install(|| sum_in_order(100_003, term));
         assert_eq!(a, b);
         assert_eq!(a[1], 100_003.0);

@@ -8,8 +8,8 @@
 use crate::backend::{BackendKind, cuda};
 use crate::error::Error;
 use crate::math::Vector;
-use crate::output::{ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu};
 use crate::output::vtu::Frame;
+use crate::output::{ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu};
 use crate::scene::{Effect, Scene, SceneError, SolverKind, generate};
 use crate::solver::{SimConfig, Simulation};
 use std::path::{Path, PathBuf};
@@ -32,9 +32,21 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
         h: scene.smoothing_length,
         rho0: scene.rho0,
         sound_speed: scene.sound_speed,
-        viscosity: if scene.has(Effect::Viscosity) { scene.viscosity } else { None },
-        artificial_viscosity: if scene.has(Effect::ArtificialViscosity) { scene.artificial_viscosity } else { None },
-        gravity: if scene.has(Effect::Gravity) { scene.gravity.as_deref().map(vector) } else { None },
+        viscosity: if scene.has(Effect::Viscosity) {
+            scene.viscosity
+        } else {
+            None
+        },
+        artificial_viscosity: if scene.has(Effect::ArtificialViscosity) {
+            scene.artificial_viscosity
+        } else {
+            None
+        },
+        gravity: if scene.has(Effect::Gravity) {
+            scene.gravity.as_deref().map(vector)
+        } else {
+            None
+        },
         gravity_ramp: scene.gravity_ramp,
         dt: scene.dt,
         cfl: scene.cfl,
@@ -43,7 +55,12 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
     };
     let solids: Vec<(String, Vec<Vector<D>>)> =
         layout.solids.into_iter().map(|s| (s.name, s.position)).collect();
-    Ok(Simulation::new(config, &layout.fluid_position, &layout.fluid_velocity, &solids)?)
+    Ok(Simulation::new(
+        config,
+        &layout.fluid_position,
+        &layout.fluid_velocity,
+        &solids,
+    )?)
 }
 
 impl AnySimulation {
@@ -52,7 +69,11 @@ impl AnySimulation {
         match scene.dimension {
             2 => Ok(Self::D2(simulation_from_scene::<2>(scene)?)),
             3 => Ok(Self::D3(simulation_from_scene::<3>(scene)?)),
-            d => Err(SceneError::Dimension { scene: d, requested: 3 }.into()),
+            d => Err(SceneError::Dimension {
+                scene: d,
+                requested: 3,
+            }
+            .into()),
         }
     }
 }
@@ -84,7 +105,11 @@ pub struct Progress {
 }
 
 /// Runs `scene` to its end time. Returns the summary (also written to `summary.json`).
-pub fn run_scene(scene: &Scene, options: &RunOptions, progress: &mut dyn FnMut(&Progress)) -> Result<Summary, Error> {
+pub fn run_scene(
+    scene: &Scene,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Summary, Error> {
     if options.backend == BackendKind::Cuda {
         cuda::probe()?;
     }
@@ -104,8 +129,16 @@ struct Writers {
 impl Writers {
     fn create(dir: &Path, with_forces: bool) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir.join("frames")).map_err(|e| OutputError::io(&dir.join("frames"), e))?;
-        let forces = if with_forces { Some(ForceLog::create(&dir.join("forces.csv"))?) } else { None };
-        Ok(Self { dir: dir.to_path_buf(), pvd: PvdSeries::new(), forces })
+        let forces = if with_forces {
+            Some(ForceLog::create(&dir.join("forces.csv"))?)
+        } else {
+            None
+        };
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            pvd: PvdSeries::new(),
+            forces,
+        })
     }
 
     fn frame<const D: usize>(&mut self, sim: &Simulation<D>, write_frame: bool) -> Result<(), OutputError> {
@@ -167,7 +200,9 @@ fn drive<const D: usize>(
     while sim.clock().time < end {
         match sim.step(end) {
             Ok(report) => {
-                let name = serde_json::to_value(report.limit).ok().and_then(|v| v.as_str().map(String::from));
+                let name = serde_json::to_value(report.limit)
+                    .ok()
+                    .and_then(|v| v.as_str().map(String::from));
                 *limits.entry(name.unwrap_or_default()).or_default() += 1;
             }
             Err(e) => {
@@ -214,7 +249,10 @@ fn drive<const D: usize>(
     };
     let extra = &mut summary.extra;
     extra.insert("max_compression".into(), stats.max_compression.into());
-    extra.insert("mean_compression".into(), (stats.sum_mean_compression / steps).into());
+    extra.insert(
+        "mean_compression".into(),
+        (stats.sum_mean_compression / steps).into(),
+    );
     extra.insert("fluid_mass".into(), sim.fluid_mass().into());
     extra.insert("memory_bytes".into(), (sim.heap_bytes() as u64).into());
     extra.insert(
@@ -227,7 +265,10 @@ fn drive<const D: usize>(
         "time_step_limits".into(),
         serde_json::Value::Object(limits.into_iter().map(|(k, v)| (k, v.into())).collect()),
     );
-    extra.insert("plan".into(), sim.plan().iter().map(|s| s.name()).collect::<Vec<_>>().into());
+    extra.insert(
+        "plan".into(),
+        sim.plan().iter().map(|s| s.name()).collect::<Vec<_>>().into(),
+    );
     if let Some(w) = writers.as_mut() {
         write_summary(&w.dir.join("summary.json"), &summary)?;
     }

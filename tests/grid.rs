@@ -25,10 +25,7 @@ fn assert_neighbours_match<const D: usize>(
     let mut seen = vec![false; n];
     for &p in &perm {
         let p = p as usize;
-        assert!(
-            p < n && !seen[p],
-            "sort did not return a permutation: {perm:?}"
-        );
+        assert!(p < n && !seen[p], "sort did not return a permutation: {perm:?}");
         seen[p] = true;
     }
     let positions: Vec<Vector<D>> = perm.iter().map(|&p| cloud[p as usize]).collect();
@@ -85,9 +82,8 @@ fn coordinate(h: Real, span: i32) -> impl Strategy<Value = Real> {
 /// A cloud of up to 150 particles in a box of `span` cells around the origin, possibly offset.
 fn cloud<const D: usize>() -> impl Strategy<Value = (Vec<Vector<D>>, Real)> {
     (0.01f32..2.0, 1i32..8, -50i32..50).prop_flat_map(|(h, span, shift)| {
-        let point = prop::collection::vec(coordinate(h, span), D).prop_map(move |c| {
-            Vector::<D>::from_iterator(c.into_iter().map(|v| v + shift as Real * h))
-        });
+        let point = prop::collection::vec(coordinate(h, span), D)
+            .prop_map(move |c| Vector::<D>::from_iterator(c.into_iter().map(|v| v + shift as Real * h)));
         (prop::collection::vec(point, 0..150), Just(h))
     })
 }
@@ -299,9 +295,9 @@ fn too_many_cells<const D: usize>(extent: Real, h: Real) {
         Ok(other) => {
             panic!("{D}D, points at ±{extent:e}, h = {h:e}: expected TooManyCells, got {other:?}")
         }
-        Err(_) => panic!(
-            "{D}D, points at ±{extent:e}, h = {h:e}: sort panicked instead of returning TooManyCells"
-        ),
+        Err(_) => {
+            panic!("{D}D, points at ±{extent:e}, h = {h:e}: sort panicked instead of returning TooManyCells")
+        }
     }
 }
 
@@ -321,8 +317,7 @@ fn grid_rejects_absurd_extents() {
 
 /// Particles whose every field holds a value unique to the particle, derived from its id.
 fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
-    let vec =
-        |i: usize, base: Real| Vector::<D>::from_fn(|k, _| base + i as Real + 0.125 * k as Real);
+    let vec = |i: usize, base: Real| Vector::<D>::from_fn(|k, _| base + i as Real + 0.125 * k as Real);
     let mut f = Fields::<D>::default();
     for i in 0..n {
         f.push(
@@ -370,26 +365,14 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
     assert_eq!(id.as_slice(), expected_id, "ids after permute");
     for i in 0..n {
         let o = id[i] as usize;
-        assert_eq!(
-            position[i], original.position[o],
-            "position of new {i} (id {o})"
-        );
-        assert_eq!(
-            velocity[i], original.velocity[o],
-            "velocity of new {i} (id {o})"
-        );
+        assert_eq!(position[i], original.position[o], "position of new {i} (id {o})");
+        assert_eq!(velocity[i], original.velocity[o], "velocity of new {i} (id {o})");
         assert_eq!(
             acceleration[i], original.acceleration[o],
             "acceleration of new {i} (id {o})"
         );
-        assert_eq!(
-            density[i], original.density[o],
-            "density of new {i} (id {o})"
-        );
-        assert_eq!(
-            pressure[i], original.pressure[o],
-            "pressure of new {i} (id {o})"
-        );
+        assert_eq!(density[i], original.density[o], "density of new {i} (id {o})");
+        assert_eq!(pressure[i], original.pressure[o], "pressure of new {i} (id {o})");
         assert_eq!(mass[i], original.mass[o], "mass of new {i} (id {o})");
         assert_eq!(kind[i], original.kind[o], "kind of new {i} (id {o})");
     }

@@ -90,8 +90,7 @@ fn viscosity_core_exact<const D: usize>(h: f64) -> f64 {
             let k = 10.0 / (3.0 * PI * h * h);
             2.0 * PI
                 * k
-                * (-e.powi(5) / (10.0 * h.powi(3)) + e.powi(4) / (4.0 * h * h) + h * e / 2.0
-                    - e * e / 2.0)
+                * (-e.powi(5) / (10.0 * h.powi(3)) + e.powi(4) / (4.0 * h * h) + h * e / 2.0 - e * e / 2.0)
         }
         // K = 15/(2π h³); ∫ 4π r² (…) dr
         3 => {
@@ -176,11 +175,7 @@ fn vector<const D: usize>(c: &[f64; D]) -> Vector<D> {
 }
 
 /// Every kernel value, gradient and Laplacian at offset `x`, `r = |x|`, flattened.
-fn all_values<const D: usize>(
-    k: &Smoothing<D>,
-    x: &Vector<D>,
-    r: Real,
-) -> Vec<(&'static str, Real)> {
+fn all_values<const D: usize>(k: &Smoothing<D>, x: &Vector<D>, r: Real) -> Vec<(&'static str, Real)> {
     let mut v = vec![
         ("w", k.w(r * r)),
         ("laplacian_w", k.laplacian_w(r * r)),
@@ -235,11 +230,7 @@ fn gradients_are_odd<const D: usize>(h: f64, c: &[f64], q: f64) -> Result<(), Te
     let (r, rm) = (x.norm(), minus.norm());
     for (name, g, gm) in [
         ("grad_w", k.grad_w(&x), k.grad_w(&minus)),
-        (
-            "grad_w_spiky",
-            k.grad_w_spiky(&x, r),
-            k.grad_w_spiky(&minus, rm),
-        ),
+        ("grad_w_spiky", k.grad_w_spiky(&x, r), k.grad_w_spiky(&minus, rm)),
         (
             "grad_w_viscosity",
             k.grad_w_viscosity(&x, r),

@@ -60,9 +60,7 @@ impl<const D: usize> Particles<D> {
         let position = (0..n).map(|_| vec(&mut f)).collect();
         let velocity = (0..n).map(|_| vec(&mut f)).collect();
         let density = (0..n).map(|_| f()).collect();
-        let pressure = (0..n)
-            .map(|i| if i % 7 == 0 { -0.0 } else { f() })
-            .collect();
+        let pressure = (0..n).map(|i| if i % 7 == 0 { -0.0 } else { f() }).collect();
         let kind = (0..n).map(|i| (i as u32 * 2654435761) % 5).collect();
         Particles {
             position,
@@ -158,10 +156,7 @@ fn check_header(path: &Path, n: usize) {
     assert!(text.ends_with("<AppendedData encoding=\"raw\">\n   _"));
 
     let appended: Vec<_> = h.arrays.iter().filter(|a| a.offset.is_some()).collect();
-    let names: Vec<(VtuSection, &str)> = appended
-        .iter()
-        .map(|a| (a.section, a.name.as_str()))
-        .collect();
+    let names: Vec<(VtuSection, &str)> = appended.iter().map(|a| (a.section, a.name.as_str())).collect();
     assert_eq!(
         names,
         [
@@ -377,10 +372,7 @@ fn reader_rejects_malformed_files_without_panicking() {
             Ok(_) if c.len() >= bytes.len() - 30 && c.len() <= bytes.len() => {
                 // Truncating only the closing tags leaves the data intact.
             }
-            other => panic!(
-                "case {i} (len {}): expected Malformed, got {other:?}",
-                c.len()
-            ),
+            other => panic!("case {i} (len {}): expected Malformed, got {other:?}", c.len()),
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
@@ -412,9 +404,7 @@ fn pvd_lists_frames_in_order() {
     }
     let text = std::fs::read_to_string(&pvd).unwrap();
     assert!(text.contains("<VTKFile type=\"Collection\""));
-    assert!(
-        text.contains("<DataSet timestep=\"0.1\" group=\"\" part=\"0\" file=\"frame_00001.vtu\"/>")
-    );
+    assert!(text.contains("<DataSet timestep=\"0.1\" group=\"\" part=\"0\" file=\"frame_00001.vtu\"/>"));
     let positions: Vec<usize> = (0..times.len())
         .map(|i| text.find(&format!("frame_{i:05}.vtu")).unwrap())
         .collect();
@@ -527,13 +517,9 @@ fn summary_round_trips() {
     assert!(!dir.join("summary.json.tmp").exists());
     let back = read_summary(&path).unwrap();
     assert_eq!(back, s);
-    let via_serde: Summary =
-        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let via_serde: Summary = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     assert_eq!(via_serde, s);
-    assert_eq!(
-        via_serde.simulated_time.to_bits(),
-        s.simulated_time.to_bits()
-    );
+    assert_eq!(via_serde.simulated_time.to_bits(), s.simulated_time.to_bits());
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(text.contains("\n  \"scene\": \"dam_break\""));
 
@@ -563,10 +549,7 @@ fn missing_directory_is_io_error_naming_path() {
         match &err {
             OutputError::Io { path, .. } => {
                 assert!(path.starts_with(&gone), "{path:?}");
-                assert!(
-                    path.to_string_lossy()
-                        .starts_with(&*target.to_string_lossy())
-                );
+                assert!(path.to_string_lossy().starts_with(&*target.to_string_lossy()));
             }
             other => panic!("expected Io, got {other:?}"),
         }
@@ -599,7 +582,10 @@ fn writing_below_a_regular_file_is_io_error() {
         Err(OutputError::Io { path, .. }) => assert!(path.starts_with(&file)),
         other => panic!("expected Io, got {other:?}"),
     }
-    assert!(matches!(ForceLog::create(&file.join("f.csv")), Err(OutputError::Io { .. })));
+    assert!(matches!(
+        ForceLog::create(&file.join("f.csv")),
+        Err(OutputError::Io { .. })
+    ));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -655,12 +641,7 @@ fn check_prop<const D: usize>(path: &Path, t: f64, p: &Particles<D>) -> Result<(
     for (name, want) in [("density", &p.density), ("pressure", &p.pressure)] {
         let a = data.point_array(name).unwrap();
         prop_assert_eq!(a.values.len(), want.len());
-        prop_assert!(
-            a.values
-                .iter()
-                .zip(want.iter())
-                .all(|(g, w)| same(*g as f32, *w))
-        );
+        prop_assert!(a.values.iter().zip(want.iter()).all(|(g, w)| same(*g as f32, *w)));
     }
     let kind: Vec<u32> = data
         .point_array("kind")

@@ -35,7 +35,11 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
     let scene = load_scene(Path::new("scenes/hydrostatic_2d.toml"), &[]).expect("shipped scene");
     let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
     let (g, depth, width, rho0) = (9.81, 0.5, 1.0, 1000.0);
-    let floor = sim.solid_names().iter().position(|n| n == "floor").expect("floor solid");
+    let floor = sim
+        .solid_names()
+        .iter()
+        .position(|n| n == "floor")
+        .expect("floor solid");
     let end = scene.end_time;
     assert_eq!(end, 5.0);
     let mut max_speed_at_rest: f64 = 0.0;
@@ -58,25 +62,38 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
         "bottom pressure {bottom_pressure:.1} Pa, rho0 g H = {expected:.1} Pa"
     );
     let limit = 0.01 * (g * depth).sqrt();
-    assert!(max_speed_at_rest < limit, "max speed {max_speed_at_rest:.4} m/s at rest, limit {limit:.4}");
+    assert!(
+        max_speed_at_rest < limit,
+        "max speed {max_speed_at_rest:.4} m/s at rest, limit {limit:.4}"
+    );
 }
 
 /// A 2D dam break: fluid mass and particle count are constant and no particle is lost or
 /// duplicated (the reorder is a permutation).
 #[test]
 fn dam_break_conserves_mass_and_particles() {
-    let scene =
-        load_scene(Path::new("scenes/dam_break_2d.toml"), &["solver.end_time=0.2".into()]).expect("shipped scene");
+    let scene = load_scene(
+        Path::new("scenes/dam_break_2d.toml"),
+        &["solver.end_time=0.2".into()],
+    )
+    .expect("shipped scene");
     let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
     let mass0 = sim.fluid_mass();
     let n = sim.fields.len();
     while sim.clock().time < scene.end_time {
         sim.step(scene.end_time).expect("stable step");
     }
-    assert_eq!(sim.fluid_mass(), mass0, "mass is summed in a fixed order, so it is exact");
+    assert_eq!(
+        sim.fluid_mass(),
+        mass0,
+        "mass is summed in a fixed order, so it is exact"
+    );
     let mut ids = sim.fields.id.clone();
     ids.sort_unstable();
-    assert!(ids.iter().copied().eq(0..n as u32), "every particle present exactly once");
+    assert!(
+        ids.iter().copied().eq(0..n as u32),
+        "every particle present exactly once"
+    );
     assert!(sim.clock().step > 100);
 }
 
@@ -134,7 +151,10 @@ fn closed_box_without_gravity_conserves_momentum_with_wall_impulse() {
         );
     }
     // The walls did act: the fluid hit them and turned around.
-    assert!(impulse[0].abs() > 0.1 * scale, "walls exerted an impulse {impulse:?}");
+    assert!(
+        impulse[0].abs() > 0.1 * scale,
+        "walls exerted an impulse {impulse:?}"
+    );
 }
 
 /// A jittered, randomly moving fluid block with no solids and no gravity: internal pressure and
@@ -240,7 +260,14 @@ fn free_falling_block_follows_g_t() {
     let (y, v) = com(&sim);
     let g = -9.81;
     // f32 velocity accumulated over 2500 steps: 1e-4 relative.
-    assert!((v - g * t).abs() <= 1e-4 * (g * t).abs(), "v = {v}, g t = {}", g * t);
+    assert!(
+        (v - g * t).abs() <= 1e-4 * (g * t).abs(),
+        "v = {v}, g t = {}",
+        g * t
+    );
     let expected = y0 + 0.5 * g * t * t + 0.5 * g * t * 2.0e-4;
-    assert!((y - expected).abs() <= 1e-4 * (0.5 * g * t * t).abs(), "y = {y}, expected {expected}");
+    assert!(
+        (y - expected).abs() <= 1e-4 * (0.5 * g * t * t).abs(),
+        "y = {y}, expected {expected}"
+    );
 }

@@ -152,10 +152,7 @@ fn valid_2d_scene_parses_with_resolved_values() {
     assert_eq!(s.dt, None);
     assert_eq!(s.cfl, 0.2);
     assert_eq!(s.end_time, 1.0);
-    assert!(
-        (s.output_interval - 0.02).abs() < 1e-15,
-        "default end_time / 50"
-    );
+    assert!((s.output_interval - 0.02).abs() < 1e-15, "default end_time / 50");
     assert!(s.write_frames);
     assert_eq!(s.fluid_boxes.len(), 1);
     assert_eq!(s.fluid_boxes[0].velocity, vec![0.0, 0.0]);
@@ -266,11 +263,7 @@ fn fluid_overlapping_container_wall() {
     assert_eq!(ps.len(), 1, "{ps:#?}");
     let p = with_key(&ps, "fluid_box[0]");
     assert_eq!(line(p), line_of(&text, "[[fluid_box]]", 0));
-    assert!(
-        p.reason.contains("walls of container \"tank\""),
-        "{}",
-        p.reason
-    );
+    assert!(p.reason.contains("walls of container \"tank\""), "{}", p.reason);
 }
 
 #[test]
@@ -347,11 +340,7 @@ fn duplicate_effect() {
 
 #[test]
 fn wrong_array_length() {
-    let text = edit(
-        VALID_2D,
-        "gravity = [0.0, -9.81]",
-        "gravity = [0.0, -9.81, 0.0]",
-    );
+    let text = edit(VALID_2D, "gravity = [0.0, -9.81]", "gravity = [0.0, -9.81, 0.0]");
     let ps = problems(parse(&text));
     let p = with_key(&ps, "fluid.gravity");
     assert_eq!(line(p), line_of(&text, "gravity = [", 0));
@@ -429,11 +418,7 @@ fn too_many_particles() {
     let ps = problems(parse(HUGE));
     let p = with_key(&ps, "particles.spacing");
     assert_eq!(line(p), line_of(HUGE, "spacing", 0));
-    assert!(
-        p.reason.contains("1000000000000000000 particles"),
-        "{}",
-        p.reason
-    );
+    assert!(p.reason.contains("1000000000000000000 particles"), "{}", p.reason);
     assert!(p.reason.contains("u32"), "{}", p.reason);
     assert!(p.reason.contains("bytes"), "{}", p.reason);
 }
@@ -525,10 +510,7 @@ fn override_errors_name_the_override() {
     for (set, reason) in cases {
         let ps = problems(parse_set(VALID_2D, &[set]));
         assert_eq!(ps.len(), 1, "{set}: {ps:#?}");
-        assert!(
-            matches!(ps[0].location, Location::Override(_)),
-            "{set}: {ps:?}"
-        );
+        assert!(matches!(ps[0].location, Location::Override(_)), "{set}: {ps:?}");
         assert!(ps[0].reason.contains(reason), "{set}: {}", ps[0].reason);
         assert!(ps[0].reason.contains(set), "{set}: {}", ps[0].reason);
     }
@@ -578,10 +560,7 @@ fn load_scene_file_errors() {
         sc::load_scene(&dir.join("missing.toml"), &[]),
         Err(SceneError::Io { .. })
     ));
-    assert!(matches!(
-        sc::load_scene(&dir, &[]),
-        Err(SceneError::Io { .. })
-    ));
+    assert!(matches!(sc::load_scene(&dir, &[]), Err(SceneError::Io { .. })));
 
     let bad = dir.join("bad_utf8.toml");
     std::fs::write(&bad, b"dimension = 2\nname = \"\xff\xfe\"\n").unwrap();
@@ -608,12 +587,7 @@ fn check_counts<const D: usize>(text: &str) -> (sc::Scene, sc::Layout<D>) {
         assert_eq!(name, &s.name);
         assert_eq!(*n as usize, s.position.len(), "solid {name}");
     }
-    let total = layout.fluid_position.len()
-        + layout
-            .solids
-            .iter()
-            .map(|s| s.position.len())
-            .sum::<usize>();
+    let total = layout.fluid_position.len() + layout.solids.iter().map(|s| s.position.len()).sum::<usize>();
     assert_eq!(counts.total as usize, total);
     (scene, layout)
 }
@@ -664,11 +638,7 @@ fn generate_rejects_wrong_dimension() {
 /// Every wall particle of container `solid` lies in the band of `L dx`
 /// around the inside box and outside the inside box; returns the number of
 /// distinct floor layers.
-fn check_container_band<const D: usize>(
-    scene: &sc::Scene,
-    layout: &sc::Layout<D>,
-    solid: usize,
-) -> usize {
+fn check_container_band<const D: usize>(scene: &sc::Scene, layout: &sc::Layout<D>, solid: usize) -> usize {
     let s = &scene.solids[solid];
     let band = scene.wall_layers() as f64 * scene.spacing;
     let eps = 1e-5;
@@ -677,15 +647,8 @@ fn check_container_band<const D: usize>(
         let mut outside = false;
         for k in 0..D {
             let (lo, hi, x) = (s.region.min[k], s.region.max[k], f64::from(p[k]));
-            let top = if s.open_top && k == D - 1 {
-                hi
-            } else {
-                hi + band
-            };
-            assert!(
-                x > lo - band - eps && x < top + eps,
-                "axis {k}: {x} outside band"
-            );
+            let top = if s.open_top && k == D - 1 { hi } else { hi + band };
+            assert!(x > lo - band - eps && x < top + eps, "axis {k}: {x} outside band");
             outside |= x < lo || x > hi;
         }
         assert!(outside, "wall point {p:?} inside the container");
@@ -827,9 +790,7 @@ fn number_spans(text: &str) -> Vec<(usize, usize)> {
         let in_word = i > 0 && (bytes[i - 1].is_ascii_alphanumeric() || bytes[i - 1] == b'_');
         if starts && !in_word {
             let mut j = i + 1;
-            while j < bytes.len()
-                && (bytes[j].is_ascii_alphanumeric() || b".-+".contains(&bytes[j]))
-            {
+            while j < bytes.len() && (bytes[j].is_ascii_alphanumeric() || b".-+".contains(&bytes[j])) {
                 j += 1;
             }
             out.push((i, j));

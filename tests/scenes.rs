@@ -33,7 +33,10 @@ fn every_shipped_scene_is_valid_and_checks() {
 fn column_scene_has_the_papers_particle_count() {
     let scene = load_scene(Path::new("scenes/dam_break_column_3d.toml"), &[]).expect("valid");
     let fluid = count_particles(&scene).expect("counts").fluid as f64;
-    assert!((fluid - 112_588.0).abs() / 112_588.0 < 0.01, "{fluid} fluid particles");
+    assert!(
+        (fluid - 112_588.0).abs() / 112_588.0 < 0.01,
+        "{fluid} fluid particles"
+    );
 }
 
 /// Both 3D scenes run 30 ms of the collapse: the water starts to fall, no particle escapes, mass
@@ -62,7 +65,11 @@ fn three_dimensional_scenes_run_a_short_time() {
 #[test]
 fn run_writes_summary_frames_and_forces() {
     let out = scratch("dam");
-    let scene = load_scene(Path::new("scenes/dam_break_2d.toml"), &["solver.end_time=0.05".into()]).expect("valid");
+    let scene = load_scene(
+        Path::new("scenes/dam_break_2d.toml"),
+        &["solver.end_time=0.05".into()],
+    )
+    .expect("valid");
     let options = RunOptions {
         out_dir: Some(out.clone()),
         backend: sph::backend::BackendKind::Cpu,
@@ -86,7 +93,11 @@ fn run_writes_summary_frames_and_forces() {
     }
     let forces = std::fs::read_to_string(out.join("forces.csv")).expect("forces.csv");
     assert!(forces.starts_with("t,solid,fx,fy,fz"));
-    assert_eq!(forces.lines().count() as u64, 1 + summary.steps, "one row per step for the tank");
+    assert_eq!(
+        forces.lines().count() as u64,
+        1 + summary.steps,
+        "one row per step for the tank"
+    );
     std::fs::remove_dir_all(&out).expect("cleanup");
 }
 
@@ -96,8 +107,14 @@ fn cli_reports_bad_input_without_panicking() {
     assert!(format!("{err:#}").contains("does_not_exist.toml"), "{err:#}");
     let err = sph::cli::run(["sph", "check", "scenes"]).expect_err("a directory");
     assert!(format!("{err:#}").contains("scenes"), "{err:#}");
-    let err = sph::cli::run(["sph", "check", "scenes/dam_break_2d.toml", "--set", "particles.spacing=-1"])
-        .expect_err("negative spacing");
+    let err = sph::cli::run([
+        "sph",
+        "check",
+        "scenes/dam_break_2d.toml",
+        "--set",
+        "particles.spacing=-1",
+    ])
+    .expect_err("negative spacing");
     assert!(format!("{err:#}").contains("particles.spacing"), "{err:#}");
     // An output folder that cannot be created: its parent is a regular file.
     let out = scratch("blocked");
@@ -115,8 +132,16 @@ fn cli_reports_bad_input_without_panicking() {
     ])
     .expect_err("unwritable output");
     assert!(format!("{err:#}").contains("file"), "{err:#}");
-    let err = sph::cli::run(["sph", "run", "scenes/dam_break_2d.toml", "--backend", "cuda", "--end-time", "0.001"])
-        .expect_err("no CUDA backend yet");
+    let err = sph::cli::run([
+        "sph",
+        "run",
+        "scenes/dam_break_2d.toml",
+        "--backend",
+        "cuda",
+        "--end-time",
+        "0.001",
+    ])
+    .expect_err("no CUDA backend yet");
     assert!(format!("{err:#}").contains("cuda"), "{err:#}");
     std::fs::remove_dir_all(&out).expect("cleanup");
 }

@@ -9,7 +9,10 @@ use super::BackendError;
 
 /// Checks whether the CUDA backend can run on this machine.
 pub fn probe() -> Result<(), BackendError> {
-    Err(BackendError::Unavailable { backend: "cuda", reason: reason() })
+    Err(BackendError::Unavailable {
+        backend: "cuda",
+        reason: reason(),
+    })
 }
 
 #[cfg(not(feature = "cuda"))]

@@ -1,7 +1,7 @@
 //! Force exerted by the fluid on a solid particle: the reaction to the pair forces (16)–(17).
 
-use crate::math::{Real, Vector};
 use crate::backend::params::StepParams;
+use crate::math::{Real, Vector};
 use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration, pressure::pressure_acceleration,
     viscosity::viscous_acceleration,
@@ -33,7 +33,17 @@ pub fn force_on_solid<const D: usize>(
     }
     if params.alpha > 0.0 {
         let u_sf = -u_f;
-        a += artificial_viscous_acceleration(params.alpha, params.c, params.h, offset, &u_sf, rho_s, rho_f, m_f, grad_w);
+        a += artificial_viscous_acceleration(
+            params.alpha,
+            params.c,
+            params.h,
+            offset,
+            &u_sf,
+            rho_s,
+            rho_f,
+            m_f,
+            grad_w,
+        );
     }
     a * m_s
 }

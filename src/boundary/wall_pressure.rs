@@ -15,7 +15,11 @@ pub struct WallPressureSums<const D: usize> {
 
 impl<const D: usize> Default for WallPressureSums<D> {
     fn default() -> Self {
-        Self { weight: 0.0, pressure: 0.0, density_offset: Vector::zeros() }
+        Self {
+            weight: 0.0,
+            pressure: 0.0,
+            density_offset: Vector::zeros(),
+        }
     }
 }
 

@@ -8,8 +8,16 @@ use std::path::Path;
 pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
     let scene = load_scene(path, sets).with_context(|| format!("checking scene {}", path.display()))?;
     let counts = count_particles(&scene)?;
-    println!("scene {}: valid ({}D, solver {:?})", path.display(), scene.dimension, scene.solver);
-    println!("  spacing {} m, support radius h {} m", scene.spacing, scene.smoothing_length);
+    println!(
+        "scene {}: valid ({}D, solver {:?})",
+        path.display(),
+        scene.dimension,
+        scene.solver
+    );
+    println!(
+        "  spacing {} m, support radius h {} m",
+        scene.spacing, scene.smoothing_length
+    );
     println!("  fluid particles  {:>12}", counts.fluid);
     for (name, n) in &counts.solid {
         println!("  solid {name:<10} {n:>12}");
@@ -22,7 +30,14 @@ pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
         bytes_per_particle(scene.dimension)
     );
     let effects: Vec<&str> = scene.effects.iter().map(|e| e.name()).collect();
-    println!("  effects          {}", if effects.is_empty() { "none".into() } else { effects.join(", ") });
+    println!(
+        "  effects          {}",
+        if effects.is_empty() {
+            "none".into()
+        } else {
+            effects.join(", ")
+        }
+    );
     let viscosity = scene.viscosity.is_some();
     let plan = crate::solver::plan::wcsph_plan(crate::solver::plan::PlanInputs {
         viscosity,
@@ -30,6 +45,10 @@ pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
         solids: !scene.solids.is_empty(),
     });
     let names: Vec<&str> = plan.iter().map(|s| s.name()).collect();
-    println!("  plan             {}{}", names.join(" → "), if viscosity { " (forces with viscosity)" } else { "" });
+    println!(
+        "  plan             {}{}",
+        names.join(" → "),
+        if viscosity { " (forces with viscosity)" } else { "" }
+    );
     Ok(())
 }

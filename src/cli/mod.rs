@@ -66,7 +66,14 @@ where
 {
     let cli = Cli::try_parse_from(args).unwrap_or_else(|e| e.exit());
     match cli.command {
-        Command::Run { scene, out, threads, backend, end_time, mut sets } => {
+        Command::Run {
+            scene,
+            out,
+            threads,
+            backend,
+            end_time,
+            mut sets,
+        } => {
             if let Some(t) = end_time {
                 sets.push(format!("solver.end_time={t:e}"));
             }

@@ -18,7 +18,10 @@ pub fn run(
     sets: &[String],
 ) -> anyhow::Result<()> {
     let scene = load_scene(path, sets).with_context(|| format!("loading scene {}", path.display()))?;
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&stem));
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(n) = threads {
@@ -59,7 +62,13 @@ pub fn run(
         })
     });
     bar.finish_and_clear();
-    let summary = summary.with_context(|| format!("running scene {} (results so far in {})", path.display(), out.display()))?;
+    let summary = summary.with_context(|| {
+        format!(
+            "running scene {} (results so far in {})",
+            path.display(),
+            out.display()
+        )
+    })?;
     println!(
         "{}: {} particles ({} fluid), {} steps to t = {:.4} s in {:.1} s wall, {:.3e} particle-steps/s; results in {}",
         summary.scene,

@@ -111,9 +111,7 @@ impl CsvTable {
 
     /// Flushes buffered rows to the file.
     pub fn flush(&mut self) -> Result<(), OutputError> {
-        self.writer
-            .flush()
-            .map_err(|e| OutputError::io(&self.path, e))
+        self.writer.flush().map_err(|e| OutputError::io(&self.path, e))
     }
 }
 

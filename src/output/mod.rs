@@ -42,9 +42,7 @@ pub enum OutputError {
         source: std::io::Error,
     },
     /// The per-particle slices of a frame do not all have the same length.
-    #[error(
-        "frame field `{field}` has {found} entries, expected {expected} (length of `position`)"
-    )]
+    #[error("frame field `{field}` has {found} entries, expected {expected} (length of `position`)")]
     LengthMismatch {
         /// Name of the offending field.
         field: &'static str,

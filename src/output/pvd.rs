@@ -76,10 +76,7 @@ impl PvdSeries {
             match (tag.name.as_str(), tag.kind) {
                 ("VTKFile", TagKind::Start) => {
                     if tag.attr("type") != Some("Collection") {
-                        return Err(OutputError::malformed(
-                            path,
-                            "VTKFile type is not Collection",
-                        ));
+                        return Err(OutputError::malformed(path, "VTKFile type is not Collection"));
                     }
                     saw_collection = true;
                 }
@@ -99,10 +96,7 @@ impl PvdSeries {
             }
         }
         if !saw_collection {
-            return Err(OutputError::malformed(
-                path,
-                "no <VTKFile type=\"Collection\">",
-            ));
+            return Err(OutputError::malformed(path, "no <VTKFile type=\"Collection\">"));
         }
         Ok(series)
     }

@@ -282,27 +282,9 @@ pub fn write_vtu<const D: usize>(path: &Path, frame: &Frame<D>) -> Result<(), Ou
 
     // (section, name, type, components, bytes)
     let blocks: [(VtuSection, &str, VtkType, usize, u64); 8] = [
-        (
-            VtuSection::PointData,
-            "velocity",
-            VtkType::Float32,
-            3,
-            nn * 12,
-        ),
-        (
-            VtuSection::PointData,
-            "density",
-            VtkType::Float32,
-            1,
-            nn * 4,
-        ),
-        (
-            VtuSection::PointData,
-            "pressure",
-            VtkType::Float32,
-            1,
-            nn * 4,
-        ),
+        (VtuSection::PointData, "velocity", VtkType::Float32, 3, nn * 12),
+        (VtuSection::PointData, "density", VtkType::Float32, 1, nn * 4),
+        (VtuSection::PointData, "pressure", VtkType::Float32, 1, nn * 4),
         (VtuSection::PointData, "kind", VtkType::UInt32, 1, nn * 4),
         (VtuSection::Points, "Points", VtkType::Float32, 3, nn * 12),
         (VtuSection::Cells, "connectivity", int_type, 1, nn * isz),
@@ -442,18 +424,19 @@ fn parse_attr<T: std::str::FromStr>(
 ) -> Result<Option<T>, OutputError> {
     match tag.attr(key) {
         None => Ok(None),
-        Some(v) => v.trim().parse::<T>().map(Some).map_err(|_| {
-            OutputError::malformed(path, format!("bad {key}=\"{v}\" in <{}>", tag.name))
-        }),
+        Some(v) => v
+            .trim()
+            .parse::<T>()
+            .map(Some)
+            .map_err(|_| OutputError::malformed(path, format!("bad {key}=\"{v}\" in <{}>", tag.name))),
     }
 }
 
 /// Parses the XML header of an in-memory raw-appended `.vtu` file.
 fn parse_header(path: &Path, data: &[u8]) -> Result<VtuHeader, OutputError> {
     let bad = |reason: String| OutputError::malformed(path, reason);
-    let app = find(data, APPENDED_TAG).ok_or_else(|| {
-        bad("no <AppendedData> element (only raw appended files are supported)".into())
-    })?;
+    let app = find(data, APPENDED_TAG)
+        .ok_or_else(|| bad("no <AppendedData> element (only raw appended files are supported)".into()))?;
     let after_tag = &data[app..];
     let gt = after_tag
         .iter()
@@ -536,9 +519,10 @@ fn parse_header(path: &Path, data: &[u8]) -> Result<VtuHeader, OutputError> {
                 };
                 match tag.attr("format") {
                     Some("appended") => {
-                        info.offset = Some(parse_attr(path, tag, "offset")?.ok_or_else(|| {
-                            bad(format!("appended array {} without offset", info.name))
-                        })?);
+                        info.offset =
+                            Some(parse_attr(path, tag, "offset")?.ok_or_else(|| {
+                                bad(format!("appended array {} without offset", info.name))
+                            })?);
                     }
                     Some("ascii") => {
                         if tag.kind == TagKind::Start {

@@ -33,10 +33,7 @@ pub(crate) struct Tag {
 impl Tag {
     /// Value of attribute `key`, if present.
     pub fn attr(&self, key: &str) -> Option<&str> {
-        self.attrs
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
+        self.attrs.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
     }
 }
 
@@ -130,9 +127,7 @@ pub(crate) fn scan(doc: &str) -> Result<Vec<Tag>, String> {
             tags.push(tag);
             tag_end = pos + len;
         }
-        let next = doc[tag_end..]
-            .find('<')
-            .map_or(doc.len(), |off| tag_end + off);
+        let next = doc[tag_end..].find('<').map_or(doc.len(), |off| tag_end + off);
         if let Some(last) = tags.last_mut()
             && last.text.is_empty()
         {
@@ -153,9 +148,7 @@ fn parse_tag(s: &str) -> Result<(Tag, usize), String> {
         kind = TagKind::End;
         i = 2;
     }
-    let name_len = s[i..]
-        .find(|c: char| !is_name_char(c))
-        .unwrap_or(s.len() - i);
+    let name_len = s[i..].find(|c: char| !is_name_char(c)).unwrap_or(s.len() - i);
     if name_len == 0 {
         return Err("missing element name".into());
     }
@@ -183,9 +176,7 @@ fn parse_tag(s: &str) -> Result<(Tag, usize), String> {
         if kind == TagKind::End {
             return Err(format!("attributes in end tag </{name}"));
         }
-        let key_len = trimmed
-            .find(|c: char| !is_name_char(c))
-            .unwrap_or(trimmed.len());
+        let key_len = trimmed.find(|c: char| !is_name_char(c)).unwrap_or(trimmed.len());
         if key_len == 0 {
             return Err(format!("unexpected character in tag <{name}"));
         }
@@ -225,8 +216,7 @@ mod tests {
 
     #[test]
     fn scans_tags() {
-        let doc =
-            r#"<?xml version="1.0"?><!-- c --><A x="1" y='a&amp;b'><B z="&#65;"/>text&lt;</A>"#;
+        let doc = r#"<?xml version="1.0"?><!-- c --><A x="1" y='a&amp;b'><B z="&#65;"/>text&lt;</A>"#;
         let tags = scan(doc).unwrap();
         assert_eq!(tags.len(), 3);
         assert_eq!(tags[0].name, "A");

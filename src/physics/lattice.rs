@@ -34,7 +34,9 @@ fn for_each_lattice_offset<const D: usize>(h: f64, dx: f64, mut f: impl FnMut(f6
 /// rather than `ρ0 dx^D`, which would start every scene with a spurious pressure.
 pub fn lattice_mass<const D: usize>(kernel: &Smoothing<D>, dx: f64, rho0: f64) -> f64 {
     let mut sum = 0.0f64;
-    for_each_lattice_offset::<D>(f64::from(kernel.h), dx, |r2| sum += f64::from(kernel.w(r2 as Real)));
+    for_each_lattice_offset::<D>(f64::from(kernel.h), dx, |r2| {
+        sum += f64::from(kernel.w(r2 as Real))
+    });
     rho0 / sum
 }
 

@@ -85,12 +85,7 @@ pub(crate) fn axis_name(k: usize) -> String {
 }
 
 /// `n_k = round((max_k - min_k) / dx)` per axis; `path` names the box.
-pub(crate) fn lattice_dims(
-    min: &[f64],
-    max: &[f64],
-    dx: f64,
-    path: &KeyPath,
-) -> Result<Dims, RawProblem> {
+pub(crate) fn lattice_dims(min: &[f64], max: &[f64], dx: f64, path: &KeyPath) -> Result<Dims, RawProblem> {
     if min.len() != max.len() || min.len() > MAX_DIM || min.is_empty() {
         return Err(RawProblem::new(
             path.clone(),
@@ -139,23 +134,13 @@ fn product(mut iter: impl Iterator<Item = Option<u64>>) -> Option<u64> {
 }
 
 /// Particles of a filled lattice box.
-pub(crate) fn box_count(
-    min: &[f64],
-    max: &[f64],
-    dx: f64,
-    path: &KeyPath,
-) -> Result<u64, RawProblem> {
+pub(crate) fn box_count(min: &[f64], max: &[f64], dx: f64, path: &KeyPath) -> Result<u64, RawProblem> {
     let dims = lattice_dims(min, max, dx, path)?;
     product(dims.axes().iter().map(|&n| Some(n))).ok_or_else(|| overflow(path))
 }
 
 /// Particles of one solid (box or container with `layers` wall layers).
-pub(crate) fn solid_count(
-    solid: &Solid,
-    dx: f64,
-    layers: u64,
-    path: &KeyPath,
-) -> Result<u64, RawProblem> {
+pub(crate) fn solid_count(solid: &Solid, dx: f64, layers: u64, path: &KeyPath) -> Result<u64, RawProblem> {
     let (min, max) = (&solid.region.min, &solid.region.max);
     match solid.shape {
         SolidShape::Box => box_count(min, max, dx, path),
@@ -199,11 +184,7 @@ pub(crate) fn count_raw(scene: &Scene) -> Result<ParticleCounts, RawProblem> {
         total = total.checked_add(n).ok_or_else(|| overflow(&path))?;
         solid.push((s.name.clone(), n));
     }
-    Ok(ParticleCounts {
-        fluid,
-        solid,
-        total,
-    })
+    Ok(ParticleCounts { fluid, solid, total })
 }
 
 fn generate_error(raw: RawProblem) -> SceneError {
@@ -312,8 +293,7 @@ pub fn generate<const D: usize>(scene: &Scene) -> Result<Layout<D>, SceneError> 
         let min = corner::<D>(&fb.region.min, &path.k("min"))?;
         let vel = corner::<D>(&fb.velocity, &path.k("velocity"))?;
         let v = SVector::<f32, D>::from_fn(|k, _| vel[k] as f32);
-        let dims =
-            lattice_dims(&fb.region.min, &fb.region.max, dx, &path).map_err(generate_error)?;
+        let dims = lattice_dims(&fb.region.min, &fb.region.max, dx, &path).map_err(generate_error)?;
         for_each_index([0; D], dims_i64::<D>(&dims), |idx| {
             layout.fluid_position.push(lattice_point(&min, idx, dx));
             layout.fluid_velocity.push(v);
@@ -328,9 +308,7 @@ pub fn generate<const D: usize>(scene: &Scene) -> Result<Layout<D>, SceneError> 
         reserve(&mut position, *n)?;
         match s.shape {
             SolidShape::Box => {
-                for_each_index([0; D], n_in, |idx| {
-                    position.push(lattice_point(&min, idx, dx))
-                });
+                for_each_index([0; D], n_in, |idx| position.push(lattice_point(&min, idx, dx)));
             }
             SolidShape::Container => {
                 let lo = [-layers; D];

@@ -22,9 +22,7 @@ pub mod overrides;
 pub mod schema;
 pub mod validate;
 
-pub use generate::{
-    Layout, ParticleCounts, SolidParticles, count_particles, generate, wall_layers,
-};
+pub use generate::{Layout, ParticleCounts, SolidParticles, count_particles, generate, wall_layers};
 pub use overrides::apply_overrides;
 pub use schema::{Effect, SceneFile, SolidShape, SolverKind};
 pub use validate::{bytes_per_particle, validate};
@@ -260,9 +258,7 @@ pub fn parse_scene(text: &str, origin: &str, sets: &[String]) -> Result<Scene, S
         Ok(t) => t,
         Err(e) => {
             let here = |path: &KeyPath| locate(path, text, &original, &[]);
-            return Err(invalid(vec![toml_problem(
-                &e, text, &original, &here, true,
-            )]));
+            return Err(invalid(vec![toml_problem(&e, text, &original, &here, true)]));
         }
     };
     let override_paths = match apply_overrides(&mut table, sets) {
@@ -272,8 +268,7 @@ pub fn parse_scene(text: &str, origin: &str, sets: &[String]) -> Result<Scene, S
     let locate = |path: &KeyPath| locate(path, text, &original, &override_paths);
 
     let file: SceneFile = if sets.is_empty() {
-        toml::from_str(text)
-            .map_err(|e| invalid(vec![toml_problem(&e, text, &original, &locate, true)]))?
+        toml::from_str(text).map_err(|e| invalid(vec![toml_problem(&e, text, &original, &locate, true)]))?
     } else {
         // Deserialize the overridden table from its re-serialized text, map
         // error spans to key paths there, and key paths back to the file.
@@ -346,12 +341,7 @@ fn missing_field(message: &str) -> Option<&str> {
 
 /// Location of `path`: an override when an override key is a prefix of it,
 /// else its position (or that of its longest present prefix) in the file.
-fn locate(
-    path: &KeyPath,
-    text: &str,
-    index: &SpanIndex,
-    overrides: &[(KeyPath, String)],
-) -> Location {
+fn locate(path: &KeyPath, text: &str, index: &SpanIndex, overrides: &[(KeyPath, String)]) -> Location {
     if let Some((_, raw)) = overrides.iter().find(|(o, _)| path.starts_with(o)) {
         return Location::Override(raw.clone());
     }
@@ -475,11 +465,7 @@ impl SpanIndex {
     }
 }
 
-fn index_table(
-    table: &DeTable<'_>,
-    prefix: &KeyPath,
-    out: &mut Vec<(KeyPath, Range<usize>, Range<usize>)>,
-) {
+fn index_table(table: &DeTable<'_>, prefix: &KeyPath, out: &mut Vec<(KeyPath, Range<usize>, Range<usize>)>) {
     for (key, value) in table.iter() {
         let path = prefix.k(key.get_ref());
         // Position of a key: its start, or the `[header]` for a table.
@@ -490,11 +476,7 @@ fn index_table(
     }
 }
 
-fn index_value(
-    value: &DeValue<'_>,
-    path: &KeyPath,
-    out: &mut Vec<(KeyPath, Range<usize>, Range<usize>)>,
-) {
+fn index_value(value: &DeValue<'_>, path: &KeyPath, out: &mut Vec<(KeyPath, Range<usize>, Range<usize>)>) {
     match value {
         DeValue::Table(t) => index_table(t, path, out),
         DeValue::Array(a) => {

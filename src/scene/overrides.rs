@@ -24,8 +24,7 @@ pub fn apply_overrides(doc: &mut Table, sets: &[String]) -> Result<(), SceneErro
     for set in sets {
         let result = split(set).and_then(|(key, value)| {
             let path = parse_path(key)?;
-            set_in_table(doc, &path.0, parse_value(value), "")
-                .map_err(|reason| (key.to_string(), reason))
+            set_in_table(doc, &path.0, parse_value(value), "").map_err(|reason| (key.to_string(), reason))
         });
         if let Err((key, reason)) = result {
             problems.push(Problem {
@@ -58,10 +57,7 @@ pub(crate) fn override_paths(sets: &[String]) -> Vec<(KeyPath, String)> {
 /// Splits `KEY=VALUE` at the first `=`; the key is trimmed.
 fn split(set: &str) -> Result<(&str, &str), (String, String)> {
     let Some((key, value)) = set.split_once('=') else {
-        return Err((
-            set.trim().to_string(),
-            "expected KEY=VALUE (no '=' found)".into(),
-        ));
+        return Err((set.trim().to_string(), "expected KEY=VALUE (no '=' found)".into()));
     };
     let key = key.trim();
     if key.is_empty() {
@@ -111,11 +107,7 @@ fn set_in_table(t: &mut Table, path: &[Seg], value: Value, prefix: &str) -> Resu
         return Err("empty KEY".into());
     };
     let Seg::Key(k) = first else {
-        let what = if prefix.is_empty() {
-            "the document"
-        } else {
-            prefix
-        };
+        let what = if prefix.is_empty() { "the document" } else { prefix };
         return Err(format!("{what} is a table, not an array; cannot index it"));
     };
     let here = join(prefix, first);
@@ -156,9 +148,7 @@ fn set_in_value(v: &mut Value, path: &[Seg], value: Value, prefix: &str) -> Resu
             let here = join(prefix, first);
             match a.get_mut(*i) {
                 Some(elem) => set_in_value(elem, rest, value, &here),
-                None => Err(format!(
-                    "index {i} out of range: `{prefix}` has {len} element(s)"
-                )),
+                None => Err(format!("index {i} out of range: `{prefix}` has {len} element(s)")),
             }
         }
         (Value::Array(_), Seg::Key(k)) => Err(format!(

@@ -114,10 +114,7 @@ impl Checker {
         if v.len() != dim {
             self.err(
                 path,
-                format!(
-                    "expected {dim} entries (dimension = {dim}), found {}",
-                    v.len()
-                ),
+                format!("expected {dim} entries (dimension = {dim}), found {}", v.len()),
             );
             return None;
         }
@@ -128,13 +125,7 @@ impl Checker {
         ok.then(|| v.to_vec())
     }
 
-    fn aabb(
-        &mut self,
-        path: &KeyPath,
-        min: &[f64],
-        max: &[f64],
-        dim: Option<usize>,
-    ) -> Option<Aabb> {
+    fn aabb(&mut self, path: &KeyPath, min: &[f64], max: &[f64], dim: Option<usize>) -> Option<Aabb> {
         let lo = self.vector(path.k("min"), min, dim);
         let hi = self.vector(path.k("max"), max, dim);
         let (lo, hi) = (lo?, hi?);
@@ -155,14 +146,7 @@ impl Checker {
     }
 }
 
-fn in_range(
-    c: &mut Checker,
-    path: KeyPath,
-    v: f64,
-    lo: f64,
-    hi: f64,
-    lo_open: bool,
-) -> Option<f64> {
+fn in_range(c: &mut Checker, path: KeyPath, v: f64, lo: f64, hi: f64, lo_open: bool) -> Option<f64> {
     let v = c.finite(path.clone(), v)?;
     let low_ok = if lo_open { v > lo } else { v >= lo };
     if low_ok && v <= hi {
@@ -176,17 +160,12 @@ fn in_range(
 
 /// Validates `file`, returning every problem with its key path.
 pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
-    let mut c = Checker {
-        problems: Vec::new(),
-    };
+    let mut c = Checker { problems: Vec::new() };
     let dim = match file.dimension {
         2 => Some(2usize),
         3 => Some(3),
         d => {
-            c.err(
-                KeyPath::key("dimension"),
-                format!("must be 2 or 3, got {d}"),
-            );
+            c.err(KeyPath::key("dimension"), format!("must be 2 or 3, got {d}"));
             None
         }
     };
@@ -305,8 +284,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         (Some(_), false) => {
             c.err(
                 fp.k("gravity"),
-                "given but effect \"gravity\" is not enabled (add it to `effects` or remove this key)"
-                    .into(),
+                "given but effect \"gravity\" is not enabled (add it to `effects` or remove this key)".into(),
             );
             None
         }
@@ -367,10 +345,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         } else if let Some(j) = file.solid.iter().take(i).position(|o| o.name == s.name) {
             c.err(
                 path.k("name"),
-                format!(
-                    "duplicate solid name \"{}\" (already used by solid[{j}])",
-                    s.name
-                ),
+                format!("duplicate solid name \"{}\" (already used by solid[{j}])", s.name),
             );
             ok = false;
         }
@@ -483,11 +458,7 @@ fn check_geometry(c: &mut Checker, scene: &Scene) {
             );
         }
     }
-    let extents: Vec<Aabb> = scene
-        .solids
-        .iter()
-        .map(|s| solid_extent(s, dx, layers))
-        .collect();
+    let extents: Vec<Aabb> = scene.solids.iter().map(|s| solid_extent(s, dx, layers)).collect();
     for (i, (s, ext)) in scene.solids.iter().zip(&extents).enumerate() {
         if let Some(k) = outside_axis(ext, domain, tol) {
             let walls = match s.shape {

@@ -12,8 +12,8 @@ use crate::backend::cpu::CpuBackend;
 use crate::backend::params::StepParams;
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
-use crate::physics::lattice::{lattice_gradient_moment, lattice_mass};
 use crate::physics::gravity::gravity_at;
+use crate::physics::lattice::{lattice_gradient_moment, lattice_mass};
 use crate::smoothing::{Smoothing, UnsupportedDimension};
 use stage::Stage;
 use timestep::TimeStepLimit;
@@ -163,7 +163,10 @@ impl<const D: usize> Simulation<D> {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(SetupError::Invalid { key, reason: format!("must be positive and finite, got {v}") })
+                Err(SetupError::Invalid {
+                    key,
+                    reason: format!("must be positive and finite, got {v}"),
+                })
             }
         };
         positive("particles.spacing", config.spacing)?;
@@ -258,7 +261,10 @@ impl<const D: usize> Simulation<D> {
     /// Parameters for the stages at the current time.
     pub fn step_params(&self) -> StepParams<D> {
         let c = &self.config;
-        let g = c.gravity.map(|g| gravity_at(&g, self.clock.time, c.gravity_ramp)).unwrap_or_else(Vector::zeros);
+        let g = c
+            .gravity
+            .map(|g| gravity_at(&g, self.clock.time, c.gravity_ramp))
+            .unwrap_or_else(Vector::zeros);
         StepParams {
             h: c.h as Real,
             rho0: c.rho0 as Real,
@@ -276,7 +282,13 @@ impl<const D: usize> Simulation<D> {
     /// Total fluid mass [kg] (per unit depth in 2D), summed in f64.
     pub fn fluid_mass(&self) -> f64 {
         let f = &self.fields;
-        sum_in_order(f.len(), |i| [if f.kind[i] == FLUID { f64::from(f.mass[i]) } else { 0.0 }])[0]
+        sum_in_order(f.len(), |i| {
+            [if f.kind[i] == FLUID {
+                f64::from(f.mass[i])
+            } else {
+                0.0
+            }]
+        })[0]
     }
 
     /// Total fluid momentum [kg m/s] (per unit depth in 2D), summed in f64.

@@ -39,11 +39,22 @@ mod tests {
 
     #[test]
     fn plan_omits_what_the_scene_does_not_ask_for() {
-        let bare = wcsph_plan(PlanInputs { viscosity: false, artificial_viscosity: false, solids: false });
+        let bare = wcsph_plan(PlanInputs {
+            viscosity: false,
+            artificial_viscosity: false,
+            solids: false,
+        });
         assert!(!bare.contains(&Stage::WallPressure));
         assert!(!bare.contains(&Stage::SolidForces));
-        assert!(bare.contains(&Stage::Forces(ForceTerms { viscosity: false, artificial_viscosity: false })));
-        let full = wcsph_plan(PlanInputs { viscosity: true, artificial_viscosity: true, solids: true });
+        assert!(bare.contains(&Stage::Forces(ForceTerms {
+            viscosity: false,
+            artificial_viscosity: false
+        })));
+        let full = wcsph_plan(PlanInputs {
+            viscosity: true,
+            artificial_viscosity: true,
+            solids: true,
+        });
         assert_eq!(full.len(), 8);
     }
 }

@@ -12,28 +12,43 @@ impl<const D: usize> Simulation<D> {
         let params = self.step_params();
         let step = self.clock.step;
         let time = self.clock.time;
-        let mut report = StepReport { dt: 0.0, limit: TimeStepLimit::Fixed, extremes: StateExtremes::default() };
+        let mut report = StepReport {
+            dt: 0.0,
+            limit: TimeStepLimit::Fixed,
+            extremes: StateExtremes::default(),
+        };
         for stage in &self.plan {
             let (b, f) = (&mut self.backend, &mut self.fields);
             match *stage {
                 Stage::SortByCell => {
-                    b.sort_by_cell(f, params.h).map_err(|source| StepError::Grid { step, source })? // section 3
+                    b.sort_by_cell(f, params.h)
+                        .map_err(|source| StepError::Grid { step, source })? // section 3
                 }
-                Stage::Density => b.density(f, &params),                   // eq. (18)
+                Stage::Density => b.density(f, &params), // eq. (18)
                 Stage::EquationOfState => b.equation_of_state(f, &params), // eq. (19)
-                Stage::WallPressure => b.wall_pressure(f, &params),        // [A12] eq. (27)
-                Stage::Forces(terms) => b.forces(f, &params, terms),       // eqs. (15)-(17), (6)
+                Stage::WallPressure => b.wall_pressure(f, &params), // [A12] eq. (27)
+                Stage::Forces(terms) => b.forces(f, &params, terms), // eqs. (15)-(17), (6)
                 Stage::SolidForces => {
                     self.solid_force = b.solid_forces(f, &params, self.solid_names.len()) // Fig. 4
                 }
                 Stage::TimeStep => {
                     let e = b.state_extremes(f, &params);
                     if let Some((i, quantity)) = e.non_finite {
-                        return Err(StepError::NonFinite { step, time, particle: f.id[i], quantity });
+                        return Err(StepError::NonFinite {
+                            step,
+                            time,
+                            particle: f.id[i],
+                            quantity,
+                        });
                     }
                     if let Some(i) = e.escaped {
                         let position = (0..D).map(|k| f64::from(f.position[i][k])).collect();
-                        return Err(StepError::Escaped { step, time, particle: f.id[i], position });
+                        return Err(StepError::Escaped {
+                            step,
+                            time,
+                            particle: f.id[i],
+                            position,
+                        });
                     }
                     let c = &self.config;
                     let (dt, limit) = timestep::choose(&TimeStepInputs {
@@ -46,7 +61,11 @@ impl<const D: usize> Simulation<D> {
                         fixed: c.dt,
                         remaining: end_time - time,
                     });
-                    report = StepReport { dt, limit, extremes: e };
+                    report = StepReport {
+                        dt,
+                        limit,
+                        extremes: e,
+                    };
                 }
                 Stage::Integrate => b.integrate(f, report.dt as f32), // eq. (15), symplectic Euler
             }

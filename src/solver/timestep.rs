@@ -50,7 +50,10 @@ pub fn choose(inputs: &TimeStepInputs) -> (f64, TimeStepLimit) {
     let (mut dt, mut limit) = match inputs.fixed {
         Some(dt) => (dt, TimeStepLimit::Fixed),
         None => {
-            let mut best = (inputs.cfl * inputs.h / (inputs.sound_speed + inputs.max_speed), TimeStepLimit::SoundSpeed);
+            let mut best = (
+                inputs.cfl * inputs.h / (inputs.sound_speed + inputs.max_speed),
+                TimeStepLimit::SoundSpeed,
+            );
             if inputs.max_acceleration > 0.0 {
                 let f = 0.25 * (inputs.h / inputs.max_acceleration).sqrt();
                 if f < best.0 {
@@ -99,11 +102,21 @@ mod tests {
 
     #[test]
     fn viscosity_and_force_limit_when_they_are_stiffer() {
-        let (_, limit) = choose(&TimeStepInputs { kinematic_viscosity: 10.0, ..inputs() });
+        let (_, limit) = choose(&TimeStepInputs {
+            kinematic_viscosity: 10.0,
+            ..inputs()
+        });
         assert_eq!(limit, TimeStepLimit::Viscosity);
-        let (_, limit) = choose(&TimeStepInputs { max_acceleration: 1e6, ..inputs() });
+        let (_, limit) = choose(&TimeStepInputs {
+            max_acceleration: 1e6,
+            ..inputs()
+        });
         assert_eq!(limit, TimeStepLimit::Force);
-        let (dt, limit) = choose(&TimeStepInputs { fixed: Some(1e-3), remaining: 1e-4, ..inputs() });
+        let (dt, limit) = choose(&TimeStepInputs {
+            fixed: Some(1e-3),
+            remaining: 1e-4,
+            ..inputs()
+        });
         assert_eq!((dt, limit), (1e-4, TimeStepLimit::EndTime));
     }
 }

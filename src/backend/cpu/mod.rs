@@ -10,8 +10,8 @@ use crate::fields::{FLUID, Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector, max_in_order, sum_by_group, sum_in_order, to_xyz};
 use crate::physics::{
-    artificial_viscosity::artificial_viscous_acceleration,
-    density::density_term, eos, pressure::pressure_acceleration, viscosity::viscous_acceleration,
+    artificial_viscosity::artificial_viscous_acceleration, density::density_term, eos,
+    pressure::pressure_acceleration, viscosity::viscous_acceleration,
 };
 use rayon::prelude::*;
 
@@ -57,7 +57,17 @@ fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: boo
         a += pressure_acceleration(p_i, rho_i, fields.pressure[j], rho_j, m_j, &grad);
         if ARTIFICIAL {
             let u_ij = u_i - fields.velocity[j];
-            a += artificial_viscous_acceleration(params.alpha, params.c, params.h, &d, &u_ij, rho_i, rho_j, m_j, &grad);
+            a += artificial_viscous_acceleration(
+                params.alpha,
+                params.c,
+                params.h,
+                &d,
+                &u_ij,
+                rho_i,
+                rho_j,
+                m_j,
+                &grad,
+            );
         }
         if VISCOUS {
             let lap = kernel.laplacian_w_viscosity(r);
@@ -121,15 +131,20 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     sums.add(f.pressure[j], f.density[j], &d, weight);
                 }
             });
-            let p = sums.pressure(&params.gravity).max(eos::pressure(summed_density, params.rho0, params.c2));
+            let p = sums
+                .pressure(&params.gravity)
+                .max(eos::pressure(summed_density, params.rho0, params.c2));
             (p, eos::density_from_pressure(p, params.rho0, params.c2))
         }));
         let wall = &self.wall;
-        fields.pressure.par_iter_mut().zip(fields.density.par_iter_mut()).enumerate().for_each(
-            |(i, (p, rho))| {
+        fields
+            .pressure
+            .par_iter_mut()
+            .zip(fields.density.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (p, rho))| {
                 (*p, *rho) = wall[i];
-            },
-        );
+            });
     }
 
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
@@ -185,9 +200,20 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let n = f.len();
         let rho0 = f64::from(params.rho0);
         let fluid = |i: usize| f.kind[i] == FLUID;
-        let max_speed = max_in_order(n, |i| if fluid(i) { f64::from(f.velocity[i].norm()) } else { 0.0 });
-        let max_acceleration =
-            max_in_order(n, |i| if fluid(i) { f64::from(f.acceleration[i].norm()) } else { 0.0 });
+        let max_speed = max_in_order(n, |i| {
+            if fluid(i) {
+                f64::from(f.velocity[i].norm())
+            } else {
+                0.0
+            }
+        });
+        let max_acceleration = max_in_order(n, |i| {
+            if fluid(i) {
+                f64::from(f.acceleration[i].norm())
+            } else {
+                0.0
+            }
+        });
         let [count, abs_sum, comp_sum] = sum_in_order(n, |i| {
             if !fluid(i) {
                 return [0.0; 3];
@@ -196,18 +222,29 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             [1.0, e.abs(), e.max(0.0)]
         });
         let max_abs = max_in_order(n, |i| {
-            if fluid(i) { ((f64::from(f.density[i]) - rho0) / rho0).abs() } else { 0.0 }
+            if fluid(i) {
+                ((f64::from(f.density[i]) - rho0) / rho0).abs()
+            } else {
+                0.0
+            }
         });
         let max_comp = max_in_order(n, |i| {
-            if fluid(i) { ((f64::from(f.density[i]) - rho0) / rho0).max(0.0) } else { 0.0 }
+            if fluid(i) {
+                ((f64::from(f.density[i]) - rho0) / rho0).max(0.0)
+            } else {
+                0.0
+            }
         });
         let non_finite = if (max_speed + max_acceleration + max_abs).is_finite() {
             None
         } else {
             first_non_finite(f)
         };
-        let outside = |x: &Vector<D>| (0..D).any(|k| x[k] < params.domain_min[k] || x[k] > params.domain_max[k]);
-        let escaped = (0..n).into_par_iter().find_first(|&i| fluid(i) && outside(&f.position[i]));
+        let outside =
+            |x: &Vector<D>| (0..D).any(|k| x[k] < params.domain_min[k] || x[k] > params.domain_max[k]);
+        let escaped = (0..n)
+            .into_par_iter()
+            .find_first(|&i| fluid(i) && outside(&f.position[i]));
         let mean = |s: f64| if count > 0.0 { s / count } else { 0.0 };
         StateExtremes {
             max_speed: max_speed.max(0.0),
@@ -224,14 +261,17 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     fn integrate(&mut self, fields: &mut Fields<D>, dt: f32) {
         let kind = &fields.kind;
         let acceleration = &fields.acceleration;
-        fields.velocity.par_iter_mut().zip(fields.position.par_iter_mut()).enumerate().for_each(
-            |(i, (u, x))| {
+        fields
+            .velocity
+            .par_iter_mut()
+            .zip(fields.position.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (u, x))| {
                 if kind[i] == FLUID {
                     *u += acceleration[i] * dt;
                     *x += *u * dt;
                 }
-            },
-        );
+            });
     }
 }
 
