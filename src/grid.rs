@@ -133,6 +133,13 @@ impl<const D: usize> Grid<D> {
                 if !c.is_finite() {
                     return Err(GridError::NonFinitePosition { particle: i });
                 }
+                // Cell coordinates beyond ±2^60 cannot be keyed (and would overflow i64 below).
+                if c.abs() > 1.0e18 {
+                    return Err(GridError::TooManyCells {
+                        cells: f64::INFINITY,
+                        cell_size,
+                    });
+                }
                 let c = c.floor() as i64;
                 lo[k] = lo[k].min(c);
                 hi[k] = hi[k].max(c);
