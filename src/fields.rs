@@ -30,6 +30,13 @@ pub struct Fields<const D: usize> {
     pub kind: Vec<u32>,
     /// Index of the particle in the initial layout (stable across reorders).
     pub id: Vec<u32>,
+    /// Position at the start of the step [m] (SSP-RK3 only; empty otherwise).
+    pub position_start: Vec<Vector<D>>,
+    /// Velocity at the start of the step [m/s] (SSP-RK3 only; empty otherwise).
+    pub velocity_start: Vec<Vector<D>>,
+    /// Pressure added by the current stage's position correction [Pa] (eqs. 23–24, `corrected`
+    /// solver only; empty otherwise). The force on solids is computed from it.
+    pub pressure_correction: Vec<Real>,
 }
 
 /// Scratch buffers reused by [`Fields::permute`], so reordering does not allocate per step.
@@ -81,13 +88,26 @@ impl<const D: usize> Fields<D> {
         gather(&mut self.mass, perm, &mut scratch.real);
         gather(&mut self.kind, perm, &mut scratch.index);
         gather(&mut self.id, perm, &mut scratch.index);
+        // Optional fields: allocated only by the schemes that use them.
+        if !self.position_start.is_empty() {
+            gather(&mut self.position_start, perm, &mut scratch.vector);
+            gather(&mut self.velocity_start, perm, &mut scratch.vector);
+        }
+        if !self.pressure_correction.is_empty() {
+            gather(&mut self.pressure_correction, perm, &mut scratch.real);
+        }
     }
 
-    /// Bytes per particle held by the fields (for memory reports and scene validation).
+    /// Bytes per particle held by the always-present fields (for memory reports and scene
+    /// validation); SSP-RK3 adds `2 D · 4` and the `corrected` solver 4 more.
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
 
     /// Bytes held by the fields' arrays.
     pub fn heap_bytes(&self) -> usize {
-        self.position.capacity() * D * 4 * 3 + (self.density.capacity() * 3 + self.kind.capacity() * 2) * 4
+        (self.position.capacity() * 3 + self.position_start.capacity() + self.velocity_start.capacity())
+            * D
+            * 4
+            + (self.density.capacity() * 3 + self.kind.capacity() * 2 + self.pressure_correction.capacity())
+                * 4
     }
 }

@@ -29,5 +29,6 @@ pub mod run;
 pub mod scene;
 pub mod smoothing;
 pub mod solver;
+pub mod validation;
 
 pub use error::Error;

@@ -11,6 +11,7 @@ use crate::math::Vector;
 use crate::output::vtu::Frame;
 use crate::output::{ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu};
 use crate::scene::{Effect, Scene, SceneError, SolverKind, generate};
+use crate::solver::{Correction, Integrator};
 use crate::solver::{SimConfig, Simulation};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -26,8 +27,21 @@ pub enum AnySimulation {
 /// Builds the `D`-dimensional simulation of a validated scene.
 pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation<D>, Error> {
     let layout = generate::<D>(scene)?;
+    let config = sim_config::<D>(scene);
+    let solids: Vec<(String, Vec<Vector<D>>)> =
+        layout.solids.into_iter().map(|s| (s.name, s.position)).collect();
+    Ok(Simulation::new(
+        config,
+        &layout.fluid_position,
+        &layout.fluid_velocity,
+        &solids,
+    )?)
+}
+
+/// The solver settings of a validated scene (`scene.dimension` must be `D`).
+pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
     let vector = |v: &[f64]| Vector::<D>::from_iterator(v.iter().map(|&c| c as f32));
-    let config = SimConfig::<D> {
+    SimConfig::<D> {
         spacing: scene.spacing,
         h: scene.smoothing_length,
         rho0: scene.rho0,
@@ -52,15 +66,31 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
         cfl: scene.cfl,
         domain_min: vector(&scene.domain.min),
         domain_max: vector(&scene.domain.max),
-    };
-    let solids: Vec<(String, Vec<Vector<D>>)> =
-        layout.solids.into_iter().map(|s| (s.name, s.position)).collect();
-    Ok(Simulation::new(
-        config,
-        &layout.fluid_position,
-        &layout.fluid_velocity,
-        &solids,
-    )?)
+        integrator: integrator(scene),
+        correction: correction(scene),
+    }
+}
+
+/// The scene's integrator.
+pub fn integrator(scene: &Scene) -> Integrator {
+    match scene.solver.integrator {
+        crate::scene::Integrator::SymplecticEuler => Integrator::SymplecticEuler,
+        crate::scene::Integrator::Rk3 => Integrator::Rk3,
+    }
+}
+
+/// The scene's position-correction settings; `None` for `wcsph`.
+pub fn correction(scene: &Scene) -> Option<Correction> {
+    let s = &scene.solver;
+    match s.kind {
+        SolverKind::Wcsph => None,
+        SolverKind::Corrected => Some(Correction {
+            delta: s.delta,
+            max_iterations: s.max_iterations,
+            strict: s.strict,
+            relaxation: s.relaxation,
+        }),
+    }
 }
 
 impl AnySimulation {
@@ -176,9 +206,7 @@ fn drive<const D: usize>(
         Some(dir) => Some(Writers::create(dir, !sim.solid_names().is_empty())?),
         None => None,
     };
-    let solver = match scene.solver {
-        SolverKind::Wcsph => "wcsph",
-    };
+    let solver = scene.solver.kind.name();
     let mut summary = Summary {
         scene: options.scene_name.clone(),
         dimension: D,

@@ -331,6 +331,9 @@ fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
     for i in 0..n {
         f.acceleration[i] = vec(i, -2.0e4);
         f.pressure[i] = -5.0 - i as Real;
+        f.position_start.push(vec(i, 3.0e4));
+        f.velocity_start.push(vec(i, 4.0e4));
+        f.pressure_correction.push(-7.0e4 - i as Real);
     }
     f
 }
@@ -348,6 +351,9 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         mass,
         kind,
         id,
+        position_start,
+        velocity_start,
+        pressure_correction,
     } = f;
     let n = original.len();
     for field_len in [
@@ -359,6 +365,9 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         mass.len(),
         kind.len(),
         id.len(),
+        position_start.len(),
+        velocity_start.len(),
+        pressure_correction.len(),
     ] {
         assert_eq!(field_len, n);
     }
@@ -375,6 +384,18 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         assert_eq!(pressure[i], original.pressure[o], "pressure of new {i} (id {o})");
         assert_eq!(mass[i], original.mass[o], "mass of new {i} (id {o})");
         assert_eq!(kind[i], original.kind[o], "kind of new {i} (id {o})");
+        assert_eq!(
+            position_start[i], original.position_start[o],
+            "position_start of {i}"
+        );
+        assert_eq!(
+            velocity_start[i], original.velocity_start[o],
+            "velocity_start of {i}"
+        );
+        assert_eq!(
+            pressure_correction[i], original.pressure_correction[o],
+            "pressure_correction of {i}"
+        );
     }
 }
 

@@ -194,6 +194,8 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             cfl: 0.2,
             domain_min: Vector::<D>::repeat(-10.0),
             domain_max: Vector::<D>::repeat(10.0),
+            integrator: Default::default(),
+            correction: None,
         };
         let mut sim = Simulation::new(config, &x, &u, &[]).expect("builds");
         let p0 = sim.fluid_momentum();

@@ -148,7 +148,7 @@ fn valid_2d_scene_parses_with_resolved_values() {
     assert_eq!(s.viscosity, Some(1.0e-3));
     assert_eq!(s.gravity, Some(vec![0.0, -9.81]));
     assert_eq!(s.gravity_ramp, 0.1);
-    assert_eq!(s.solver, SolverKind::Wcsph);
+    assert_eq!(s.solver.kind, SolverKind::Wcsph);
     assert_eq!(s.dt, None);
     assert_eq!(s.cfl, 0.2);
     assert_eq!(s.end_time, 1.0);
@@ -488,7 +488,7 @@ fn override_bare_string_and_arrays() {
         ],
     )
     .unwrap();
-    assert_eq!(s.solver, SolverKind::Wcsph);
+    assert_eq!(s.solver.kind, SolverKind::Wcsph);
     assert_eq!(s.fluid_boxes[0].region.max, vec![0.5, 0.25]);
     assert_eq!(s.gravity, Some(vec![0.0, -1.0]));
     assert_eq!(s.name.as_deref(), Some("other"));

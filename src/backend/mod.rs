@@ -19,6 +19,27 @@ pub struct ForceTerms {
     pub artificial_viscosity: bool,
 }
 
+/// How the pressure of solid particles is set (`Stage::WallPressure`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WallModel {
+    /// `max(`[A12] extrapolation, eq. (19) of the wall's own summed density`)`: the weakly
+    /// compressible solver, whose clamped pressure gives lone splash particles no pressure.
+    ExtrapolatedOrSummed,
+    /// [A12] extrapolation only: the `corrected` solver, where eq. (19) with a real `C` would be
+    /// stiff and the position correction (23) keeps fluid out of walls instead.
+    Extrapolated,
+}
+
+/// Which forces on solids `Backend::solid_forces` sums.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SolidForceSource {
+    /// Pressure (16), viscosity (17) and artificial viscosity of the force stage.
+    Forces,
+    /// The pressure increments of the current stage's position correction (eqs. 23–24),
+    /// `Fields::pressure_correction`; the impulse is this force times the stage's `τ`.
+    Correction,
+}
+
 /// Extremes of the fluid state needed by the time-step choice and the state guards.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StateExtremes {
@@ -51,15 +72,44 @@ pub trait Backend<const D: usize> {
     /// Eq. (19): pressure of fluid particles.
     fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Boundary: pressure and density of solid particles ([A12] eq. 27).
-    fn wall_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
+    fn wall_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, model: WallModel);
     /// Eqs. (15)–(17) and (6): acceleration of fluid particles.
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms);
     /// Fig. 4: total force [N] (per unit depth in 2D) of the fluid on each of `solids` solids.
-    fn solid_forces(&mut self, fields: &Fields<D>, params: &StepParams<D>, solids: usize) -> Vec<[f64; 3]>;
+    fn solid_forces(
+        &mut self,
+        fields: &Fields<D>,
+        params: &StepParams<D>,
+        solids: usize,
+        source: SolidForceSource,
+    ) -> Vec<[f64; 3]>;
     /// Extremes of speed, acceleration and density error, and the first non-finite value.
     fn state_extremes(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> StateExtremes;
     /// Semi-implicit (symplectic) Euler: `u += a dt`, then `x += u dt`, fluid only; `dt` [s].
     fn integrate(&mut self, fields: &mut Fields<D>, dt: f32);
+    /// SSP-RK3: remembers `x^n`, `u^n` in `Fields::position_start`, `velocity_start`.
+    fn store_step_start(&mut self, fields: &mut Fields<D>);
+    /// One Shu–Osher stage, fluid only: `x ← a x^n + b (x + dt u)`, `u ← a u^n + b (u + dt a)`
+    /// with the acceleration of the force stage; `dt` [s].
+    fn rk_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32);
+    /// Eq. (24) with note 6: the largest compression `max(ρ − ρ0, 0)/ρ0` over fluid particles.
+    fn max_compression(&mut self, fields: &Fields<D>, rho0: f32) -> f64;
+    /// Starts a stage's position correction: `Fields::pressure_correction` ← 0.
+    fn begin_correction(&mut self, fields: &mut Fields<D>);
+    /// Eq. (19) inside the correction: pressure increments `δp` from the density for fluid
+    /// (`physics::correction::pressure_increment`, stiffness `k` [m²/s²]), extrapolated to solids
+    /// ([A12] without gravity); added to `pressure` and `pressure_correction`.
+    fn correction_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32);
+    /// Eq. (23): `Δx = τ² a^press(δp)` for fluid, scaled down uniformly (so momentum stays
+    /// conserved) when the largest exceeds `max_step` [m]; `x += Δx`, `u += Δx/τ`. Returns the
+    /// largest displacement applied [m].
+    fn correct_positions(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+        max_step: f32,
+    ) -> f64;
 }
 
 pub mod cuda;

@@ -9,10 +9,21 @@ pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
     let scene = load_scene(path, sets).with_context(|| format!("checking scene {}", path.display()))?;
     let counts = count_particles(&scene)?;
     println!(
-        "scene {}: valid ({}D, solver {:?})",
+        "scene {}: valid ({}D, solver {}, integrator {}{})",
         path.display(),
         scene.dimension,
-        scene.solver
+        scene.solver.kind.name(),
+        scene.solver.integrator.name(),
+        match crate::run::correction(&scene) {
+            Some(c) => format!(
+                ", delta {:e}, max {} iterations{}, relaxation {}",
+                c.delta,
+                c.max_iterations,
+                if c.strict { " (strict)" } else { "" },
+                c.relaxation
+            ),
+            None => String::new(),
+        }
     );
     println!(
         "  spacing {} m, support radius h {} m",
@@ -39,10 +50,12 @@ pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
         }
     );
     let viscosity = scene.viscosity.is_some();
-    let plan = crate::solver::plan::wcsph_plan(crate::solver::plan::PlanInputs {
+    let plan = crate::solver::plan::plan(crate::solver::plan::PlanInputs {
         viscosity,
         artificial_viscosity: scene.artificial_viscosity.is_some(),
         solids: !scene.solids.is_empty(),
+        integrator: crate::run::integrator(&scene),
+        corrected: crate::run::correction(&scene).is_some(),
     });
     let names: Vec<&str> = plan.iter().map(|s| s.name()).collect();
     println!(

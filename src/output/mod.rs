@@ -11,6 +11,7 @@
 //! everything is reported through [`OutputError`].
 
 pub mod csv;
+pub mod plot;
 pub mod pvd;
 pub mod summary;
 pub mod vtu;

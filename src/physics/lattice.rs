@@ -60,3 +60,33 @@ pub fn lattice_gradient_moment<const D: usize>(kernel: &Smoothing<D>, dx: f64, r
     });
     sum / D as f64
 }
+
+/// The step scale of the position correction (PAPER.md note 5), `K = ρ0² / (2 m² S)` with
+/// `S = Σ_j ∇W(x_ij) · ∇W^press(x_ij)/κ` over a full lattice neighbourhood (poly6 gradient of
+/// the density (18) dotted with the scaled spiky gradient of the force (16)).
+///
+/// Derivation (the PCISPH argument of Solenthaler & Pajarola 2009, with our two kernels): give
+/// particle `i` the correction pressure `δp_i` and move it and its neighbours by eq. (23),
+/// `Δx = τ² a^press`. On the lattice (`ρ ≈ ρ0`, `Σ_j ∇W_ij = 0`) the displacements it causes
+/// change its summed density (18) by `Δρ_i = −2 τ² m² δp_i S / ρ0²`. Choosing
+/// `δp_i = (K/τ²) (ρ_i − ρ0)` therefore removes the error of an isolated particle in one sweep,
+/// whatever `τ`: the literal `δp = C² (ρ − ρ0)` is this with `C² τ² = K`, which overshoots and
+/// diverges once `τ ≫ sqrt(K)/C`. The solver uses `ω K/τ²` with a relaxation `ω ≤ 1`, because
+/// neighbours that are corrected at the same time (Jacobi sweep) add up. Units: `K` [m²], so
+/// `K/τ²` [m²/s²] plays the role of `C²` in (19).
+pub fn correction_stiffness<const D: usize>(kernel: &Smoothing<D>, dx: f64, rho0: f64, kappa: f64) -> f64 {
+    let mass = lattice_mass(kernel, dx, rho0);
+    let h = f64::from(kernel.h);
+    let mut s = 0.0f64;
+    for_each_lattice_offset::<D>(h, dx, |r2| {
+        let r = r2.sqrt();
+        if r > 0.0 && r < h {
+            let mut x = crate::math::Vector::<D>::zeros();
+            x[0] = r as Real;
+            let g6 = kernel.grad_w(&x);
+            let gs = kernel.grad_w_spiky(&x, r as Real);
+            s += f64::from(g6.dot(&gs)) / kappa;
+        }
+    });
+    rho0 * rho0 / (2.0 * mass * mass * s)
+}

@@ -4,6 +4,7 @@
 //! inside their loops. Equations: (6), (15)–(19) of the paper ([P], PAPER.md section 1).
 
 pub mod artificial_viscosity;
+pub mod correction;
 pub mod density;
 pub mod eos;
 pub mod gravity;

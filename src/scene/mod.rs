@@ -24,7 +24,7 @@ pub mod validate;
 
 pub use generate::{Layout, ParticleCounts, SolidParticles, count_particles, generate, wall_layers};
 pub use overrides::apply_overrides;
-pub use schema::{Effect, SceneFile, SolidShape, SolverKind};
+pub use schema::{Effect, Integrator, ProbeKind, SceneFile, SolidShape, SolverKind};
 pub use validate::{bytes_per_particle, validate};
 
 /// A validated scene with all defaults resolved. Floats are `f64`, SI units.
@@ -63,8 +63,8 @@ pub struct Scene {
     pub fluid_boxes: Vec<FluidBox>,
     /// Solid bodies, in file order, with unique names.
     pub solids: Vec<Solid>,
-    /// Time-integration scheme.
-    pub solver: SolverKind,
+    /// Pressure scheme, integrator and position-correction settings (`[solver]`).
+    pub solver: SolverSettings,
     /// Fixed time step \[s\]; `None` means adaptive.
     pub dt: Option<f64>,
     /// CFL number in (0, 1].
@@ -75,6 +75,8 @@ pub struct Scene {
     pub output_interval: f64,
     /// Whether particle frames are written.
     pub write_frames: bool,
+    /// Probes (`[[probe]]`), in file order, with unique names.
+    pub probes: Vec<Probe>,
 }
 
 impl Scene {
@@ -87,6 +89,92 @@ impl Scene {
     pub fn wall_layers(&self) -> u64 {
         wall_layers(self.smoothing_length, self.spacing)
     }
+}
+
+/// The resolved `[solver]` settings other than time (`dt`, `cfl` and `end_time` are
+/// [`Scene`] fields).
+///
+/// For [`SolverKind::Wcsph`] the `corrected`-only fields (`delta`, `max_iterations`,
+/// `strict`, `relaxation`) hold their defaults and are unused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverSettings {
+    /// Pressure scheme.
+    pub kind: SolverKind,
+    /// Time integrator.
+    pub integrator: Integrator,
+    /// Density-error tolerance delta of eq. (24), in (0, 0.1].
+    pub delta: f64,
+    /// Most position-correction iterations per step, in [1, 100000].
+    pub max_iterations: u32,
+    /// Whether failing to meet `delta` within `max_iterations` is an error.
+    pub strict: bool,
+    /// Relaxation factor omega of the position correction, in (0, 1].
+    pub relaxation: f64,
+}
+
+impl SolverSettings {
+    /// Default `delta`.
+    pub const DEFAULT_DELTA: f64 = 1e-4;
+    /// Default `max_iterations`.
+    pub const DEFAULT_MAX_ITERATIONS: u32 = 200;
+    /// Default `relaxation`.
+    pub const DEFAULT_RELAXATION: f64 = 0.5;
+
+    /// The default integrator of `kind`: symplectic Euler for `wcsph`, RK3 for `corrected`.
+    pub fn default_integrator(kind: SolverKind) -> Integrator {
+        match kind {
+            SolverKind::Wcsph => Integrator::SymplecticEuler,
+            SolverKind::Corrected => Integrator::Rk3,
+        }
+    }
+
+    /// `kind` with every other setting at its default.
+    pub fn defaults(kind: SolverKind) -> Self {
+        SolverSettings {
+            kind,
+            integrator: Self::default_integrator(kind),
+            delta: Self::DEFAULT_DELTA,
+            max_iterations: Self::DEFAULT_MAX_ITERATIONS,
+            strict: false,
+            relaxation: Self::DEFAULT_RELAXATION,
+        }
+    }
+}
+
+/// A quantity measured during the run (`[[probe]]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Probe {
+    /// Unique name among probes (`[A-Za-z0-9_-]+`).
+    pub name: String,
+    /// What is measured.
+    pub kind: ProbeKind,
+    /// Axis index, `0..dimension` (`"x"` = 0, `"y"` = 1, `"z"` = 2).
+    pub axis: usize,
+    /// Coordinate \[m\] subtracted from the measurement: a front is reported as the largest
+    /// fluid coordinate along `axis` minus `origin`.
+    pub origin: f64,
+    /// Reference data to compare with, if any.
+    pub reference: Option<ProbeReference>,
+}
+
+/// Normalised reference curves for a [`Probe`] (`[probe.reference]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProbeReference {
+    /// The CSV file. [`load_scene`] resolves a relative path against the scene file's
+    /// directory; [`parse_scene`] leaves it relative to the current directory. Not checked
+    /// to exist: a missing file is reported when it is read.
+    pub file: PathBuf,
+    /// Series (columns) to compare with; empty means all series of the file.
+    pub series: Vec<String>,
+    /// Length scale a \[m\] > 0 for Z = x / a and T = t sqrt(g / a).
+    pub length: f64,
+    /// `(T0, T1)`, T0 < T1: the normalised times where the error is measured.
+    pub time_range: (f64, f64),
+}
+
+impl ProbeReference {
+    /// Default `time_range`.
+    pub const DEFAULT_TIME_RANGE: (f64, f64) = (1.0, 3.0);
 }
 
 /// An axis-aligned box `[min, max]` \[m\], `dimension` entries each.
@@ -216,7 +304,8 @@ impl SceneError {
 
 /// Reads, overrides, deserializes and validates the scene file at `path`.
 ///
-/// `sets` are `KEY=VALUE` overrides (see [`apply_overrides`]). Errors: the
+/// `sets` are `KEY=VALUE` overrides (see [`apply_overrides`]). Relative probe
+/// reference files are resolved against the directory of `path`. Errors: the
 /// file is missing, a directory or unreadable ([`SceneError::Io`]); not UTF-8,
 /// bad TOML, schema mismatch or invalid values ([`SceneError::Invalid`]).
 pub fn load_scene(path: &Path, sets: &[String]) -> Result<Scene, SceneError> {
@@ -243,11 +332,19 @@ pub fn load_scene(path: &Path, sets: &[String]) -> Result<Scene, SceneError> {
             });
         }
     };
-    parse_scene(&text, &origin, sets)
+    let mut scene = parse_scene(&text, &origin, sets)?;
+    let base = path.parent().unwrap_or(Path::new(""));
+    for reference in scene.probes.iter_mut().filter_map(|p| p.reference.as_mut()) {
+        if reference.file.is_relative() {
+            reference.file = base.join(&reference.file);
+        }
+    }
+    Ok(scene)
 }
 
 /// Parses scene `text` (named `origin` in messages), applies the `sets`
-/// overrides, deserializes and validates it.
+/// overrides, deserializes and validates it. Relative probe reference files
+/// stay relative (to the current directory).
 pub fn parse_scene(text: &str, origin: &str, sets: &[String]) -> Result<Scene, SceneError> {
     let invalid = |problems: Vec<Problem>| SceneError::Invalid {
         origin: origin.to_string(),

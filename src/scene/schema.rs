@@ -40,12 +40,62 @@ pub enum SolidShape {
     Container,
 }
 
-/// The time-integration scheme (`solver.kind`).
+/// The pressure scheme (`solver.kind`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SolverKind {
     /// Weakly compressible SPH with a stiff equation of state.
     Wcsph,
+    /// Incompressible SPH with iterative position correction until the density error is
+    /// below `solver.delta` (eqs. 23–24).
+    Corrected,
+}
+
+impl SolverKind {
+    /// The name used in scene files (`"wcsph"`, `"corrected"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            SolverKind::Wcsph => "wcsph",
+            SolverKind::Corrected => "corrected",
+        }
+    }
+}
+
+/// The time integrator (`solver.integrator`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// First-order symplectic Euler (velocity, then position); the default for `wcsph`.
+    SymplecticEuler,
+    /// Third-order Runge–Kutta; the default for `corrected`.
+    Rk3,
+}
+
+impl Integrator {
+    /// The name used in scene files (`"symplectic_euler"`, `"rk3"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::SymplecticEuler => "symplectic_euler",
+            Integrator::Rk3 => "rk3",
+        }
+    }
+}
+
+/// What a `[[probe]]` measures (`probe.kind`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProbeKind {
+    /// The fluid front: the largest fluid coordinate along `axis`, minus `origin` \[m\].
+    Front,
+}
+
+impl ProbeKind {
+    /// The name used in scene files (`"front"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ProbeKind::Front => "front",
+        }
+    }
 }
 
 /// The whole scene file (top-level table).
@@ -75,6 +125,9 @@ pub struct SceneFile {
     pub solver: SolverFile,
     /// Output control; optional.
     pub output: Option<OutputFile>,
+    /// Measurements taken during the run (`[[probe]]`); zero or more.
+    #[serde(default)]
+    pub probe: Vec<ProbeFile>,
 }
 
 /// An axis-aligned box `[min, max]` \[m\].
@@ -150,8 +203,21 @@ pub struct SolidFile {
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverFile {
-    /// Scheme.
+    /// Pressure scheme.
     pub kind: SolverKind,
+    /// Time integrator; default `symplectic_euler` for `wcsph`, `rk3` for `corrected`.
+    pub integrator: Option<Integrator>,
+    /// `corrected` only: density-error tolerance of eq. (24), in (0, 0.1]; default 1e-4.
+    pub delta: Option<f64>,
+    /// `corrected` only: most correction iterations per step, in [1, 100000]; default 200
+    /// (signed so that bad values reach validation).
+    pub max_iterations: Option<i64>,
+    /// `corrected` only: whether failing to meet `delta` within `max_iterations` is an error;
+    /// default false.
+    pub strict: Option<bool>,
+    /// `corrected` only: relaxation factor omega of the position correction, in (0, 1];
+    /// default 0.5.
+    pub relaxation: Option<f64>,
     /// Fixed time step \[s\] > 0; absent means adaptive.
     pub dt: Option<f64>,
     /// CFL number in (0, 1]; default 0.2.
@@ -168,4 +234,35 @@ pub struct OutputFile {
     pub interval: Option<f64>,
     /// Whether to write particle frames; default true.
     pub frames: Option<bool>,
+}
+
+/// `[[probe]]`: a quantity measured during the run.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeFile {
+    /// Unique (among probes) non-empty name of `[A-Za-z0-9_-]` characters.
+    pub name: String,
+    /// What is measured.
+    pub kind: ProbeKind,
+    /// `"x"`, `"y"` or `"z"`, below `dimension`; default `"x"`.
+    pub axis: Option<String>,
+    /// Coordinate subtracted from the measurement \[m\], finite; default 0.
+    pub origin: Option<f64>,
+    /// Reference data to compare with; optional.
+    pub reference: Option<ProbeReferenceFile>,
+}
+
+/// `[probe.reference]`: a CSV of normalised reference curves.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeReferenceFile {
+    /// Path of the CSV file, non-empty; relative to the scene file's directory (checked when read).
+    pub file: String,
+    /// Series (columns) of the file to compare with; absent or empty means all.
+    pub series: Option<Vec<String>>,
+    /// Length scale a \[m\] > 0 for Z = x / a and T = t sqrt(g / a).
+    pub length: f64,
+    /// `[T0, T1]`, finite, T0 < T1: the normalised times where the error is measured;
+    /// default `[1.0, 3.0]`.
+    pub time_range: Option<Vec<f64>>,
 }

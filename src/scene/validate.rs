@@ -5,11 +5,18 @@
 //! validation checks that fluid boxes and solids (including container walls)
 //! lie inside the domain, that fluid boxes overlap neither each other nor a
 //! solid (the interior of a container is fine), and that the particle count
-//! fits `u32` indices and the available memory. All problems are collected.
+//! fits `u32` indices and the available memory. `corrected`-only solver keys
+//! are an error with `wcsph`; probe names are unique and probe axes below
+//! `dimension`. All problems are collected.
+
+use std::path::PathBuf;
 
 use super::generate::{self, axis_name, fmt_box, intersection, outside_axis, solid_extent};
-use super::schema::{BoxFile, Effect, SceneFile, SolidShape};
-use super::{Aabb, FluidBox, KeyPath, Location, Problem, Scene, SceneError, Solid};
+use super::schema::{BoxFile, Effect, ProbeFile, SceneFile, SolidShape, SolverFile, SolverKind};
+use super::{
+    Aabb, FluidBox, KeyPath, Location, Probe, ProbeReference, Problem, Scene, SceneError, Solid,
+    SolverSettings,
+};
 
 /// A problem with a structured key path (turned into a [`Problem`] later).
 #[derive(Debug, Clone)]
@@ -328,27 +335,8 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
     let mut solids = Vec::new();
     for (i, s) in file.solid.iter().enumerate() {
         let path = KeyPath::key("solid").i(i);
-        let mut ok = true;
-        if s.name.is_empty() {
-            c.err(path.k("name"), "must not be empty".into());
-            ok = false;
-        } else if let Some(bad) = s
-            .name
-            .chars()
-            .find(|ch| !(ch.is_ascii_alphanumeric() || *ch == '_' || *ch == '-'))
-        {
-            c.err(
-                path.k("name"),
-                format!("may only contain A-Z, a-z, 0-9, '_' and '-', found {bad:?}"),
-            );
-            ok = false;
-        } else if let Some(j) = file.solid.iter().take(i).position(|o| o.name == s.name) {
-            c.err(
-                path.k("name"),
-                format!("duplicate solid name \"{}\" (already used by solid[{j}])", s.name),
-            );
-            ok = false;
-        }
+        let earlier: Vec<&str> = file.solid.iter().take(i).map(|o| o.name.as_str()).collect();
+        let mut ok = check_name(&mut c, path.k("name"), &s.name, &earlier, "solid");
         let open_top = match (s.shape, s.open_top) {
             (SolidShape::Box, Some(_)) => {
                 c.err(
@@ -386,6 +374,17 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             );
         }
     }
+    let solver = check_solver(&mut c, &sp, sv);
+
+    // [[probe]]
+    let mut probes = Vec::new();
+    let mut probes_ok = true;
+    for (i, pf) in file.probe.iter().enumerate() {
+        match check_probe(&mut c, file, i, pf, dim, has_grav) {
+            Some(p) => probes.push(p),
+            None => probes_ok = false,
+        }
+    }
 
     // [output]
     let op = KeyPath::key("output");
@@ -412,16 +411,17 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             gravity_ramp: gravity_ramp?,
             fluid_boxes,
             solids,
-            solver: sv.kind,
+            solver: solver?,
             dt: dt.flatten(),
             cfl: cfl?,
             end_time: end_time?,
             output_interval: interval?,
             write_frames,
+            probes,
         })
     })();
     match resolved {
-        Some(scene) if boxes_ok => {
+        Some(scene) if boxes_ok && probes_ok => {
             // Geometry is checked even when other keys have problems, so
             // that everything is reported at once.
             check_geometry(&mut c, &scene);
@@ -433,6 +433,201 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         }
         _ => Err(c.problems),
     }
+}
+
+/// Checks a solid or probe name: non-empty, `[A-Za-z0-9_-]` only, not among `earlier`
+/// (the names of the preceding `what` tables). Reports at `path`; returns whether it is fine.
+fn check_name(c: &mut Checker, path: KeyPath, name: &str, earlier: &[&str], what: &str) -> bool {
+    if name.is_empty() {
+        c.err(path, "must not be empty".into());
+    } else if let Some(bad) = name
+        .chars()
+        .find(|ch| !(ch.is_ascii_alphanumeric() || *ch == '_' || *ch == '-'))
+    {
+        c.err(
+            path,
+            format!("may only contain A-Z, a-z, 0-9, '_' and '-', found {bad:?}"),
+        );
+    } else if let Some(j) = earlier.iter().position(|o| *o == name) {
+        c.err(
+            path,
+            format!("duplicate {what} name \"{name}\" (already used by {what}[{j}])"),
+        );
+    } else {
+        return true;
+    }
+    false
+}
+
+/// The `[solver]` scheme settings; `corrected`-only keys are an error with `wcsph`.
+fn check_solver(c: &mut Checker, sp: &KeyPath, sv: &SolverFile) -> Option<SolverSettings> {
+    let mut settings = SolverSettings::defaults(sv.kind);
+    if let Some(integrator) = sv.integrator {
+        settings.integrator = integrator;
+    }
+    let corrected = sv.kind == SolverKind::Corrected;
+    let mut ok = true;
+    let given = [
+        ("delta", sv.delta.is_some()),
+        ("max_iterations", sv.max_iterations.is_some()),
+        ("strict", sv.strict.is_some()),
+        ("relaxation", sv.relaxation.is_some()),
+    ];
+    for (key, present) in given {
+        if present && !corrected {
+            c.err(
+                sp.k(key),
+                format!(
+                    "only with solver.kind = \"corrected\" (solver.kind is \"{}\")",
+                    sv.kind.name()
+                ),
+            );
+            ok = false;
+        }
+    }
+    if !ok {
+        return None;
+    }
+    if let Some(d) = sv.delta {
+        match in_range(c, sp.k("delta"), d, 0.0, 0.1, true) {
+            Some(d) => settings.delta = d,
+            None => ok = false,
+        }
+    }
+    if let Some(n) = sv.max_iterations {
+        match u32::try_from(n) {
+            Ok(m) if (1..=100_000).contains(&m) => settings.max_iterations = m,
+            _ => {
+                c.err(
+                    sp.k("max_iterations"),
+                    format!("must be an integer in [1, 100000], got {n}"),
+                );
+                ok = false;
+            }
+        }
+    }
+    if let Some(strict) = sv.strict {
+        settings.strict = strict;
+    }
+    if let Some(w) = sv.relaxation {
+        match in_range(c, sp.k("relaxation"), w, 0.0, 1.0, true) {
+            Some(w) => settings.relaxation = w,
+            None => ok = false,
+        }
+    }
+    ok.then_some(settings)
+}
+
+/// Checks `probe[i]`; `has_grav` is whether the gravity effect is on.
+fn check_probe(
+    c: &mut Checker,
+    file: &SceneFile,
+    i: usize,
+    pf: &ProbeFile,
+    dim: Option<usize>,
+    has_grav: bool,
+) -> Option<Probe> {
+    let path = KeyPath::key("probe").i(i);
+    let earlier: Vec<&str> = file.probe.iter().take(i).map(|o| o.name.as_str()).collect();
+    let mut ok = check_name(c, path.k("name"), &pf.name, &earlier, "probe");
+    let axis_text = pf.axis.as_deref().unwrap_or("x");
+    let axis = match (["x", "y", "z"].iter().position(|a| *a == axis_text), dim) {
+        (Some(a), Some(d)) if a < d => Some(a),
+        (Some(_), None) => None,
+        (found, d) => {
+            let allowed = if d == Some(2) {
+                "\"x\" or \"y\""
+            } else {
+                "\"x\", \"y\" or \"z\""
+            };
+            let why = match (found, d) {
+                (Some(_), Some(d)) => format!(" (dimension = {d})"),
+                _ => String::new(),
+            };
+            c.err(
+                path.k("axis"),
+                format!("must be {allowed}{why}, got {axis_text:?}"),
+            );
+            None
+        }
+    };
+    let origin = match pf.origin {
+        Some(o) => c.finite(path.k("origin"), o),
+        None => Some(0.0),
+    };
+    let reference = match &pf.reference {
+        None => Some(None),
+        Some(r) => {
+            let rp = path.k("reference");
+            if !has_grav {
+                c.err(
+                    rp.clone(),
+                    "needs effect \"gravity\" (the reference time is T = t sqrt(g / a))".into(),
+                );
+                ok = false;
+            }
+            if r.file.trim().is_empty() {
+                c.err(rp.k("file"), "must not be empty".into());
+                ok = false;
+            }
+            let series = r.series.clone().unwrap_or_default();
+            for (j, name) in series.iter().enumerate() {
+                if name.trim().is_empty() {
+                    c.err(rp.k("series").i(j), "must not be empty".into());
+                    ok = false;
+                } else if let Some(k) = series.iter().take(j).position(|o| o == name) {
+                    c.err(
+                        rp.k("series").i(j),
+                        format!("duplicate series \"{name}\" (already at series[{k}])"),
+                    );
+                    ok = false;
+                }
+            }
+            let length = c.positive(rp.k("length"), r.length);
+            let time_range = match r.time_range.as_deref() {
+                None => Some(ProbeReference::DEFAULT_TIME_RANGE),
+                Some(&[t0, t1]) => {
+                    let t0 = c.finite(rp.k("time_range").i(0), t0);
+                    let t1 = c.finite(rp.k("time_range").i(1), t1);
+                    match (t0, t1) {
+                        (Some(t0), Some(t1)) if t0 < t1 => Some((t0, t1)),
+                        (Some(t0), Some(t1)) => {
+                            c.err(
+                                rp.k("time_range"),
+                                format!("must be [T0, T1] with T0 < T1, got [{t0}, {t1}]"),
+                            );
+                            None
+                        }
+                        _ => None,
+                    }
+                }
+                Some(other) => {
+                    c.err(
+                        rp.k("time_range"),
+                        format!("expected 2 entries [T0, T1], found {}", other.len()),
+                    );
+                    None
+                }
+            };
+            match (length, time_range) {
+                (Some(length), Some(time_range)) => Some(Some(ProbeReference {
+                    file: PathBuf::from(&r.file),
+                    series,
+                    length,
+                    time_range,
+                })),
+                _ => None,
+            }
+        }
+    };
+    let probe = Probe {
+        name: pf.name.clone(),
+        kind: pf.kind,
+        axis: axis?,
+        origin: origin?,
+        reference: reference?,
+    };
+    ok.then_some(probe)
 }
 
 fn check_box(c: &mut Checker, path: &KeyPath, b: &BoxFile, dim: Option<usize>) -> Option<Aabb> {

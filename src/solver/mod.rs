@@ -13,10 +13,78 @@ use crate::backend::params::StepParams;
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::physics::gravity::gravity_at;
-use crate::physics::lattice::{lattice_gradient_moment, lattice_mass};
+use crate::physics::lattice::{correction_stiffness, lattice_gradient_moment, lattice_mass};
 use crate::smoothing::{Smoothing, UnsupportedDimension};
 use stage::Stage;
 use timestep::TimeStepLimit;
+
+/// The time integrator (scene `solver.integrator`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Integrator {
+    /// Semi-implicit (symplectic) Euler, one force evaluation per step.
+    #[default]
+    SymplecticEuler,
+    /// Third-order strong-stability-preserving Runge–Kutta (Shu & Osher 1988), three stages;
+    /// the paper's integrator (PAPER.md note 8).
+    Rk3,
+}
+
+impl Integrator {
+    /// Shu–Osher stage coefficients `(a, b, τ/dt, t/dt)`: the stage state is
+    /// `a y^n + b (y + dt L(y))`, it lies at time `t^n + τ` and the stage starts at `t^n + t·dt`.
+    pub fn stages(self) -> &'static [(f32, f32, f64, f64)] {
+        match self {
+            Integrator::SymplecticEuler => &[(0.0, 1.0, 1.0, 0.0)],
+            Integrator::Rk3 => &[
+                (0.0, 1.0, 1.0, 0.0),
+                (0.75, 0.25, 0.5, 1.0),
+                (1.0 / 3.0, 2.0 / 3.0, 1.0, 0.5),
+            ],
+        }
+    }
+
+    /// Weight of stage `k`'s forces in the step: the step's impulse is `dt Σ_k w_k F_k`
+    /// (SSP-RK3: 1/6, 1/6, 2/3).
+    pub fn force_weights(self) -> &'static [f64] {
+        match self {
+            Integrator::SymplecticEuler => &[1.0],
+            Integrator::Rk3 => &[1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0],
+        }
+    }
+
+    /// Weight of stage `k`'s own state change in the step's final state (SSP-RK3: the change
+    /// made to `y1` reaches `y^{n+1}` times 1/6, to `y2` times 2/3, to `y^{n+1}` times 1).
+    pub fn correction_weights(self) -> &'static [f64] {
+        match self {
+            Integrator::SymplecticEuler => &[1.0],
+            Integrator::Rk3 => &[1.0 / 6.0, 2.0 / 3.0, 1.0],
+        }
+    }
+}
+
+/// Settings of the position correction, eqs. (23)–(24) (scene `[solver]`, `kind = "corrected"`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Correction {
+    /// Tolerance `δ` of (24) on the compression `max(ρ − ρ0, 0)/ρ0`.
+    pub delta: f64,
+    /// Iteration cap per integrator stage.
+    pub max_iterations: u32,
+    /// Stop with `StepError::Unconverged` when the cap is hit (else warn and count).
+    pub strict: bool,
+    /// Relaxation `ω` in (0, 1] of the step scale (`physics::lattice::correction_stiffness`).
+    pub relaxation: f64,
+}
+
+impl Default for Correction {
+    fn default() -> Self {
+        Self {
+            delta: 1e-4,
+            max_iterations: 200,
+            strict: false,
+            relaxation: 0.5,
+        }
+    }
+}
 
 /// Physical and numerical settings of a run, resolved from a scene (SI units).
 #[derive(Clone, Debug, PartialEq)]
@@ -45,6 +113,10 @@ pub struct SimConfig<const D: usize> {
     pub domain_min: Vector<D>,
     /// Upper corner of the domain [m].
     pub domain_max: Vector<D>,
+    /// Time integrator.
+    pub integrator: Integrator,
+    /// The position correction (23)–(24); `None` for the weakly compressible solver.
+    pub correction: Option<Correction>,
 }
 
 /// Errors that stop a step. Each names the step, the time, the particle and the quantity.
@@ -73,6 +145,26 @@ pub enum StepError {
         particle: u32,
         /// Its position [m].
         position: Vec<f64>,
+    },
+    /// The position correction hit its iteration cap in a `strict` scene.
+    #[error(
+        "step {step}, t = {time:.6} s, stage {stage}: the position correction did not reach delta = \
+         {delta:e} in {iterations} iterations (compression {compression:.3e}); raise \
+         solver.max_iterations, lower the time step, or drop solver.strict"
+    )]
+    Unconverged {
+        /// Step number.
+        step: u64,
+        /// Simulated time [s].
+        time: f64,
+        /// Integrator stage (1-based).
+        stage: usize,
+        /// Iterations done.
+        iterations: u32,
+        /// Compression `max(ρ − ρ0, 0)/ρ0` left.
+        compression: f64,
+        /// The tolerance.
+        delta: f64,
     },
     /// The neighbour grid could not be built.
     #[error("step {step}: {source}")]
@@ -131,6 +223,36 @@ pub struct RunStats {
     pub max_compression: f64,
     /// Sum over steps of the per-step mean compression.
     pub sum_mean_compression: f64,
+    /// Position-correction statistics (`corrected` solver; zero otherwise).
+    pub correction: CorrectionStats,
+}
+
+/// What the position correction did over a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CorrectionStats {
+    /// Integrator stages corrected.
+    pub stages: u64,
+    /// Iterations summed over stages.
+    pub iterations: u64,
+    /// Most iterations in one stage.
+    pub max_iterations: u32,
+    /// Stages that hit the iteration cap.
+    pub unconverged_stages: u64,
+    /// Largest compression `max(ρ − ρ0, 0)/ρ0` left after a stage's correction.
+    pub max_compression_after: f64,
+    /// Iterations of the last stage.
+    pub last_iterations: u32,
+}
+
+impl CorrectionStats {
+    /// Mean iterations per corrected stage.
+    pub fn mean_iterations(&self) -> f64 {
+        if self.stages == 0 {
+            0.0
+        } else {
+            self.iterations as f64 / self.stages as f64
+        }
+    }
 }
 
 /// A running simulation in dimension `D` (2 or 3).
@@ -148,6 +270,12 @@ pub struct Simulation<const D: usize> {
     /// Force of the fluid on each named solid at the last step [N] (2D: [N/m]).
     solid_force: Vec<[f64; 3]>,
     fluid_count: usize,
+    /// `K` of the correction's step scale [m²] (`physics::lattice::correction_stiffness`).
+    correction_stiffness: f64,
+    /// The grid matches the positions (no move since the last sort beyond `RESORT_DRIFT`).
+    grid_fresh: bool,
+    /// The density field matches the positions.
+    density_fresh: bool,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -183,6 +311,17 @@ impl<const D: usize> Simulation<D> {
         let kernel = Smoothing::<D>::new(config.h as Real)?;
         let mass = lattice_mass(&kernel, config.spacing, config.rho0) as Real;
         let kappa = lattice_gradient_moment(&kernel, config.spacing, config.rho0);
+        let stiffness = correction_stiffness(&kernel, config.spacing, config.rho0, kappa);
+        if let Some(c) = &config.correction {
+            positive("solver.delta", c.delta)?;
+            positive("solver.relaxation", c.relaxation)?;
+            if c.max_iterations == 0 {
+                return Err(SetupError::Invalid {
+                    key: "solver.max_iterations",
+                    reason: "must be at least 1".into(),
+                });
+            }
+        }
         let rho0 = config.rho0 as Real;
         let mut fields = Fields::default();
         for (x, u) in fluid_position.iter().zip(fluid_velocity) {
@@ -193,10 +332,12 @@ impl<const D: usize> Simulation<D> {
                 fields.push(*x, Vector::zeros(), mass, rho0, k as u32 + 1);
             }
         }
-        let plan = plan::wcsph_plan(plan::PlanInputs {
+        let plan = plan::plan(plan::PlanInputs {
             viscosity: config.viscosity.is_some(),
             artificial_viscosity: config.artificial_viscosity.is_some(),
             solids: !solids.is_empty(),
+            integrator: config.integrator,
+            corrected: config.correction.is_some(),
         });
         Ok(Self {
             fields,
@@ -208,6 +349,9 @@ impl<const D: usize> Simulation<D> {
             stats: RunStats::default(),
             solid_force: vec![[0.0; 3]; solids.len()],
             fluid_count: fluid_position.len(),
+            correction_stiffness: stiffness,
+            grid_fresh: false,
+            density_fresh: false,
             config,
         })
     }
@@ -260,10 +404,15 @@ impl<const D: usize> Simulation<D> {
 
     /// Parameters for the stages at the current time.
     pub fn step_params(&self) -> StepParams<D> {
+        self.params_at(self.clock.time)
+    }
+
+    /// Parameters for the stages at time `time` [s] (gravity is ramped in time).
+    pub fn params_at(&self, time: f64) -> StepParams<D> {
         let c = &self.config;
         let g = c
             .gravity
-            .map(|g| gravity_at(&g, self.clock.time, c.gravity_ramp))
+            .map(|g| gravity_at(&g, time, c.gravity_ramp))
             .unwrap_or_else(Vector::zeros);
         StepParams {
             h: c.h as Real,

@@ -1,8 +1,10 @@
-//! Scene → plan: the list of stages a step runs. A term the scene does not ask for is not in the
-//! plan (or is compiled out of the force loop), so it costs nothing.
+//! Scene → plan: the list of stages one integrator stage runs (once per step for symplectic
+//! Euler, three times for SSP-RK3). A term the scene does not ask for is not in the plan (or is
+//! compiled out of the force loop), so it costs nothing.
 
+use super::Integrator;
 use super::stage::Stage;
-use crate::backend::ForceTerms;
+use crate::backend::{ForceTerms, WallModel};
 
 /// What the plan depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,13 +15,28 @@ pub struct PlanInputs {
     pub artificial_viscosity: bool,
     /// The scene has at least one solid.
     pub solids: bool,
+    /// The time integrator.
+    pub integrator: Integrator,
+    /// The `corrected` solver: eqs. (23)–(24) after every integrator stage.
+    pub corrected: bool,
 }
 
-/// The weakly compressible step (PAPER.md section 1), in order.
-pub fn wcsph_plan(inputs: PlanInputs) -> Vec<Stage> {
-    let mut plan = vec![Stage::SortByCell, Stage::Density, Stage::EquationOfState];
+/// The stages of one integrator stage, in order (PAPER.md sections 1 and 2).
+///
+/// With the correction, pressure is not the equation of state of the density (19) with the
+/// scene's `C` but the pressure the correction found (`solver::step`), so the plan has no
+/// `EquationOfState` stage and walls take the extrapolated pressure only.
+pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
+    let mut plan = vec![Stage::SortByCell, Stage::Density];
+    if !inputs.corrected {
+        plan.push(Stage::EquationOfState);
+    }
     if inputs.solids {
-        plan.push(Stage::WallPressure);
+        plan.push(Stage::WallPressure(if inputs.corrected {
+            WallModel::Extrapolated
+        } else {
+            WallModel::ExtrapolatedOrSummed
+        }));
     }
     plan.push(Stage::Forces(ForceTerms {
         viscosity: inputs.viscosity,
@@ -29,7 +46,13 @@ pub fn wcsph_plan(inputs: PlanInputs) -> Vec<Stage> {
         plan.push(Stage::SolidForces);
     }
     plan.push(Stage::TimeStep);
-    plan.push(Stage::Integrate);
+    plan.push(match inputs.integrator {
+        Integrator::SymplecticEuler => Stage::Integrate,
+        Integrator::Rk3 => Stage::RkStage,
+    });
+    if inputs.corrected {
+        plan.push(Stage::Correction);
+    }
     plan
 }
 
@@ -37,24 +60,45 @@ pub fn wcsph_plan(inputs: PlanInputs) -> Vec<Stage> {
 mod tests {
     use super::*;
 
-    #[test]
-    fn plan_omits_what_the_scene_does_not_ask_for() {
-        let bare = wcsph_plan(PlanInputs {
+    fn inputs() -> PlanInputs {
+        PlanInputs {
             viscosity: false,
             artificial_viscosity: false,
             solids: false,
-        });
-        assert!(!bare.contains(&Stage::WallPressure));
+            integrator: Integrator::SymplecticEuler,
+            corrected: false,
+        }
+    }
+
+    #[test]
+    fn plan_omits_what_the_scene_does_not_ask_for() {
+        let bare = plan(inputs());
+        assert!(!bare.iter().any(|s| matches!(s, Stage::WallPressure(_))));
         assert!(!bare.contains(&Stage::SolidForces));
+        assert!(!bare.contains(&Stage::Correction));
         assert!(bare.contains(&Stage::Forces(ForceTerms {
             viscosity: false,
             artificial_viscosity: false
         })));
-        let full = wcsph_plan(PlanInputs {
+        let full = plan(PlanInputs {
             viscosity: true,
             artificial_viscosity: true,
             solids: true,
+            ..inputs()
         });
         assert_eq!(full.len(), 8);
+    }
+
+    #[test]
+    fn corrected_plan_replaces_the_equation_of_state_by_the_correction() {
+        let p = plan(PlanInputs {
+            solids: true,
+            integrator: Integrator::Rk3,
+            corrected: true,
+            ..inputs()
+        });
+        assert!(!p.contains(&Stage::EquationOfState));
+        assert!(p.contains(&Stage::WallPressure(WallModel::Extrapolated)));
+        assert_eq!(&p[p.len() - 2..], &[Stage::RkStage, Stage::Correction]);
     }
 }

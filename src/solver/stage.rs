@@ -1,7 +1,7 @@
 //! The stages of a step. The same snake_case names appear as `Backend` methods (and, with the
 //! CUDA backend, as kernel names), so timers and benchmark rows line up by construction.
 
-use crate::backend::ForceTerms;
+use crate::backend::{ForceTerms, WallModel};
 
 /// One stage of the solver's plan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,7 +13,7 @@ pub enum Stage {
     /// Eq. (19): pressure from density.
     EquationOfState,
     /// Boundary: solid-particle pressure ([A12] eq. 27). Only in scenes with solids.
-    WallPressure,
+    WallPressure(WallModel),
     /// Eqs. (15)–(17), (6): fluid acceleration, with the terms the scene asks for.
     Forces(ForceTerms),
     /// Fig. 4: force of the fluid on each named solid. Only in scenes with solids.
@@ -22,6 +22,10 @@ pub enum Stage {
     TimeStep,
     /// Symplectic Euler update of velocity and position.
     Integrate,
+    /// One stage of the third-order SSP Runge–Kutta scheme (Shu & Osher 1988; PAPER.md note 8).
+    RkStage,
+    /// Eqs. (23)–(24): the position correction loop (the `corrected` solver, section 2).
+    Correction,
 }
 
 impl Stage {
@@ -31,11 +35,13 @@ impl Stage {
             Stage::SortByCell => "sort_by_cell",
             Stage::Density => "density",
             Stage::EquationOfState => "equation_of_state",
-            Stage::WallPressure => "wall_pressure",
+            Stage::WallPressure(_) => "wall_pressure",
             Stage::Forces(_) => "forces",
             Stage::SolidForces => "solid_forces",
             Stage::TimeStep => "time_step",
             Stage::Integrate => "integrate",
+            Stage::RkStage => "rk_stage",
+            Stage::Correction => "correct_positions",
         }
     }
 }

@@ -16,6 +16,8 @@ pub enum TimeStepLimit {
     Fixed,
     /// Sound speed plus flow speed (CFL).
     SoundSpeed,
+    /// Flow speed alone (CFL; the corrected solver).
+    FlowSpeed,
     /// Largest acceleration.
     Force,
     /// Viscous diffusion.
@@ -29,7 +31,7 @@ pub enum TimeStepLimit {
 pub struct TimeStepInputs {
     /// Support radius `h` [m].
     pub h: f64,
-    /// Sound speed `C` [m/s].
+    /// Sound speed `C` [m/s]; 0 for the corrected solver (no acoustic limit).
     pub sound_speed: f64,
     /// CFL number (scene `solver.cfl`).
     pub cfl: f64,
@@ -50,10 +52,20 @@ pub fn choose(inputs: &TimeStepInputs) -> (f64, TimeStepLimit) {
     let (mut dt, mut limit) = match inputs.fixed {
         Some(dt) => (dt, TimeStepLimit::Fixed),
         None => {
-            let mut best = (
-                inputs.cfl * inputs.h / (inputs.sound_speed + inputs.max_speed),
-                TimeStepLimit::SoundSpeed,
-            );
+            // Without a sound speed (the corrected solver) the CFL number applies to the flow.
+            let speed = inputs.sound_speed + inputs.max_speed;
+            let mut best = if speed > 0.0 {
+                (
+                    inputs.cfl * inputs.h / speed,
+                    if inputs.sound_speed > 0.0 {
+                        TimeStepLimit::SoundSpeed
+                    } else {
+                        TimeStepLimit::FlowSpeed
+                    },
+                )
+            } else {
+                (f64::INFINITY, TimeStepLimit::FlowSpeed)
+            };
             if inputs.max_acceleration > 0.0 {
                 let f = 0.25 * (inputs.h / inputs.max_acceleration).sqrt();
                 if f < best.0 {

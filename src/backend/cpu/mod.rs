@@ -4,13 +4,13 @@
 //! through `math::sum_in_order`, so results are bitwise identical for any thread count.
 
 use super::params::StepParams;
-use super::{Backend, ForceTerms, StateExtremes};
+use super::{Backend, ForceTerms, SolidForceSource, StateExtremes, WallModel};
 use crate::boundary::{solid_force::force_on_solid, wall_pressure::WallPressureSums};
 use crate::fields::{FLUID, Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector, max_in_order, sum_by_group, sum_in_order, to_xyz};
 use crate::physics::{
-    artificial_viscosity::artificial_viscous_acceleration, density::density_term, eos,
+    artificial_viscosity::artificial_viscous_acceleration, correction, density::density_term, eos,
     pressure::pressure_acceleration, viscosity::viscous_acceleration,
 };
 use rayon::prelude::*;
@@ -22,6 +22,12 @@ pub struct CpuBackend<const D: usize> {
     pub grid: Grid<D>,
     scratch: PermuteScratch<D>,
     wall: Vec<(Real, Real)>,
+    /// Pressure increments `δp` of the current correction sweep [Pa].
+    delta_p: Vec<Real>,
+    /// Displacements `Δx` of the current correction sweep [m].
+    displacement: Vec<Vector<D>>,
+    /// Pressure increments of the previous sweep (heavy-ball momentum), empty after a sort.
+    delta_p_previous: Vec<Real>,
 }
 
 impl<const D: usize> CpuBackend<D> {
@@ -32,7 +38,10 @@ impl<const D: usize> CpuBackend<D> {
 
     /// Bytes held by the grid and scratch buffers.
     pub fn heap_bytes(&self) -> usize {
-        self.grid.heap_bytes() + self.wall.capacity() * 8
+        self.grid.heap_bytes()
+            + self.wall.capacity() * 8
+            + self.delta_p.capacity() * 4
+            + self.displacement.capacity() * D * 4
     }
 }
 
@@ -84,6 +93,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn sort_by_cell(&mut self, fields: &mut Fields<D>, h: f32) -> Result<(), GridError> {
         let perm = self.grid.sort(&fields.position, h)?;
+        self.delta_p_previous.clear();
         fields.permute(perm, &mut self.scratch);
         self.grid.link();
         Ok(())
@@ -113,7 +123,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         });
     }
 
-    fn wall_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+    fn wall_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, model: WallModel) {
         let kernel = params.smoothing();
         let grid = &self.grid;
         let f = &*fields;
@@ -131,9 +141,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     sums.add(f.pressure[j], f.density[j], &d, weight);
                 }
             });
-            let p = sums
-                .pressure(&params.gravity)
-                .max(eos::pressure(summed_density, params.rho0, params.c2));
+            let mut p = sums.pressure(&params.gravity);
+            if model == WallModel::ExtrapolatedOrSummed {
+                p = p.max(eos::pressure(summed_density, params.rho0, params.c2));
+            }
             (p, eos::density_from_pressure(p, params.rho0, params.c2))
         }));
         let wall = &self.wall;
@@ -166,10 +177,31 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         fields.acceleration = acceleration;
     }
 
-    fn solid_forces(&mut self, fields: &Fields<D>, params: &StepParams<D>, solids: usize) -> Vec<[f64; 3]> {
+    fn solid_forces(
+        &mut self,
+        fields: &Fields<D>,
+        params: &StepParams<D>,
+        solids: usize,
+        source: SolidForceSource,
+    ) -> Vec<[f64; 3]> {
         let kernel = params.smoothing();
         let grid = &self.grid;
         let f = fields;
+        // The correction moves particles by pressure alone: no viscous terms, its own pressures.
+        let (params, pressure) = match source {
+            SolidForceSource::Forces => (*params, &f.pressure),
+            SolidForceSource::Correction => (
+                StepParams {
+                    mu: 0.0,
+                    alpha: 0.0,
+                    ..*params
+                },
+                &f.pressure_correction,
+            ),
+        };
+        if pressure.len() != f.len() {
+            return vec![[0.0; 3]; solids];
+        }
         sum_by_group(f.len(), solids, |s| {
             let kind = f.kind[s];
             if kind == FLUID {
@@ -182,9 +214,9 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 }
                 let r = r2.sqrt();
                 force += force_on_solid(
-                    params,
-                    [f.mass[s], f.pressure[s], f.density[s]],
-                    [f.mass[j], f.pressure[j], f.density[j]],
+                    &params,
+                    [f.mass[s], pressure[s], f.density[s]],
+                    [f.mass[j], pressure[j], f.density[j]],
                     &d,
                     &f.velocity[j],
                     &(kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale),
@@ -272,6 +304,163 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     *x += *u * dt;
                 }
             });
+    }
+
+    fn store_step_start(&mut self, fields: &mut Fields<D>) {
+        fields.position_start.clone_from(&fields.position);
+        fields.velocity_start.clone_from(&fields.velocity);
+    }
+
+    fn rk_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
+        let Fields {
+            position,
+            velocity,
+            acceleration,
+            kind,
+            position_start,
+            velocity_start,
+            ..
+        } = fields;
+        velocity
+            .par_iter_mut()
+            .zip(position.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (u, x))| {
+                if kind[i] == FLUID {
+                    let x_euler = *x + *u * dt;
+                    let u_euler = *u + acceleration[i] * dt;
+                    *x = position_start[i] * a + x_euler * b;
+                    *u = velocity_start[i] * a + u_euler * b;
+                }
+            });
+    }
+
+    fn max_compression(&mut self, fields: &Fields<D>, rho0: f32) -> f64 {
+        let f = fields;
+        max_in_order(f.len(), |i| {
+            if f.kind[i] == FLUID {
+                correction::compression(f.density[i], rho0)
+            } else {
+                0.0
+            }
+        })
+        .max(0.0)
+    }
+
+    fn begin_correction(&mut self, fields: &mut Fields<D>) {
+        self.delta_p_previous.clear();
+        fields.pressure_correction.clear();
+        fields.pressure_correction.resize(fields.len(), 0.0);
+    }
+
+    fn correction_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
+        let kernel = params.smoothing();
+        let grid = &self.grid;
+        let n = fields.len();
+        self.delta_p.resize(n, 0.0);
+        let f = &*fields;
+        let beta = correction::MOMENTUM;
+        let prev = &self.delta_p_previous;
+        let has_prev = prev.len() == n;
+        // Fluid first: eq. (19) with the correction's stiffness, pressure kept >= 0 (note 6).
+        self.delta_p.par_iter_mut().enumerate().for_each(|(i, dp)| {
+            *dp = if f.kind[i] == FLUID {
+                // Heavy-ball momentum on the increments (see `physics::correction::MOMENTUM`).
+                let m = if has_prev { beta * prev[i] } else { 0.0 };
+                correction::pressure_increment(f.density[i], params.rho0, f.pressure[i] + m, k) + m
+            } else {
+                0.0
+            };
+        });
+        // Then solids: [A12] extrapolation of the fluid increments, without the gravity term
+        // (gravity acts in the force stage, not in the correction).
+        let fluid_dp = std::mem::take(&mut self.delta_p);
+        let mut solid_dp = std::mem::take(&mut self.wall);
+        solid_dp.clear();
+        solid_dp.par_extend((0..n).into_par_iter().map(|w| {
+            if f.kind[w] == FLUID {
+                return (fluid_dp[w], 0.0);
+            }
+            let mut sums = WallPressureSums::<D>::default();
+            grid.for_each_neighbour(&f.position, w, |j, d, r2| {
+                if f.kind[j] == FLUID {
+                    sums.add(fluid_dp[j], f.density[j], &d, kernel.w(r2));
+                }
+            });
+            // Increments may be negative (pressure given back), so no clamp here; the wall's
+            // accumulated pressure is clamped below.
+            let dp = if sums.weight > 0.0 {
+                sums.pressure / sums.weight
+            } else {
+                0.0
+            };
+            (dp.max(-f.pressure[w]), 0.0)
+        }));
+        self.delta_p = fluid_dp;
+        self.delta_p
+            .par_iter_mut()
+            .zip(fields.pressure.par_iter_mut())
+            .zip(fields.pressure_correction.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, ((dp, p), pc))| {
+                *dp = solid_dp[i].0;
+                *p += *dp;
+                *pc += *dp;
+            });
+        self.wall = solid_dp;
+        self.delta_p_previous.clone_from(&self.delta_p);
+    }
+
+    fn correct_positions(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+        max_step: f32,
+    ) -> f64 {
+        let kernel = params.smoothing();
+        let grid = &self.grid;
+        let n = fields.len();
+        let f = &*fields;
+        let dp = &self.delta_p;
+        let tau2 = tau * tau;
+        self.displacement.clear();
+        self.displacement.par_extend((0..n).into_par_iter().map(|i| {
+            if f.kind[i] != FLUID {
+                return Vector::zeros();
+            }
+            let mut a = Vector::<D>::zeros();
+            grid.for_each_neighbour(&f.position, i, |j, d, r2| {
+                if j == i {
+                    return;
+                }
+                let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
+                a += pressure_acceleration(dp[i], f.density[i], dp[j], f.density[j], f.mass[j], &grad);
+            });
+            a * tau2 // eq. (23)
+        }));
+        let largest = max_in_order(n, |i| f64::from(self.displacement[i].norm())).max(0.0);
+        // One factor for all particles keeps every pair's displacements antisymmetric.
+        let scale = if largest > f64::from(max_step) {
+            (f64::from(max_step) / largest) as Real
+        } else {
+            1.0
+        };
+        let displacement = &self.displacement;
+        let kind = &fields.kind;
+        fields
+            .position
+            .par_iter_mut()
+            .zip(fields.velocity.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (x, u))| {
+                if kind[i] == FLUID {
+                    let dx = displacement[i] * scale;
+                    *x += dx;
+                    *u += dx / tau; // PAPER.md note 7: the projection's velocity change
+                }
+            });
+        largest * f64::from(scale)
     }
 }
 

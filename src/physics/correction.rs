@@ -1,0 +1,54 @@
+//! Eqs. (23)–(24): the position correction that removes the weak compressibility (section 2).
+//!
+//! Per particle and per iteration, `δp_i` is the pressure increment of this sweep and `P_i` the
+//! pressure accumulated so far. The pressure force (16) of the increments becomes a displacement
+//! (23) `Δx_i = τ² a_i^press(δp)`, with `τ` the time since the start of the step (see
+//! `solver::step`). The pure math lives here; the loops in the backends.
+
+use crate::math::Real;
+
+/// Heavy-ball momentum `β` of the correction sweeps: each sweep's pressure increment is
+/// `pressure_increment(ρ, P + β δp_prev, k) + β δp_prev`.
+///
+/// Why: a sweep is a Jacobi iteration, which removes a uniform compression of a tall column only
+/// by diffusing it from the surface, at a rate that falls with the square of the column's
+/// height in particles. On the 2D dam break (50 layers, `ω = 0.5`) plain sweeps hit a 200
+/// iteration cap in most stages at `δ = 1e-4`; with `β = 0.95` every stage converged, in 60
+/// sweeps on average (`β = 0.9`: a few stages missed the cap; `β = 0.97`: 78 sweeps). The
+/// momentum is reset after every re-sort and at the start of every stage.
+pub const MOMENTUM: Real = 0.95;
+
+/// Pressure increment [Pa] of one correction sweep for a fluid particle with summed density
+/// `rho` [kg/m³], accumulated pressure `p` [Pa] and stiffness `k = ω K/τ²` [m²/s²]
+/// (`physics::lattice::correction_stiffness`).
+///
+/// Free surface (PAPER.md note 6): the pressure stays non-negative, so the correction resists
+/// compression only. A particle above `ρ0` gets a positive increment; one below `ρ0` gives back
+/// pressure it accumulated earlier, but never goes below zero. At a free surface, where the sum
+/// (18) misses neighbours and stays below `ρ0`, this releases all pressure (`p = 0` there, the
+/// free-surface condition) instead of pulling the surface together.
+#[inline(always)]
+pub fn pressure_increment(rho: Real, rho0: Real, p: Real, k: Real) -> Real {
+    (p + k * (rho - rho0)).max(0.0) - p
+}
+
+/// The compression measure of (24) with note 6: `max(ρ − ρ0, 0)/ρ0` (dimensionless).
+#[inline(always)]
+pub fn compression(rho: Real, rho0: Real) -> f64 {
+    ((f64::from(rho) - f64::from(rho0)) / f64::from(rho0)).max(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn increment_keeps_pressure_non_negative_and_stiffness_linear() {
+        assert_eq!(pressure_increment(1001.0, 1000.0, 0.0, 10.0), 10.0);
+        assert_eq!(pressure_increment(1001.0, 1000.0, 5.0, 10.0), 10.0);
+        assert_eq!(pressure_increment(999.0, 1000.0, 5.0, 10.0), -5.0);
+        assert_eq!(pressure_increment(990.0, 1000.0, 500.0, 10.0), -100.0);
+        assert_eq!(compression(999.0, 1000.0), 0.0);
+        assert_eq!(compression(1000.125, 1000.0), 1.25e-4);
+    }
+}
