@@ -15,6 +15,12 @@ pub enum Error {
     /// Writing results failed.
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
+    /// A figure could not be drawn or written.
+    #[error(transparent)]
+    Plot(#[from] crate::output::plot::PlotError),
+    /// A probe could not be compared with its reference data.
+    #[error(transparent)]
+    Probe(#[from] crate::probe::ProbeError),
     /// The requested backend is not available.
     #[error(transparent)]
     Backend(#[from] crate::backend::BackendError),

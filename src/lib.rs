@@ -25,6 +25,7 @@ pub mod grid;
 pub mod math;
 pub mod output;
 pub mod physics;
+pub mod probe;
 pub mod run;
 pub mod scene;
 pub mod smoothing;

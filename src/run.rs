@@ -10,6 +10,7 @@ use crate::error::Error;
 use crate::math::Vector;
 use crate::output::vtu::Frame;
 use crate::output::{ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu};
+use crate::probe::{ProbeLog, compare, write_figures};
 use crate::scene::{Effect, Scene, SceneError, SolverKind, generate};
 use crate::solver::{Correction, Integrator};
 use crate::solver::{SimConfig, Simulation};
@@ -132,6 +133,8 @@ pub struct Progress {
     pub steps: u64,
     /// Particle updates per wall-clock second so far.
     pub particle_steps_per_second: f64,
+    /// Integrator stages whose position correction hit the iteration cap so far.
+    pub unconverged_stages: u64,
 }
 
 /// Runs `scene` to its end time. Returns the summary (also written to `summary.json`).
@@ -221,6 +224,12 @@ fn drive<const D: usize>(
     if let Some(w) = writers.as_mut() {
         w.frame(&sim, scene.write_frames)?;
     }
+    let mut probes = ProbeLog::create(
+        scene,
+        writers.as_ref().map(|w| w.dir.as_path()),
+        scene.output_interval / 10.0,
+    )?;
+    probes.record(0.0, &sim.fields, true)?;
     let start = Instant::now();
     let mut next_frame = scene.output_interval;
     let mut limits = std::collections::BTreeMap::<String, u64>::new();
@@ -239,6 +248,7 @@ fn drive<const D: usize>(
             }
         }
         let clock = sim.clock();
+        probes.record(clock.time, &sim.fields, clock.time >= end)?;
         if let Some(w) = writers.as_mut() {
             if let Some(log) = w.forces.as_mut() {
                 for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
@@ -258,6 +268,7 @@ fn drive<const D: usize>(
             end_time: end,
             steps: clock.step,
             particle_steps_per_second: clock.step as f64 * sim.fields.len() as f64 / wall.max(1e-9),
+            unconverged_stages: sim.stats().correction.unconverged_stages,
         });
     }
     let wall = start.elapsed().as_secs_f64();
@@ -297,6 +308,34 @@ fn drive<const D: usize>(
         "plan".into(),
         sim.plan().iter().map(|s| s.name()).collect::<Vec<_>>().into(),
     );
+    extra.insert("integrator".into(), scene.solver.integrator.name().into());
+    if let Some(c) = sim.config().correction {
+        let cs = stats.correction;
+        extra.insert("delta".into(), c.delta.into());
+        extra.insert("correction_iterations_mean".into(), cs.mean_iterations().into());
+        extra.insert("correction_iterations_max".into(), cs.max_iterations.into());
+        extra.insert("corrected_stages".into(), cs.stages.into());
+        extra.insert("unconverged_stages".into(), cs.unconverged_stages.into());
+        extra.insert(
+            "max_compression_after_correction".into(),
+            cs.max_compression_after.into(),
+        );
+    }
+    let comparisons = compare(scene, &probes)?;
+    let mut probe_errors = serde_json::Map::new();
+    for c in &comparisons {
+        let value = match &c.error {
+            Some(e) => serde_json::json!({"error_max": e.max, "error_mean": e.mean, "points": e.count}),
+            None => serde_json::Value::Null,
+        };
+        probe_errors.insert(c.name.clone(), value);
+    }
+    if !probe_errors.is_empty() {
+        extra.insert("probe_errors".into(), probe_errors.into());
+    }
+    if let Some(w) = writers.as_ref() {
+        write_figures(&w.dir, solver, &comparisons)?;
+    }
     if let Some(w) = writers.as_mut() {
         write_summary(&w.dir.join("summary.json"), &summary)?;
     }

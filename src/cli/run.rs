@@ -49,8 +49,22 @@ pub fn run(
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut last = std::time::Instant::now();
+    let mut warned = 0u64;
     let summary = pool.install(|| {
         run_scene(&scene, &options, &mut |p| {
+            if p.unconverged_stages > warned {
+                if warned == 0 {
+                    bar.suspend(|| {
+                        eprintln!(
+                            "warning: t = {:.4} s: the position correction hit solver.max_iterations before \
+                             reaching solver.delta; continuing (counted as unconverged_stages in summary.json; \
+                             solver.strict = true stops instead)",
+                            p.time
+                        )
+                    });
+                }
+                warned = p.unconverged_stages;
+            }
             if last.elapsed().as_millis() >= 100 || p.time >= p.end_time {
                 last = std::time::Instant::now();
                 bar.set_position((1000.0 * p.time / p.end_time) as u64);
@@ -80,5 +94,34 @@ pub fn run(
         summary.particle_steps_per_second,
         out.display()
     );
+    if let Some(mean) = summary.extra.get("correction_iterations_mean") {
+        println!(
+            "position correction: {:.1} iterations per stage on average, {} at most, {} stages unconverged, \
+             max compression after correction {:.2e}",
+            mean.as_f64().unwrap_or(f64::NAN),
+            summary
+                .extra
+                .get("correction_iterations_max")
+                .unwrap_or(&0.into()),
+            summary.extra.get("unconverged_stages").unwrap_or(&0.into()),
+            summary
+                .extra
+                .get("max_compression_after_correction")
+                .and_then(|v| v.as_f64())
+                .unwrap_or(f64::NAN)
+        );
+    }
+    if let Some(serde_json::Value::Object(errors)) = summary.extra.get("probe_errors") {
+        for (name, e) in errors {
+            match (e.get("error_max"), e.get("error_mean")) {
+                (Some(max), Some(mean)) => println!(
+                    "probe {name}: error against reference max {:.1} %, mean {:.1} %",
+                    100.0 * max.as_f64().unwrap_or(f64::NAN),
+                    100.0 * mean.as_f64().unwrap_or(f64::NAN)
+                ),
+                _ => println!("probe {name}: no reference point inside the simulated time"),
+            }
+        }
+    }
     Ok(())
 }

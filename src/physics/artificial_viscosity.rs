@@ -40,3 +40,10 @@ pub fn artificial_viscous_acceleration<const D: usize>(
     let pi = -alpha * c * mu / (0.5 * (rho_i + rho_j));
     grad_w * (-m_j * pi)
 }
+
+/// The kinematic viscosity [m²/s] the artificial viscosity amounts to in a continuum,
+/// `ν = α C ĥ / (2 (D + 2))` (Monaghan 2005, section 4.3; `ĥ = h/2`), for the viscous time-step
+/// limit. It matters for the `corrected` solver, whose step is not bounded by `h/C`.
+pub fn equivalent_viscosity(alpha: f64, c: f64, h: f64, dimension: usize) -> f64 {
+    alpha * c * 0.5 * h / (2.0 * (dimension as f64 + 2.0))
+}

@@ -163,7 +163,13 @@ impl<const D: usize> Simulation<D> {
             cfl: c.cfl,
             max_speed: e.max_speed,
             max_acceleration: e.max_acceleration,
-            kinematic_viscosity: c.viscosity.unwrap_or(0.0) / c.rho0,
+            kinematic_viscosity: c.viscosity.unwrap_or(0.0) / c.rho0
+                + crate::physics::artificial_viscosity::equivalent_viscosity(
+                    c.artificial_viscosity.unwrap_or(0.0),
+                    c.sound_speed,
+                    c.h,
+                    D,
+                ),
             fixed: c.dt,
             remaining: end_time - time,
         });
