@@ -21,6 +21,9 @@ pub enum Error {
     /// A probe could not be compared with its reference data.
     #[error(transparent)]
     Probe(#[from] crate::probe::ProbeError),
+    /// A parameter sweep could not be set up or run.
+    #[error(transparent)]
+    Sweep(#[from] crate::sweep::SweepError),
     /// The requested backend is not available.
     #[error(transparent)]
     Backend(#[from] crate::backend::BackendError),

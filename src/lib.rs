@@ -30,6 +30,7 @@ pub mod run;
 pub mod scene;
 pub mod smoothing;
 pub mod solver;
+pub mod sweep;
 pub mod validation;
 
 pub use error::Error;

@@ -144,55 +144,63 @@ pub enum ProbeError {
 pub fn compare(scene: &Scene, log: &ProbeLog) -> Result<Vec<ProbeComparison>, ProbeError> {
     let mut out = Vec::new();
     for (k, probe) in log.probes().iter().enumerate() {
-        let Some(reference) = &probe.reference else {
-            continue;
-        };
-        let g = scene
-            .gravity
-            .as_ref()
-            .map(|g| g.iter().map(|c| c * c).sum::<f64>().sqrt())
-            .filter(|g| *g > 0.0)
-            .ok_or_else(|| ProbeError::NoGravity {
-                probe: probe.name.clone(),
-            })?;
-        let a = reference.length;
-        let time_scale = (g / a).sqrt();
-        let points = read_surge_front(&reference.file).map_err(|source| ProbeError::Reference {
-            probe: probe.name.clone(),
-            source,
-        })?;
-        let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-        for p in points {
-            if !reference.series.is_empty() && !reference.series.contains(&p.series) {
-                continue;
-            }
-            match series.iter_mut().find(|(name, _)| *name == p.series) {
-                Some((_, pts)) => pts.push((p.t, p.z)),
-                None => series.push((p.series.clone(), vec![(p.t, p.z)])),
-            }
+        if let Some(c) = compare_samples(scene, probe, log.samples(k))? {
+            out.push(c);
         }
-        if series.is_empty() {
-            return Err(ProbeError::NoSeries {
-                probe: probe.name.clone(),
-                file: reference.file.display().to_string(),
-                series: reference.series.clone(),
-            });
-        }
-        let simulated: Vec<(f64, f64)> = log
-            .samples(k)
-            .iter()
-            .map(|&(t, z)| (t * time_scale, z / a))
-            .collect();
-        let all: Vec<(f64, f64)> = series.iter().flat_map(|(_, p)| p.iter().copied()).collect();
-        let error = relative_error(&simulated, &all, reference.time_range);
-        out.push(ProbeComparison {
-            name: probe.name.clone(),
-            simulated,
-            reference: series,
-            error,
-        });
     }
     Ok(out)
+}
+
+/// Compares one probe's samples `(t [s], value [m])` with its reference data; `None` when the
+/// probe names none.
+pub fn compare_samples(
+    scene: &Scene,
+    probe: &Probe,
+    samples: &[(f64, f64)],
+) -> Result<Option<ProbeComparison>, ProbeError> {
+    let Some(reference) = &probe.reference else {
+        return Ok(None);
+    };
+    let g = scene
+        .gravity
+        .as_ref()
+        .map(|g| g.iter().map(|c| c * c).sum::<f64>().sqrt())
+        .filter(|g| *g > 0.0)
+        .ok_or_else(|| ProbeError::NoGravity {
+            probe: probe.name.clone(),
+        })?;
+    let a = reference.length;
+    let time_scale = (g / a).sqrt();
+    let points = read_surge_front(&reference.file).map_err(|source| ProbeError::Reference {
+        probe: probe.name.clone(),
+        source,
+    })?;
+    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for p in points {
+        if !reference.series.is_empty() && !reference.series.contains(&p.series) {
+            continue;
+        }
+        match series.iter_mut().find(|(name, _)| *name == p.series) {
+            Some((_, pts)) => pts.push((p.t, p.z)),
+            None => series.push((p.series.clone(), vec![(p.t, p.z)])),
+        }
+    }
+    if series.is_empty() {
+        return Err(ProbeError::NoSeries {
+            probe: probe.name.clone(),
+            file: reference.file.display().to_string(),
+            series: reference.series.clone(),
+        });
+    }
+    let simulated: Vec<(f64, f64)> = samples.iter().map(|&(t, z)| (t * time_scale, z / a)).collect();
+    let all: Vec<(f64, f64)> = series.iter().flat_map(|(_, p)| p.iter().copied()).collect();
+    let error = relative_error(&simulated, &all, reference.time_range);
+    Ok(Some(ProbeComparison {
+        name: probe.name.clone(),
+        simulated,
+        reference: series,
+        error,
+    }))
 }
 
 /// Draws probe comparisons on one figure: one line per `(label, comparison)`, the reference

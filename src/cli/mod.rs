@@ -1,10 +1,12 @@
 //! The `sph` command line: the only place that prints or exits.
 //!
 //! `sph run SCENE` runs a scene and writes its results; `sph check SCENE` validates a scene and
-//! prints its particle counts, memory estimate and stage plan.
+//! prints its particle counts, memory estimate and stage plan; `sph sweep SCENE --set
+//! KEY=V1,V2,...` runs one variant per value and compares them.
 
 mod check;
 mod run;
+mod sweep;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -48,6 +50,30 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
     },
+    /// Run one variant of a scene per value of the swept keys and compare them: writes sweep.csv,
+    /// sweep.png (error against wall time) and fronts.png (probe curves with reference data).
+    Sweep {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Output directory [default: out/<scene file stem>-sweep]; variant k runs in DIR/<k>-<variant>.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads [default: all cores].
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Backend.
+        #[arg(long, value_enum, default_value_t = BackendArg::Cpu)]
+        backend: BackendArg,
+        /// Override the scene's end time [s] in every variant (same as --set solver.end_time=T).
+        #[arg(long)]
+        end_time: Option<f64>,
+        /// A scene key and its values, split on commas outside brackets and quotes, e.g.
+        /// --set solver.delta=1e-2,1e-3 or --set 'effects=["gravity"],["gravity","viscosity"]'.
+        /// Several swept keys give every combination (first key varying slowest); a single value
+        /// applies to all variants.
+        #[arg(long = "set", value_name = "KEY=V1,V2,...")]
+        sets: Vec<String>,
+    },
     /// Validate a scene; print particle counts, memory needed and the stage plan.
     Check {
         /// Scene file (TOML).
@@ -78,6 +104,19 @@ where
                 sets.push(format!("solver.end_time={t:e}"));
             }
             run::run(&scene, out, threads, backend, &sets)
+        }
+        Command::Sweep {
+            scene,
+            out,
+            threads,
+            backend,
+            end_time,
+            mut sets,
+        } => {
+            if let Some(t) = end_time {
+                sets.push(format!("solver.end_time={t:e}"));
+            }
+            sweep::sweep(&scene, out, threads, backend, &sets)
         }
         Command::Check { scene, sets } => check::check(&scene, &sets),
     }

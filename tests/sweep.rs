@@ -1,0 +1,344 @@
+//! `sph sweep`: splitting value lists, the variants of several swept keys, validation of every
+//! variant before anything runs, and a whole sweep of a tiny dam break over
+//! `solver.kind=wcsph,corrected` (its `sweep.csv`, `sweep.png` and `fronts.png`).
+
+use sph::run::RunOptions;
+use sph::sweep::{Sweep, SweepError, comparisons_from_csv, run_sweep, split_values, variant_dir};
+use std::path::{Path, PathBuf};
+
+/// Martin & Moyce's square-column surge front, shipped with the project.
+const SURGE_FRONT: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../shared/validation/martin_moyce_1952_surge_front.csv"
+);
+
+/// A 2D dam break of 10 x 10 particles: a column a = 1 cm (dx = 1 mm) in a 5 cm tank, run to
+/// t = 20 ms, i.e. T = t sqrt(g/a) = 0.63, which reaches two of the reference points.
+fn tiny_scene() -> String {
+    format!(
+        r#"name = "tiny_dam_break"
+dimension = 2
+effects = ["gravity", "viscosity"]
+
+[domain]
+min = [-0.005, -0.005]
+max = [0.055, 0.03]
+
+[particles]
+spacing = 0.001
+smoothing_ratio = 2.0
+
+[fluid]
+rho0 = 1000.0
+sound_speed = 5.0
+viscosity = 1.0e-3
+gravity = [0.0, -9.81]
+
+[[fluid_box]]
+min = [0.0, 0.0]
+max = [0.01, 0.01]
+
+[[solid]]
+name = "tank"
+shape = "container"
+min = [0.0, 0.0]
+max = [0.05, 0.02]
+open_top = true
+
+[solver]
+kind = "corrected"
+cfl = 0.2
+end_time = 0.02
+
+[output]
+frames = false
+
+[[probe]]
+name = "front"
+kind = "front"
+axis = "x"
+
+[probe.reference]
+file = "{SURGE_FRONT}"
+series = ["MM1952_n2-1_jaxsph", "MM1952_n2-1_trixiparticles"]
+length = 0.01
+time_range = [0.0, 3.0]
+"#
+    )
+}
+
+/// A fresh directory holding the tiny scene; returns (directory, scene path).
+fn scene_dir(name: &str) -> (PathBuf, PathBuf) {
+    let dir = std::env::temp_dir().join(format!("sph_sweep_test_{}_{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let scene = dir.join("tiny.toml");
+    std::fs::write(&scene, tiny_scene()).expect("scene written");
+    (dir, scene)
+}
+
+fn strings(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
+}
+
+fn options() -> RunOptions {
+    RunOptions {
+        out_dir: None,
+        backend: Default::default(),
+        threads: rayon::current_num_threads(),
+        scene_name: "tiny_dam_break".into(),
+    }
+}
+
+/// `sweep.csv` as (header, rows); the test's fields hold no quoted commas except `status`,
+/// which is last.
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).expect("sweep.csv");
+    let mut lines = text.lines();
+    let header = strings(&lines.next().expect("header").split(',').collect::<Vec<_>>());
+    let rows = lines
+        .map(|l| {
+            let mut fields = strings(&l.splitn(header.len(), ',').collect::<Vec<_>>());
+            fields.resize(header.len(), String::new());
+            fields
+        })
+        .collect();
+    (header, rows)
+}
+
+fn is_png(path: &Path) -> bool {
+    let bytes = std::fs::read(path).unwrap_or_default();
+    bytes.starts_with(&[0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a])
+}
+
+#[test]
+fn values_split_on_commas_outside_brackets_and_quotes() {
+    assert_eq!(
+        split_values("1e-2,1e-3,1e-4,1e-5"),
+        ["1e-2", "1e-3", "1e-4", "1e-5"]
+    );
+    assert_eq!(split_values("wcsph, corrected"), ["wcsph", "corrected"]);
+    assert_eq!(split_values("corrected"), ["corrected"]);
+    assert_eq!(split_values("[0,-9.81]"), ["[0,-9.81]"]);
+    assert_eq!(
+        split_values("[0,-9.81],[0, -19.62]"),
+        ["[0,-9.81]", "[0, -19.62]"]
+    );
+    assert_eq!(
+        split_values(r#"["gravity"],["gravity","viscosity"]"#),
+        [r#"["gravity"]"#, r#"["gravity","viscosity"]"#]
+    );
+    assert_eq!(split_values(r#""a,b",c"#), [r#""a,b""#, "c"]);
+    assert_eq!(split_values(r#"'a,b'"#), ["'a,b'"]);
+    assert_eq!(split_values(r#""a\",b""#), [r#""a\",b""#]);
+    assert_eq!(
+        split_values("{ a = 1, b = [2, 3] },{ a = 4 }"),
+        ["{ a = 1, b = [2, 3] }", "{ a = 4 }"]
+    );
+}
+
+#[test]
+fn swept_keys_give_the_cartesian_product_first_key_slowest() {
+    let sweep = Sweep::from_sets(&strings(&[
+        "solver.kind=wcsph,corrected",
+        "solver.cfl=0.1",
+        "fluid.gravity=[0,-9.81],[0,-1],[0,-2]",
+    ]))
+    .expect("valid sets");
+    assert_eq!(sweep.keys, ["solver.kind", "fluid.gravity"]);
+    let names: Vec<&str> = sweep.variants.iter().map(|v| v.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "solver.kind=wcsph fluid.gravity=[0,-9.81]",
+            "solver.kind=wcsph fluid.gravity=[0,-1]",
+            "solver.kind=wcsph fluid.gravity=[0,-2]",
+            "solver.kind=corrected fluid.gravity=[0,-9.81]",
+            "solver.kind=corrected fluid.gravity=[0,-1]",
+            "solver.kind=corrected fluid.gravity=[0,-2]",
+        ]
+    );
+    let v = &sweep.variants[4];
+    assert_eq!(v.values, ["corrected", "[0,-1]"]);
+    assert_eq!(
+        v.sets,
+        ["solver.kind=corrected", "solver.cfl=0.1", "fluid.gravity=[0,-1]"]
+    );
+    assert_eq!(
+        variant_dir(Path::new("out"), 4, 6, v),
+        Path::new("out/5-solver.kind_corrected_fluid.gravity_0_-1")
+    );
+    assert_eq!(
+        sweep.columns(&strings(&["front"]))[..3],
+        ["variant", "solver.kind", "fluid.gravity"]
+    );
+
+    let twelve = Sweep::from_sets(&strings(&["a=1,2,3", "b=1,2,3,4"])).expect("valid");
+    assert_eq!(twelve.variants.len(), 12);
+    assert_eq!(
+        variant_dir(Path::new("d"), 0, 12, &twelve.variants[0]),
+        Path::new("d/01-a_1_b_1")
+    );
+
+    let single = Sweep::from_sets(&strings(&["solver.cfl=0.1"])).expect("valid");
+    assert!(single.keys.is_empty());
+    assert_eq!(single.variants.len(), 1);
+    assert_eq!(single.variants[0].name, "base");
+    assert_eq!(single.variants[0].sets, ["solver.cfl=0.1"]);
+}
+
+#[test]
+fn malformed_sets_are_rejected() {
+    let err = |sets: &[&str]| Sweep::from_sets(&strings(sets)).expect_err("invalid").to_string();
+    assert!(err(&["solver.kind"]).contains("no '=' found"));
+    assert!(err(&["solver.delta=1e-3,,1e-4"]).contains("empty value"));
+    assert!(err(&["=1,2"]).contains("empty KEY"));
+    let twice = err(&["solver.delta=1e-3,1e-4", "solver.delta=1e-5"]);
+    assert!(
+        twice.contains("solver.delta") && twice.contains("only once"),
+        "{twice}"
+    );
+}
+
+#[test]
+fn an_invalid_value_names_key_and_value_before_anything_runs() {
+    let (dir, scene) = scene_dir("invalid");
+    let sweep = Sweep::from_sets(&strings(&["solver.delta=1e-3,abc,1e-5"])).expect("sets");
+    let err = sweep.load(&scene).expect_err("abc is not a number");
+    assert!(
+        matches!(
+            err,
+            SweepError::InvalidVariant {
+                index: 2,
+                count: 3,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    let shown = err.to_string();
+    assert!(shown.contains("solver.delta=abc"), "{shown}");
+
+    // Through the command line: the error names the key and value, and no variant has run.
+    let out = dir.join("out");
+    let result = sph::cli::run::<_, &std::ffi::OsStr>([
+        "sph".as_ref(),
+        "sweep".as_ref(),
+        scene.as_os_str(),
+        "--set".as_ref(),
+        "solver.delta=1e-3,abc".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    let shown = format!("{:#}", result.expect_err("invalid variant"));
+    assert!(shown.contains("solver.delta=abc"), "{shown}");
+    assert!(shown.contains("expected f64"), "{shown}");
+    assert!(!out.exists(), "nothing may run before every variant is valid");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn sweep_over_solver_kind_writes_table_and_figures() {
+    let (dir, scene) = scene_dir("kinds");
+    let out = dir.join("out");
+    let sweep = Sweep::from_sets(&strings(&["solver.kind=wcsph,corrected"])).expect("sets");
+    let scenes = sweep.load(&scene).expect("variants load");
+    let mut started = Vec::new();
+    let report = run_sweep(&sweep, &scenes, &out, &options(), &mut |e| {
+        if let sph::sweep::SweepEvent::Started { index, count, .. } = e {
+            started.push((index, count));
+        }
+    })
+    .expect("sweep runs");
+    assert_eq!(started, [(1, 2), (2, 2)]);
+    assert!(report.skipped_figures.is_empty(), "{:?}", report.skipped_figures);
+
+    let (header, rows) = read_csv(&out.join("sweep.csv"));
+    assert_eq!(
+        header,
+        [
+            "variant",
+            "solver.kind",
+            "wall_seconds",
+            "particle_steps_per_second",
+            "steps",
+            "iterations_per_stage",
+            "iterations_max",
+            "unconverged_stages",
+            "max_density_error",
+            "front_error_max",
+            "front_error_mean",
+            "status",
+        ]
+    );
+    assert_eq!(rows.len(), 2);
+    let col = |name: &str| header.iter().position(|h| h == name).expect(name);
+    let number = |row: &[String], name: &str| -> f64 {
+        let cell = &row[col(name)];
+        let x: f64 = cell.parse().unwrap_or_else(|_| panic!("{name} = {cell:?}"));
+        assert!(x.is_finite(), "{name} = {x}");
+        x
+    };
+    for (row, kind) in rows.iter().zip(["wcsph", "corrected"]) {
+        assert_eq!(row[col("variant")], format!("solver.kind={kind}"));
+        assert_eq!(row[col("solver.kind")], kind);
+        assert_eq!(row[col("status")], "completed");
+        assert!(number(row, "wall_seconds") > 0.0);
+        assert!(number(row, "particle_steps_per_second") > 0.0);
+        assert!(number(row, "steps") >= 1.0);
+        assert!(number(row, "max_density_error") >= 0.0);
+        let (max, mean) = (number(row, "front_error_max"), number(row, "front_error_mean"));
+        assert!(0.0 <= mean && mean <= max, "front error mean {mean}, max {max}");
+    }
+    assert_eq!(
+        rows[0][col("iterations_per_stage")],
+        "",
+        "wcsph has no correction"
+    );
+    assert!(number(&rows[1], "iterations_per_stage") >= 1.0);
+    assert!(number(&rows[1], "iterations_max") >= 1.0);
+    assert_eq!(number(&rows[1], "unconverged_stages"), 0.0);
+
+    // The curves read back from each variant's probes.csv give the errors of its summary.
+    for (r, s) in report.results.iter().zip(&scenes) {
+        assert!(r.dir.join("summary.json").is_file());
+        let comparisons = comparisons_from_csv(s, &r.dir.join("probes.csv")).expect("probes.csv");
+        assert_eq!(comparisons.len(), 1);
+        let error = comparisons[0].error.expect("reference points reached");
+        assert_eq!(Some(error.mean), r.probe_error("front", "error_mean"));
+        assert_eq!(Some(error.max), r.probe_error("front", "error_max"));
+    }
+    assert_eq!(report.results[0].dir, out.join("1-solver.kind_wcsph"));
+    assert!(is_png(&out.join("sweep.png")), "sweep.png");
+    assert!(is_png(&out.join("fronts.png")), "fronts.png");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_failed_variant_is_recorded_and_the_sweep_goes_on() {
+    let (dir, scene) = scene_dir("failed");
+    let out = dir.join("out");
+    // One correction iteration cannot reach delta, and strict makes that a step error.
+    sph::cli::run([
+        "sph".as_ref(),
+        "sweep".as_ref(),
+        scene.as_os_str(),
+        "--set".as_ref(),
+        "solver.max_iterations=1,200".as_ref(),
+        "--set".as_ref(),
+        "solver.strict=true".as_ref(),
+        "--end-time".as_ref(),
+        "0.01".as_ref(),
+        "--threads".as_ref(),
+        "1".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ] as [&std::ffi::OsStr; 13])
+    .expect("a failed variant does not fail the sweep");
+    let (header, rows) = read_csv(&out.join("sweep.csv"));
+    let status = header.iter().position(|h| h == "status").expect("status");
+    assert_eq!(rows.len(), 2);
+    assert!(rows[0][status].starts_with("\"failed: "), "{}", rows[0][status]);
+    assert_eq!(rows[1][status], "completed");
+    let _ = std::fs::remove_dir_all(&dir);
+}
