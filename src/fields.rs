@@ -34,9 +34,6 @@ pub struct Fields<const D: usize> {
     pub position_start: Vec<Vector<D>>,
     /// Velocity at the start of the step [m/s] (SSP-RK3 only; empty otherwise).
     pub velocity_start: Vec<Vector<D>>,
-    /// Pressure added by the current stage's position correction [Pa] (eqs. 23–24, `corrected`
-    /// solver only; empty otherwise). The force on solids is computed from it.
-    pub pressure_correction: Vec<Real>,
 }
 
 /// Scratch buffers reused by [`Fields::permute`], so reordering does not allocate per step.
@@ -93,13 +90,10 @@ impl<const D: usize> Fields<D> {
             gather(&mut self.position_start, perm, &mut scratch.vector);
             gather(&mut self.velocity_start, perm, &mut scratch.vector);
         }
-        if !self.pressure_correction.is_empty() {
-            gather(&mut self.pressure_correction, perm, &mut scratch.real);
-        }
     }
 
     /// Bytes per particle held by the always-present fields (for memory reports and scene
-    /// validation); SSP-RK3 adds `2 D · 4` and the `corrected` solver 4 more.
+    /// validation); SSP-RK3 adds `2 D · 4`.
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
 
     /// Bytes held by the fields' arrays.
@@ -107,7 +101,6 @@ impl<const D: usize> Fields<D> {
         (self.position.capacity() * 3 + self.position_start.capacity() + self.velocity_start.capacity())
             * D
             * 4
-            + (self.density.capacity() * 3 + self.kind.capacity() * 2 + self.pressure_correction.capacity())
-                * 4
+            + (self.density.capacity() * 3 + self.kind.capacity() * 2) * 4
     }
 }

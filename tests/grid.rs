@@ -333,7 +333,6 @@ fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
         f.pressure[i] = -5.0 - i as Real;
         f.position_start.push(vec(i, 3.0e4));
         f.velocity_start.push(vec(i, 4.0e4));
-        f.pressure_correction.push(-7.0e4 - i as Real);
     }
     f
 }
@@ -353,7 +352,6 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         id,
         position_start,
         velocity_start,
-        pressure_correction,
     } = f;
     let n = original.len();
     for field_len in [
@@ -367,7 +365,6 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         id.len(),
         position_start.len(),
         velocity_start.len(),
-        pressure_correction.len(),
     ] {
         assert_eq!(field_len, n);
     }
@@ -391,10 +388,6 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         assert_eq!(
             velocity_start[i], original.velocity_start[o],
             "velocity_start of {i}"
-        );
-        assert_eq!(
-            pressure_correction[i], original.pressure_correction[o],
-            "pressure_correction of {i}"
         );
     }
 }

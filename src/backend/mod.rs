@@ -35,9 +35,29 @@ pub enum WallModel {
 pub enum SolidForceSource {
     /// Pressure (16), viscosity (17) and artificial viscosity of the force stage.
     Forces,
-    /// The pressure increments of the current stage's position correction (eqs. 23–24),
-    /// `Fields::pressure_correction`; the impulse is this force times the stage's `τ`.
+    /// The pressure increments `δp` of the current correction sweep (eqs. 23–24), at the
+    /// positions the sweep starts from: the sweep's impulse on the solids is this force times
+    /// `τ` and the sweep's `scale` (`Backend::correct_positions`).
     Correction,
+}
+
+/// How far the state is from the correction's goal (`Backend::correction_error`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CorrectionError {
+    /// Eq. (24) with note 6: largest `max(ρ − ρ0, 0)/ρ0` over fluid particles.
+    pub compression: f64,
+    /// Largest `physics::correction::residual`: the compression, and the expansion of particles
+    /// that still carry pressure. The loop runs until it is below `δ`.
+    pub residual: f64,
+}
+
+/// What one correction sweep did (`Backend::correct_positions`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sweep {
+    /// Largest displacement applied [m].
+    pub largest: f64,
+    /// The factor (≤ 1) all displacements were scaled by.
+    pub scale: f64,
 }
 
 /// Extremes of the fluid state needed by the time-step choice and the state guards.
@@ -92,24 +112,24 @@ pub trait Backend<const D: usize> {
     /// One Shu–Osher stage, fluid only: `x ← a x^n + b (x + dt u)`, `u ← a u^n + b (u + dt a)`
     /// with the acceleration of the force stage; `dt` [s].
     fn rk_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32);
-    /// Eq. (24) with note 6: the largest compression `max(ρ − ρ0, 0)/ρ0` over fluid particles.
-    fn max_compression(&mut self, fields: &Fields<D>, rho0: f32) -> f64;
-    /// Starts a stage's position correction: `Fields::pressure_correction` ← 0.
+    /// Eq. (24) with note 6: the largest compression `max(ρ − ρ0, 0)/ρ0` over fluid particles,
+    /// and the loop's residual (`physics::correction::residual`).
+    fn correction_error(&mut self, fields: &Fields<D>, rho0: f32) -> CorrectionError;
+    /// Starts a stage's position correction (forgets the previous sweep's increments).
     fn begin_correction(&mut self, fields: &mut Fields<D>);
     /// Eq. (19) inside the correction: pressure increments `δp` from the density for fluid
     /// (`physics::correction::pressure_increment`, stiffness `k` [m²/s²]), extrapolated to solids
-    /// ([A12] without gravity); added to `pressure` and `pressure_correction`.
+    /// ([A12] without gravity); added to `pressure`.
     fn correction_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32);
     /// Eq. (23): `Δx = τ² a^press(δp)` for fluid, scaled down uniformly (so momentum stays
-    /// conserved) when the largest exceeds `max_step` [m]; `x += Δx`, `u += Δx/τ`. Returns the
-    /// largest displacement applied [m].
+    /// conserved) when the largest exceeds `max_step` [m]; `x += Δx`, `u += Δx/τ`.
     fn correct_positions(
         &mut self,
         fields: &mut Fields<D>,
         params: &StepParams<D>,
         tau: f32,
         max_step: f32,
-    ) -> f64;
+    ) -> Sweep;
 }
 
 pub mod cuda;

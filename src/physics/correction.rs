@@ -32,6 +32,20 @@ pub fn pressure_increment(rho: Real, rho0: Real, p: Real, k: Real) -> Real {
     (p + k * (rho - rho0)).max(0.0) - p
 }
 
+/// The loop's error for one fluid particle: its compression, and where it carries pressure
+/// (`p > 0` [Pa]) also its expansion, `|ρ − ρ0|/ρ0`.
+///
+/// Why the expansion: the accumulated pressure drives the next force stage. A particle that
+/// carries pressure but sits below `ρ0` has too much of it; stopping on compression alone would
+/// leave that excess to push its neighbours apart step after step (measured: a resting block
+/// with dt = 5e-3 s reached 7.6 m/s in 0.2 s). Where `p = 0` (free surface) only compression
+/// counts, as note 6 requires.
+#[inline(always)]
+pub fn residual(rho: Real, rho0: Real, p: Real) -> f64 {
+    let e = (f64::from(rho) - f64::from(rho0)) / f64::from(rho0);
+    if p > 0.0 { e.abs() } else { e.max(0.0) }
+}
+
 /// The compression measure of (24) with note 6: `max(ρ − ρ0, 0)/ρ0` (dimensionless).
 #[inline(always)]
 pub fn compression(rho: Real, rho0: Real) -> f64 {

@@ -149,7 +149,7 @@ pub enum StepError {
     /// The position correction hit its iteration cap in a `strict` scene.
     #[error(
         "step {step}, t = {time:.6} s, stage {stage}: the position correction did not reach delta = \
-         {delta:e} in {iterations} iterations (compression {compression:.3e}); raise \
+         {delta:e} in {iterations} iterations (residual {compression:.3e}); raise \
          solver.max_iterations, lower the time step, or drop solver.strict"
     )]
     Unconverged {
@@ -161,7 +161,8 @@ pub enum StepError {
         stage: usize,
         /// Iterations done.
         iterations: u32,
-        /// Compression `max(ρ − ρ0, 0)/ρ0` left.
+        /// Residual left (`physics::correction::residual`: compression, and expansion where
+        /// pressure remains).
         compression: f64,
         /// The tolerance.
         delta: f64,
@@ -240,6 +241,8 @@ pub struct CorrectionStats {
     pub unconverged_stages: u64,
     /// Largest compression `max(ρ − ρ0, 0)/ρ0` left after a stage's correction.
     pub max_compression_after: f64,
+    /// Largest loop residual left after a stage's correction (`physics::correction::residual`).
+    pub max_residual_after: f64,
     /// Iterations of the last stage.
     pub last_iterations: u32,
 }

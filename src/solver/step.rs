@@ -92,15 +92,10 @@ impl<const D: usize> Simulation<D> {
                     }
                     Stage::Correction => {
                         let tau = tau_frac * report.dt;
-                        self.correct(k, tau, &params)?;
-                        if solids > 0 {
-                            let (bk, f) = (&mut self.backend, &self.fields);
-                            let part = bk.solid_forces(f, &params, solids, SolidForceSource::Correction);
-                            // Impulse τ F, weighted by how much of this stage reaches y^{n+1}.
-                            let w =
-                                integrator.correction_weights()[k] * tau / report.dt.max(f64::MIN_POSITIVE);
-                            add_force(&mut solid_force, &part, w);
-                        }
+                        let impulse_force = self.correct(k, tau, &params)?;
+                        // Impulse τ F, weighted by how much of this stage reaches y^{n+1}.
+                        let w = integrator.correction_weights()[k] * tau / report.dt.max(f64::MIN_POSITIVE);
+                        add_force(&mut solid_force, &impulse_force, w);
                     }
                 }
             }
@@ -188,7 +183,7 @@ impl<const D: usize> Simulation<D> {
         stage: usize,
         tau: f64,
         params: &crate::backend::params::StepParams<D>,
-    ) -> Result<(), StepError> {
+    ) -> Result<Vec<[f64; 3]>, StepError> {
         let Correction {
             delta,
             max_iterations,
@@ -199,9 +194,13 @@ impl<const D: usize> Simulation<D> {
         let max_step = (MAX_SWEEP_STEP * self.config.spacing) as f32;
         let stiffness = (relaxation * self.correction_stiffness / (tau * tau)) as f32;
         self.backend.begin_correction(&mut self.fields);
+        let solids = self.solid_names.len();
+        // The sweeps' pushes on the solids, each at the positions it starts from: the exact
+        // counterpart of the fluid's momentum change (every pair term is antisymmetric).
+        let mut solid_force = vec![[0.0f64; 3]; solids];
         let mut drift = if self.grid_fresh { 0.0 } else { f64::INFINITY };
         let mut iterations = 0u32;
-        let compression = loop {
+        let error = loop {
             let (bk, f) = (&mut self.backend, &mut self.fields);
             if drift > RESORT_DRIFT * h {
                 bk.sort_by_cell(f, params.h).map_err(|source| StepError::Grid {
@@ -211,12 +210,23 @@ impl<const D: usize> Simulation<D> {
                 drift = 0.0;
             }
             bk.density(f, params); // eq. (18)
-            let compression = bk.max_compression(f, params.rho0); // eq. (24), note 6
-            if compression < delta || iterations >= max_iterations || !compression.is_finite() {
-                break compression;
+            let error = bk.correction_error(f, params.rho0); // eq. (24), note 6
+            if error.residual < delta || iterations >= max_iterations || !error.residual.is_finite() {
+                break error;
             }
             bk.correction_pressure(f, params, stiffness); // eq. (19), note 5
-            drift += bk.correct_positions(f, params, tau as f32, max_step); // eq. (23)
+            let part = if solids > 0 {
+                bk.solid_forces(f, params, solids, SolidForceSource::Correction)
+            } else {
+                Vec::new()
+            };
+            let sweep = bk.correct_positions(f, params, tau as f32, max_step); // eq. (23)
+            for (total, p) in solid_force.iter_mut().zip(&part) {
+                for c in 0..3 {
+                    total[c] += sweep.scale * p[c];
+                }
+            }
+            drift += sweep.largest;
             iterations += 1;
         };
         self.grid_fresh = drift <= RESORT_DRIFT * h;
@@ -226,11 +236,13 @@ impl<const D: usize> Simulation<D> {
         s.iterations += u64::from(iterations);
         s.max_iterations = s.max_iterations.max(iterations);
         s.last_iterations = iterations;
-        s.max_compression_after = s.max_compression_after.max(compression);
-        if compression < delta {
-            return Ok(());
+        s.max_compression_after = s.max_compression_after.max(error.compression);
+        s.max_residual_after = s.max_residual_after.max(error.residual);
+        if error.residual < delta {
+            return Ok(solid_force);
         }
         s.unconverged_stages += 1;
+        let compression = error.residual;
         if strict || !compression.is_finite() {
             return Err(StepError::Unconverged {
                 step: self.clock.step,
@@ -241,6 +253,6 @@ impl<const D: usize> Simulation<D> {
                 delta,
             });
         }
-        Ok(())
+        Ok(solid_force)
     }
 }
