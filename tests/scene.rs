@@ -431,7 +431,7 @@ fn too_much_memory() {
     let p = with_key(&ps, "particles.spacing");
     assert!(p.reason.contains("3375000000 particles"), "{}", p.reason);
     assert!(p.reason.contains("bytes available"), "{}", p.reason);
-    assert_eq!(sc::bytes_per_particle(3), 4 * (5 * 3 + 8) + 64);
+    assert_eq!(sc::bytes_per_particle(3), 4 * (8 * 3 + 14) + 64);
 }
 
 #[test]

@@ -32,17 +32,19 @@ impl RawProblem {
 }
 
 /// Estimated memory per particle \[bytes\] in `dim` dimensions:
-/// `4 * (5 * dim + 8) + 64`.
+/// `4 * (8 * dim + 14) + 64`.
 ///
-/// An upper bound (156 bytes in 3D, 136 in 2D) of what a run holds per particle: the `f32`/`u32`
-/// particle fields (three vectors, density, pressure, mass, kind, id), the neighbour grid's keys,
-/// sort pairs, permutation and cell ranges, and the reorder and wall-pressure scratch buffers.
+/// An upper bound (216 bytes in 3D, 184 in 2D) of what a run holds per particle: the `f32`/`u32`
+/// particle fields (three vectors, density, pressure, mass, kind, id), SSP-RK3's start-of-step
+/// position and velocity, the neighbour grid's keys, sort pairs, permutation and cell ranges, the
+/// reorder and wall-pressure scratch buffers, and the correction's increments and displacements.
 /// Measured with `sph run scenes/dam_break_column_3d.toml --end-time 0.02`: 110 bytes per
-/// particle (`summary.json`, `extra.memory_bytes_per_particle`); the margin covers frame output.
+/// particle with `wcsph`, 185 with `--set solver.kind=corrected` (`summary.json`,
+/// `extra.memory_bytes_per_particle`); the margin covers frame output.
 pub fn bytes_per_particle(dim: usize) -> u64 {
     let dim = u64::try_from(dim).unwrap_or(u64::MAX);
-    dim.saturating_mul(5)
-        .saturating_add(8)
+    dim.saturating_mul(8)
+        .saturating_add(14)
         .saturating_mul(4)
         .saturating_add(64)
 }
