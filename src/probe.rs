@@ -5,16 +5,22 @@
 //! origin [m] (Martin & Moyce's z, measured from the back wall). Against a reference it is
 //! normalised as `Z = z/a`, `T = t sqrt(g/a)` with `a` = `reference.length` and `g = |gravity|`
 //! (square column, n = 1; `../shared/validation/SOURCES.md`, section 1).
+//!
+//! `force`: the force of the fluid on one solid along the axis [N] (2D: [N/m]), averaged over
+//! each sampling interval (the per-step force of particle methods is noisy). Against a
+//! reference (time [s], force [N], e.g. Yeh & Petroff's column) the comparison is the first
+//! peak: the largest force within the reference's `time_range`, and when it occurs.
 
 use crate::fields::{FLUID, Fields};
 use crate::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
 use crate::output::{CsvTable, CsvValue, OutputError};
 use crate::scene::{Probe, ProbeKind, Scene};
-use crate::validation::{CurveError, read_surge_front, relative_error};
+use crate::validation::{CurveError, read_column_force, read_surge_front, relative_error};
 use std::path::Path;
 
-/// Value of one probe on the current state: the front position [m].
-pub fn measure<const D: usize>(probe: &Probe, fields: &Fields<D>) -> f64 {
+/// Value of one probe on the current state: the front position [m], or the force on its solid
+/// during the last step [N] (`solid_forces` as `Simulation::solid_forces`).
+pub fn measure<const D: usize>(probe: &Probe, fields: &Fields<D>, solid_forces: &[[f64; 3]]) -> f64 {
     match probe.kind {
         ProbeKind::Front => {
             let axis = probe.axis.min(D - 1);
@@ -24,6 +30,10 @@ pub fn measure<const D: usize>(probe: &Probe, fields: &Fields<D>) -> f64 {
                 .fold(f64::NEG_INFINITY, f64::max);
             front - probe.origin
         }
+        ProbeKind::Force => probe
+            .solid
+            .and_then(|k| solid_forces.get(k))
+            .map_or(0.0, |f| f[probe.axis.min(2)]),
     }
 }
 
@@ -35,6 +45,8 @@ pub struct ProbeLog {
     table: Option<CsvTable>,
     interval: f64,
     next: f64,
+    /// Per probe: `Σ value · dt` and `Σ dt` since the last sample (force probes' averages).
+    running: Vec<(f64, f64)>,
 }
 
 impl ProbeLog {
@@ -45,7 +57,10 @@ impl ProbeLog {
         let table = match dir {
             Some(dir) if !probes.is_empty() => {
                 let mut columns = vec!["t_s".to_string()];
-                columns.extend(probes.iter().map(|p| format!("{}_m", p.name)));
+                columns.extend(probes.iter().map(|p| match p.kind {
+                    ProbeKind::Front => format!("{}_m", p.name),
+                    ProbeKind::Force => format!("{}_N", p.name),
+                }));
                 let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
                 Some(CsvTable::create(&dir.join("probes.csv"), &columns)?)
             }
@@ -53,6 +68,7 @@ impl ProbeLog {
         };
         Ok(Self {
             samples: vec![Vec::new(); probes.len()],
+            running: vec![(0.0, 0.0); probes.len()],
             probes,
             table,
             interval,
@@ -60,20 +76,44 @@ impl ProbeLog {
         })
     }
 
-    /// Records the probes at time `t` [s] if a sample is due (or `force`).
+    /// Called after every step of length `dt` [s] ending at `t` [s]: records the probes if a
+    /// sample is due (or `now`); force probes report their mean over the interval.
     pub fn record<const D: usize>(
         &mut self,
         t: f64,
+        dt: f64,
         fields: &Fields<D>,
-        force: bool,
+        solid_forces: &[[f64; 3]],
+        now: bool,
     ) -> Result<(), OutputError> {
-        if self.probes.is_empty() || (t < self.next && !force) {
+        if self.probes.is_empty() {
+            return Ok(());
+        }
+        for (p, run) in self.probes.iter().zip(self.running.iter_mut()) {
+            if p.kind == ProbeKind::Force && dt > 0.0 {
+                run.0 += measure(p, fields, solid_forces) * dt;
+                run.1 += dt;
+            }
+        }
+        if t < self.next && !now {
             return Ok(());
         }
         while self.next <= t {
             self.next += self.interval;
         }
-        let values: Vec<f64> = self.probes.iter().map(|p| measure(p, fields)).collect();
+        let values: Vec<f64> = self
+            .probes
+            .iter()
+            .zip(self.running.iter_mut())
+            .map(|(p, run)| {
+                let v = match p.kind {
+                    ProbeKind::Force if run.1 > 0.0 => run.0 / run.1,
+                    _ => measure(p, fields, solid_forces),
+                };
+                *run = (0.0, 0.0);
+                v
+            })
+            .collect();
         for (s, v) in self.samples.iter_mut().zip(&values) {
             s.push((t, *v));
         }
@@ -102,13 +142,27 @@ impl ProbeLog {
 pub struct ProbeComparison {
     /// Probe name.
     pub name: String,
+    /// What the probe measures.
+    pub kind: ProbeKind,
     /// The simulated curve, normalised as the reference (`(T, Z)` for a front).
     pub simulated: Vec<(f64, f64)>,
     /// Reference points per series, normalised: `(series, [(T, Z)])`.
     pub reference: Vec<(String, Vec<(f64, f64)>)>,
-    /// Relative error of the simulation at the reference points within the probe's time range;
-    /// `None` when no reference point lies in the simulated range.
+    /// Front: relative error of the simulation at the reference points within the probe's
+    /// time range; `None` when no reference point lies in the simulated range, and for forces.
     pub error: Option<CurveError>,
+    /// Force: the first peak, simulated and reference; `None` for fronts or when either has no
+    /// point in the time range.
+    pub peak: Option<Peak>,
+}
+
+/// The largest force within a force probe's time range, as `(t [s], F [N])`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Peak {
+    /// Of the simulation.
+    pub simulated: (f64, f64),
+    /// Of the reference record.
+    pub reference: (f64, f64),
 }
 
 /// Errors comparing a probe with reference data.
@@ -161,6 +215,9 @@ pub fn compare_samples(
     let Some(reference) = &probe.reference else {
         return Ok(None);
     };
+    if probe.kind == ProbeKind::Force {
+        return compare_force(probe, reference, samples).map(Some);
+    }
     let g = scene
         .gravity
         .as_ref()
@@ -197,15 +254,54 @@ pub fn compare_samples(
     let error = relative_error(&simulated, &all, reference.time_range);
     Ok(Some(ProbeComparison {
         name: probe.name.clone(),
+        kind: probe.kind,
         simulated,
         reference: series,
         error,
+        peak: None,
     }))
+}
+
+/// The largest value within `range` (inclusive), as `(t, value)`.
+fn peak_in(points: &[(f64, f64)], range: (f64, f64)) -> Option<(f64, f64)> {
+    points
+        .iter()
+        .copied()
+        .filter(|(t, v)| *t >= range.0 && *t <= range.1 && v.is_finite())
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// A force probe against a force record (time [s], force [N]): the first peak.
+fn compare_force(
+    probe: &Probe,
+    reference: &crate::scene::ProbeReference,
+    samples: &[(f64, f64)],
+) -> Result<ProbeComparison, ProbeError> {
+    let points = read_column_force(&reference.file).map_err(|source| ProbeError::Reference {
+        probe: probe.name.clone(),
+        source,
+    })?;
+    let curve: Vec<(f64, f64)> = points.iter().map(|p| (p.time, p.force)).collect();
+    let label = reference
+        .file
+        .file_stem()
+        .map_or_else(|| "reference".to_string(), |s| s.to_string_lossy().into_owned());
+    let peak = peak_in(samples, reference.time_range)
+        .zip(peak_in(&curve, reference.time_range))
+        .map(|(simulated, reference)| Peak { simulated, reference });
+    Ok(ProbeComparison {
+        name: probe.name.clone(),
+        kind: probe.kind,
+        simulated: samples.to_vec(),
+        reference: vec![(label, curve)],
+        error: None,
+        peak,
+    })
 }
 
 /// Draws probe comparisons on one figure: one line per `(label, comparison)`, the reference
 /// points (from the first) as markers. The paper's Fig. 1 when the runs are `wcsph` and
-/// `corrected`.
+/// `corrected` and the probe is the dam-break front.
 pub fn front_figure(title: &str, runs: &[(String, &ProbeComparison)]) -> Figure {
     let mut series: Vec<Series> = runs
         .iter()
@@ -224,10 +320,16 @@ pub fn front_figure(title: &str, runs: &[(String, &ProbeComparison)]) -> Figure 
             });
         }
     }
+    let force = runs.first().is_some_and(|(_, c)| c.kind == ProbeKind::Force);
     Figure {
         title: title.into(),
-        x_label: "T = t sqrt(g/a)".into(),
-        y_label: "Z = z/a (surge front)".into(),
+        x_label: if force { "t [s]" } else { "T = t sqrt(g/a)" }.into(),
+        y_label: if force {
+            "force on the solid [N]"
+        } else {
+            "Z = z/a (surge front)"
+        }
+        .into(),
         series,
         ..Figure::default()
     }

@@ -229,26 +229,27 @@ fn drive<const D: usize>(
         writers.as_ref().map(|w| w.dir.as_path()),
         scene.output_interval / 10.0,
     )?;
-    probes.record(0.0, &sim.fields, true)?;
+    probes.record(0.0, 0.0, &sim.fields, sim.solid_forces(), true)?;
     let start = Instant::now();
     let mut next_frame = scene.output_interval;
     let mut limits = std::collections::BTreeMap::<String, u64>::new();
     let mut failure = None;
     while sim.clock().time < end {
-        match sim.step(end) {
+        let dt = match sim.step(end) {
             Ok(report) => {
                 let name = serde_json::to_value(report.limit)
                     .ok()
                     .and_then(|v| v.as_str().map(String::from));
                 *limits.entry(name.unwrap_or_default()).or_default() += 1;
+                report.dt
             }
             Err(e) => {
                 failure = Some(e);
                 break;
             }
-        }
+        };
         let clock = sim.clock();
-        probes.record(clock.time, &sim.fields, clock.time >= end)?;
+        probes.record(clock.time, dt, &sim.fields, sim.solid_forces(), clock.time >= end)?;
         if let Some(w) = writers.as_mut() {
             if let Some(log) = w.forces.as_mut() {
                 for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
@@ -324,9 +325,20 @@ fn drive<const D: usize>(
     let comparisons = compare(scene, &probes)?;
     let mut probe_errors = serde_json::Map::new();
     for c in &comparisons {
-        let value = match &c.error {
-            Some(e) => serde_json::json!({"error_max": e.max, "error_mean": e.mean, "points": e.count}),
-            None => serde_json::Value::Null,
+        let value = match (&c.error, &c.peak) {
+            (Some(e), _) => serde_json::json!({"error_max": e.max, "error_mean": e.mean, "points": e.count}),
+            (None, Some(peak)) => {
+                let (sim, reference) = (peak.simulated, peak.reference);
+                serde_json::json!({
+                    "peak_time_s": sim.0,
+                    "peak_N": sim.1,
+                    "reference_peak_time_s": reference.0,
+                    "reference_peak_N": reference.1,
+                    "peak_error": (sim.1 - reference.1) / reference.1,
+                    "peak_time_error_s": sim.0 - reference.0,
+                })
+            }
+            (None, None) => serde_json::Value::Null,
         };
         probe_errors.insert(c.name.clone(), value);
     }

@@ -595,7 +595,11 @@ pub fn comparisons_from_csv(scene: &Scene, path: &Path) -> Result<Vec<ProbeCompa
         if probe.reference.is_none() {
             continue;
         }
-        let k = column(&format!("{}_m", probe.name))?;
+        let unit = match probe.kind {
+            crate::scene::ProbeKind::Front => "m",
+            crate::scene::ProbeKind::Force => "N",
+        };
+        let k = column(&format!("{}_{unit}", probe.name))?;
         let samples: Vec<(f64, f64)> = rows.iter().map(|r| (r[time], r[k])).collect();
         if let Some(c) = compare_samples(scene, probe, &samples)? {
             out.push(c);

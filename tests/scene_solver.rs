@@ -835,3 +835,57 @@ proptest! {
         check_result(parse_set(CORRECTED, &[&format!("solver.{key}={value}")]));
     }
 }
+
+/// `CORRECTED` plus a force probe on the tank (`extra` is appended inside it).
+fn with_force_probe(extra: &str) -> String {
+    format!("{CORRECTED}\n[[probe]]\nname = \"wall_force\"\nkind = \"force\"\n{extra}")
+}
+
+#[test]
+fn force_probe_names_an_existing_solid_and_defaults_its_time_range() {
+    let text =
+        with_force_probe("solid = \"tank\"\naxis = \"x\"\n\n[probe.reference]\nfile = \"force.csv\"\n");
+    let scene = parse(&text).expect("valid");
+    let p = &scene.probes[2];
+    assert_eq!(p.kind, sc::ProbeKind::Force);
+    assert_eq!(p.solid, Some(0));
+    let r = p.reference.as_ref().expect("reference");
+    assert_eq!(r.time_range, (0.0, 1.0), "default: the whole run");
+}
+
+#[test]
+fn bad_force_probes_name_the_key() {
+    let cases = [
+        ("axis = \"x\"\n", "probe[2].solid", "required"),
+        ("solid = \"lid\"\n", "probe[2].solid", "no solid named"),
+        (
+            "solid = \"tank\"\norigin = 0.1\n",
+            "probe[2].origin",
+            "only with kind",
+        ),
+        (
+            "solid = \"tank\"\n\n[probe.reference]\nfile = \"f.csv\"\nlength = 0.2\n",
+            "probe[2].reference.length",
+            "only for a front",
+        ),
+    ];
+    for (extra, key, reason) in cases {
+        let ps = problems(parse(&with_force_probe(extra)));
+        let p = with_key(&ps, key);
+        assert!(p.reason.contains(reason), "{extra}: {}", p.reason);
+    }
+    let front_with_solid = edit(
+        CORRECTED,
+        "name = \"height\"\n",
+        "name = \"height\"\nsolid = \"tank\"\n",
+    );
+    let ps = problems(parse(&front_with_solid));
+    assert!(with_key(&ps, "probe[1].solid").reason.contains("only with kind"));
+    let front_without_length = edit(CORRECTED, "length = 0.25\n", "");
+    let ps = problems(parse(&front_without_length));
+    assert!(
+        with_key(&ps, "probe[0].reference.length")
+            .reason
+            .contains("required")
+    );
+}

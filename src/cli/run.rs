@@ -113,11 +113,21 @@ pub fn run(
     }
     if let Some(serde_json::Value::Object(errors)) = summary.extra.get("probe_errors") {
         for (name, e) in errors {
-            match (e.get("error_max"), e.get("error_mean")) {
-                (Some(max), Some(mean)) => println!(
+            let num = |k: &str| e.get(k).and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
+            match (e.get("error_max"), e.get("peak_N")) {
+                (Some(_), _) => println!(
                     "probe {name}: error against reference max {:.1} %, mean {:.1} %",
-                    100.0 * max.as_f64().unwrap_or(f64::NAN),
-                    100.0 * mean.as_f64().unwrap_or(f64::NAN)
+                    100.0 * num("error_max"),
+                    100.0 * num("error_mean")
+                ),
+                (None, Some(_)) => println!(
+                    "probe {name}: peak {:.2} N at t = {:.3} s; reference {:.2} N at {:.3} s ({:+.1} %, {:+.3} s)",
+                    num("peak_N"),
+                    num("peak_time_s"),
+                    num("reference_peak_N"),
+                    num("reference_peak_time_s"),
+                    100.0 * num("peak_error"),
+                    num("peak_time_error_s")
                 ),
                 _ => println!("probe {name}: no reference point inside the simulated time"),
             }

@@ -153,6 +153,8 @@ pub struct Probe {
     /// Coordinate \[m\] subtracted from the measurement: a front is reported as the largest
     /// fluid coordinate along `axis` minus `origin`.
     pub origin: f64,
+    /// Force probes: index of the measured solid in `Scene::solids`.
+    pub solid: Option<usize>,
     /// Reference data to compare with, if any.
     pub reference: Option<ProbeReference>,
 }
@@ -166,9 +168,9 @@ pub struct ProbeReference {
     pub file: PathBuf,
     /// Series (columns) to compare with; empty means all series of the file.
     pub series: Vec<String>,
-    /// Length scale a \[m\] > 0 for Z = x / a and T = t sqrt(g / a).
+    /// Front: length scale a \[m\] > 0 for Z = x / a and T = t sqrt(g / a); 0 for a force.
     pub length: f64,
-    /// `(T0, T1)`, T0 < T1: the normalised times where the error is measured.
+    /// `(T0, T1)`, T0 < T1: where the error is measured (front: normalised times; force: \[s\]).
     pub time_range: (f64, f64),
 }
 

@@ -87,6 +87,8 @@ impl Integrator {
 pub enum ProbeKind {
     /// The fluid front: the largest fluid coordinate along `axis`, minus `origin` \[m\].
     Front,
+    /// The force of the fluid on the solid `solid` along `axis` \[N\] (\[N/m\] in 2D).
+    Force,
 }
 
 impl ProbeKind {
@@ -94,6 +96,7 @@ impl ProbeKind {
     pub fn name(self) -> &'static str {
         match self {
             ProbeKind::Front => "front",
+            ProbeKind::Force => "force",
         }
     }
 }
@@ -246,8 +249,10 @@ pub struct ProbeFile {
     pub kind: ProbeKind,
     /// `"x"`, `"y"` or `"z"`, below `dimension`; default `"x"`.
     pub axis: Option<String>,
-    /// Coordinate subtracted from the measurement \[m\], finite; default 0.
+    /// Coordinate subtracted from the measurement \[m\], finite; default 0 (front only).
     pub origin: Option<f64>,
+    /// Name of the solid whose force is measured (force only, required there).
+    pub solid: Option<String>,
     /// Reference data to compare with; optional.
     pub reference: Option<ProbeReferenceFile>,
 }
@@ -260,9 +265,10 @@ pub struct ProbeReferenceFile {
     pub file: String,
     /// Series (columns) of the file to compare with; absent or empty means all.
     pub series: Option<Vec<String>>,
-    /// Length scale a \[m\] > 0 for Z = x / a and T = t sqrt(g / a).
-    pub length: f64,
-    /// `[T0, T1]`, finite, T0 < T1: the normalised times where the error is measured;
-    /// default `[1.0, 3.0]`.
+    /// Front: length scale a \[m\] > 0 for Z = x / a and T = t sqrt(g / a) (required there;
+    /// not allowed for a force).
+    pub length: Option<f64>,
+    /// `[T0, T1]`, finite, T0 < T1: where the error is measured; front: normalised times,
+    /// default `[1.0, 3.0]`; force: times \[s\], default `[0, end_time]`.
     pub time_range: Option<Vec<f64>>,
 }

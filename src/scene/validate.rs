@@ -12,7 +12,7 @@
 use std::path::PathBuf;
 
 use super::generate::{self, axis_name, fmt_box, intersection, outside_axis, solid_extent};
-use super::schema::{BoxFile, Effect, ProbeFile, SceneFile, SolidShape, SolverFile, SolverKind};
+use super::schema::{BoxFile, Effect, ProbeFile, ProbeKind, SceneFile, SolidShape, SolverFile, SolverKind};
 use super::{
     Aabb, FluidBox, KeyPath, Location, Probe, ProbeReference, Problem, Scene, SceneError, Solid,
     SolverSettings,
@@ -557,11 +557,37 @@ fn check_probe(
         Some(o) => c.finite(path.k("origin"), o),
         None => Some(0.0),
     };
+    let force = pf.kind == ProbeKind::Force;
+    let solid = match (&pf.solid, force) {
+        (None, false) => Some(None),
+        (Some(_), false) => {
+            c.err(path.k("solid"), "only with kind = \"force\"".into());
+            None
+        }
+        (None, true) => {
+            c.err(
+                path.k("solid"),
+                "required with kind = \"force\": the solid's name".into(),
+            );
+            None
+        }
+        (Some(name), true) => match file.solid.iter().position(|s| &s.name == name) {
+            Some(k) => Some(Some(k)),
+            None => {
+                c.err(path.k("solid"), format!("no solid named {name:?}"));
+                None
+            }
+        },
+    };
+    if force && pf.origin.is_some() {
+        c.err(path.k("origin"), "only with kind = \"front\"".into());
+        ok = false;
+    }
     let reference = match &pf.reference {
         None => Some(None),
         Some(r) => {
             let rp = path.k("reference");
-            if !has_grav {
+            if !has_grav && !force {
                 c.err(
                     rp.clone(),
                     "needs effect \"gravity\" (the reference time is T = t sqrt(g / a))".into(),
@@ -585,8 +611,23 @@ fn check_probe(
                     ok = false;
                 }
             }
-            let length = c.positive(rp.k("length"), r.length);
+            let length = match (r.length, force) {
+                (Some(l), false) => c.positive(rp.k("length"), l),
+                (None, false) => {
+                    c.err(
+                        rp.k("length"),
+                        "required for a front: the column width a [m]".into(),
+                    );
+                    None
+                }
+                (Some(_), true) => {
+                    c.err(rp.k("length"), "only for a front".into());
+                    None
+                }
+                (None, true) => Some(0.0),
+            };
             let time_range = match r.time_range.as_deref() {
+                None if force => Some((0.0, file.solver.end_time)),
                 None => Some(ProbeReference::DEFAULT_TIME_RANGE),
                 Some(&[t0, t1]) => {
                     let t0 = c.finite(rp.k("time_range").i(0), t0);
@@ -627,6 +668,7 @@ fn check_probe(
         kind: pf.kind,
         axis: axis?,
         origin: origin?,
+        solid: solid?,
         reference: reference?,
     };
     ok.then_some(probe)
