@@ -65,7 +65,8 @@ impl Integrator {
 /// Settings of the position correction, eqs. (23)–(24) (scene `[solver]`, `kind = "corrected"`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Correction {
-    /// Tolerance `δ` of (24) on the compression `max(ρ − ρ0, 0)/ρ0`.
+    /// Tolerance `δ` of (24) on the compression `max(ρ − ρ0, 0)/ρ0` (and, for particles that
+    /// carry pressure, on the expansion: `physics::correction::residual`).
     pub delta: f64,
     /// Iteration cap per integrator stage.
     pub max_iterations: u32,
@@ -149,7 +150,7 @@ pub enum StepError {
     /// The position correction hit its iteration cap in a `strict` scene.
     #[error(
         "step {step}, t = {time:.6} s, stage {stage}: the position correction did not reach delta = \
-         {delta:e} in {iterations} iterations (residual {compression:.3e}); raise \
+         {delta:e} in {iterations} iterations (residual {residual:.3e}); raise \
          solver.max_iterations, lower the time step, or drop solver.strict"
     )]
     Unconverged {
@@ -163,7 +164,7 @@ pub enum StepError {
         iterations: u32,
         /// Residual left (`physics::correction::residual`: compression, and expansion where
         /// pressure remains).
-        compression: f64,
+        residual: f64,
         /// The tolerance.
         delta: f64,
     },

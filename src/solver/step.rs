@@ -176,8 +176,9 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Eqs. (23)–(24) for integrator stage `stage` (0-based), whose state lies `tau` [s] after
-    /// the step's start: density, pressure increments, displacement, until the compression is
-    /// below `δ` or the cap is hit.
+    /// the step's start: density, pressure increments, displacement, until the residual
+    /// (compression, and the expansion of particles that carry pressure) is below `δ` or the cap
+    /// is hit. Returns the correction's force on each solid over the stage [N].
     fn correct(
         &mut self,
         stage: usize,
@@ -242,14 +243,14 @@ impl<const D: usize> Simulation<D> {
             return Ok(solid_force);
         }
         s.unconverged_stages += 1;
-        let compression = error.residual;
-        if strict || !compression.is_finite() {
+        let residual = error.residual;
+        if strict || !residual.is_finite() {
             return Err(StepError::Unconverged {
                 step: self.clock.step,
                 time: self.clock.time,
                 stage: stage + 1,
                 iterations,
-                compression,
+                residual,
                 delta,
             });
         }
