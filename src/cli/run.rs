@@ -9,6 +9,21 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
+/// The run's progress bar (simulated time out of 1000), drawn only when stderr is a terminal.
+pub(crate) fn progress_bar() -> ProgressBar {
+    let target = if std::io::stderr().is_terminal() {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    };
+    let bar = ProgressBar::with_draw_target(Some(1000), target);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} t = {msg} ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
+
 /// Runs the scene at `path`.
 pub fn run(
     path: &Path,
@@ -38,16 +53,7 @@ pub fn run(
         threads: pool.current_num_threads(),
         scene_name: scene.name.clone().unwrap_or(stem),
     };
-    let target = if std::io::stderr().is_terminal() {
-        ProgressDrawTarget::stderr()
-    } else {
-        ProgressDrawTarget::hidden()
-    };
-    let bar = ProgressBar::with_draw_target(Some(1000), target);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} t = {msg} ETA {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = progress_bar();
     let mut last = std::time::Instant::now();
     let mut warned = 0u64;
     let summary = pool.install(|| {

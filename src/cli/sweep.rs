@@ -6,8 +6,7 @@ use crate::backend::BackendKind;
 use crate::run::RunOptions;
 use crate::sweep::{Sweep, SweepEvent, VariantResult, run_sweep};
 use anyhow::Context;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::IsTerminal;
+use indicatif::ProgressBar;
 use std::path::{Path, PathBuf};
 
 /// Runs the sweep of the scene at `path` over `sets` (each `KEY=V1,V2,...`).
@@ -43,7 +42,6 @@ pub fn sweep(
         threads: pool.current_num_threads(),
         scene_name,
     };
-    let terminal = std::io::stderr().is_terminal();
     let mut bar: Option<ProgressBar> = None;
     let mut last = std::time::Instant::now();
     let report = pool.install(|| {
@@ -55,17 +53,7 @@ pub fn sweep(
                 dir,
             } => {
                 println!("variant {index}/{count}: {} (in {})", variant.name, dir.display());
-                let target = if terminal {
-                    ProgressDrawTarget::stderr()
-                } else {
-                    ProgressDrawTarget::hidden()
-                };
-                let b = ProgressBar::with_draw_target(Some(1000), target);
-                b.set_style(
-                    ProgressStyle::with_template("{bar:30} t = {msg} ETA {eta}")
-                        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-                );
-                bar = Some(b);
+                bar = Some(super::run::progress_bar());
             }
             SweepEvent::Progress(p) => {
                 if let Some(b) = &bar
