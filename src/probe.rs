@@ -156,13 +156,30 @@ pub struct ProbeComparison {
     pub peak: Option<Peak>,
 }
 
-/// The largest force within a force probe's time range, as `(t [s], F [N])`.
+/// The largest force within a force probe's time range, as `(t [s], F [N])`, and the impact
+/// onset before it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Peak {
     /// Of the simulation.
     pub simulated: (f64, f64),
     /// Of the reference record.
     pub reference: (f64, f64),
+    /// Impact onset `(simulated, reference)` [s]: the first time each curve reaches
+    /// [`ONSET_FRACTION`] of the reference peak, linearly interpolated; `None` when either never
+    /// does within the range. The peak time measured from the onset does not depend on where a
+    /// record puts its time origin (Yeh & Petroff's is inferred, see validation/SOURCES.md).
+    pub onset: Option<(f64, f64)>,
+}
+
+/// The fraction of the reference peak that marks the impact onset of a force record.
+pub const ONSET_FRACTION: f64 = 0.25;
+
+impl Peak {
+    /// Simulated minus reference time from onset to peak [s]; `None` without onsets.
+    pub fn rise_time_error(&self) -> Option<f64> {
+        self.onset
+            .map(|(sim, reference)| (self.simulated.0 - sim) - (self.reference.0 - reference))
+    }
 }
 
 /// Errors comparing a probe with reference data.
@@ -271,6 +288,22 @@ fn peak_in(points: &[(f64, f64)], range: (f64, f64)) -> Option<(f64, f64)> {
         .max_by(|a, b| a.1.total_cmp(&b.1))
 }
 
+/// The first time within `range` at which `points` (in time order) reach `level`, linearly
+/// interpolated between the samples either side.
+fn onset_in(points: &[(f64, f64)], range: (f64, f64), level: f64) -> Option<f64> {
+    let inside: Vec<(f64, f64)> = points
+        .iter()
+        .copied()
+        .filter(|(t, v)| *t >= range.0 && *t <= range.1 && t.is_finite() && v.is_finite())
+        .collect();
+    let first = inside.iter().position(|&(_, v)| v >= level)?;
+    if first == 0 {
+        return Some(inside[0].0);
+    }
+    let ((t0, v0), (t1, v1)) = (inside[first - 1], inside[first]);
+    Some(t0 + (t1 - t0) * (level - v0) / (v1 - v0))
+}
+
 /// A force probe against a force record (time [s], force [N]): the first peak.
 fn compare_force(
     probe: &Probe,
@@ -282,13 +315,28 @@ fn compare_force(
         source,
     })?;
     let curve: Vec<(f64, f64)> = points.iter().map(|p| (p.time, p.force)).collect();
+    let mut in_time = curve.clone();
+    in_time.sort_by(|a, b| a.0.total_cmp(&b.0));
     let label = reference
         .file
         .file_stem()
         .map_or_else(|| "reference".to_string(), |s| s.to_string_lossy().into_owned());
-    let peak = peak_in(samples, reference.time_range)
-        .zip(peak_in(&curve, reference.time_range))
-        .map(|(simulated, reference)| Peak { simulated, reference });
+    let range = reference.time_range;
+    let peak = peak_in(samples, range)
+        .zip(peak_in(&curve, range))
+        .map(|(simulated, reference)| {
+            let level = ONSET_FRACTION * reference.1;
+            let onset = onset_in(samples, (range.0, simulated.0), level).zip(onset_in(
+                &in_time,
+                (range.0, reference.0),
+                level,
+            ));
+            Peak {
+                simulated,
+                reference,
+                onset,
+            }
+        });
     Ok(ProbeComparison {
         name: probe.name.clone(),
         kind: probe.kind,

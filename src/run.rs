@@ -336,6 +336,9 @@ fn drive<const D: usize>(
                     "reference_peak_N": reference.1,
                     "peak_error": (sim.1 - reference.1) / reference.1,
                     "peak_time_error_s": sim.0 - reference.0,
+                    "onset_time_s": peak.onset.map(|o| o.0),
+                    "reference_onset_time_s": peak.onset.map(|o| o.1),
+                    "rise_time_error_s": peak.rise_time_error(),
                 })
             }
             (None, None) => serde_json::Value::Null,

@@ -101,7 +101,8 @@ fn force_peak_is_found_within_the_reference_range() {
     let record = dir.join("record.csv");
     std::fs::write(
         &record,
-        "time_s,force_x_N\n0.0,0.0\n0.2,10.0\n0.4,30.0\n0.6,20.0\n0.9,50.0\n",
+        // Out of time order, as the ANUGA digitisation is.
+        "time_s,force_x_N\n0.4,30.0\n0.0,0.0\n0.9,50.0\n0.2,10.0\n0.6,20.0\n",
     )
     .expect("write");
     let text = format!(
@@ -116,5 +117,18 @@ fn force_peak_is_found_within_the_reference_range() {
     let peak = c.peak.expect("peaks in range");
     assert_eq!(peak.simulated, (0.35, 40.0), "0.85 s lies outside the range");
     assert_eq!(peak.reference, (0.4, 30.0), "0.9 s lies outside the range");
+    // Onset at 25 % of the reference peak (7.5 N): simulated between (0.1, 1) and (0.35, 40),
+    // reference between (0, 0) and (0.2, 10).
+    let (sim_onset, ref_onset) = peak.onset.expect("both curves reach 7.5 N");
+    assert!(
+        (sim_onset - (0.1 + 0.25 * 6.5 / 39.0)).abs() < 1e-12,
+        "{sim_onset}"
+    );
+    assert!((ref_onset - 0.15).abs() < 1e-12, "{ref_onset}");
+    let rise = peak.rise_time_error().expect("onsets");
+    assert!(
+        (rise - ((0.35 - sim_onset) - (0.4 - 0.15))).abs() < 1e-12,
+        "{rise}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -126,15 +126,25 @@ pub fn run(
                     100.0 * num("error_max"),
                     100.0 * num("error_mean")
                 ),
-                (None, Some(_)) => println!(
-                    "probe {name}: peak {:.2} N at t = {:.3} s; reference {:.2} N at {:.3} s ({:+.1} %, {:+.3} s)",
-                    num("peak_N"),
-                    num("peak_time_s"),
-                    num("reference_peak_N"),
-                    num("reference_peak_time_s"),
-                    100.0 * num("peak_error"),
-                    num("peak_time_error_s")
-                ),
+                (None, Some(_)) => {
+                    println!(
+                        "probe {name}: peak {:.2} N at t = {:.3} s; reference {:.2} N at {:.3} s ({:+.1} %, {:+.3} s)",
+                        num("peak_N"),
+                        num("peak_time_s"),
+                        num("reference_peak_N"),
+                        num("reference_peak_time_s"),
+                        100.0 * num("peak_error"),
+                        num("peak_time_error_s")
+                    );
+                    if num("onset_time_s").is_finite() {
+                        println!(
+                            "probe {name}: impact onset at t = {:.3} s, reference {:.3} s; onset to peak {:+.3} s against the reference",
+                            num("onset_time_s"),
+                            num("reference_onset_time_s"),
+                            num("rise_time_error_s")
+                        );
+                    }
+                }
                 _ => println!("probe {name}: no reference point inside the simulated time"),
             }
         }
