@@ -23,8 +23,28 @@ const FORCE_ANUGA: &str = concat!(
     "/../shared/validation/yeh_petroff_column_force_anuga.csv"
 );
 
+/// A file written under a fresh directory in the system temp dir; the directory is removed
+/// when this is dropped.
+struct TempCsv {
+    dir: PathBuf,
+    path: PathBuf,
+}
+
+impl std::ops::Deref for TempCsv {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for TempCsv {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
 /// Writes `text` to a fresh file under the system temp dir.
-fn temp_csv(name: &str, text: &str) -> PathBuf {
+fn temp_csv(name: &str, text: &str) -> TempCsv {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let dir = std::env::temp_dir().join(format!(
         "sph_validation_test_{}_{}",
@@ -35,7 +55,7 @@ fn temp_csv(name: &str, text: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
-    path
+    TempCsv { dir, path }
 }
 
 /// Number of points of `series` in `points`.
@@ -184,7 +204,7 @@ fn bad_number_names_file_line_and_column() {
             column,
             text,
         } => {
-            assert_eq!(p, &path);
+            assert_eq!(p, &path.path);
             assert_eq!(*line, 3);
             assert_eq!(column, "force_x_N");
             assert_eq!(text, "abc");
