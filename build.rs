@@ -1,4 +1,82 @@
-//! Build script: nothing to embed yet (the CUDA kernels arrive with the CUDA backend issue).
+//! Build script.
+//!
+//! - Embeds every CUDA kernel of `kernels/*.cu` in the binary, with the local `#include "x.cuh"`
+//!   lines inlined, as `KERNEL_SOURCES` in `$OUT_DIR/kernels.rs` (`backend::cuda::sources`): the
+//!   CUDA backend compiles them at run time with NVRTC, so no file of the source tree is needed.
+//! - With `--features cuda`, compiles the same kernels as C++ with the host shim of
+//!   `kernels/shim/` (once per dimension) into a static library, so tests can run every kernel on
+//!   the CPU and compare it with the rayon stage it mirrors (`tests/cuda_shim.rs`).
+use std::fs;
+use std::path::{Path, PathBuf};
+
+/// `source` with every `#include "name"` of a file beside it replaced by that file's text
+/// (recursively, each header once, as `#pragma once` would).
+fn inline_includes(dir: &Path, source: &str, seen: &mut Vec<String>) -> String {
+    let mut out = String::new();
+    for line in source.lines() {
+        let trimmed = line.trim();
+        if let Some(rest) = trimmed.strip_prefix("#include \"") {
+            let name = rest.trim_end_matches('"').to_string();
+            if !seen.contains(&name) {
+                let path = dir.join(&name);
+                let text = fs::read_to_string(&path)
+                    .unwrap_or_else(|e| panic!("kernels: cannot read {}: {e}", path.display()));
+                seen.push(name);
+                out.push_str(&inline_includes(dir, &text, seen));
+            }
+            continue;
+        }
+        if trimmed == "#pragma once" {
+            continue;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
+}
+
 fn main() {
+    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets it"));
+    let kernels = manifest.join("kernels");
     println!("cargo::rerun-if-changed=build.rs");
+    println!("cargo::rerun-if-changed=kernels");
+    let mut names: Vec<PathBuf> = fs::read_dir(&kernels)
+        .expect("kernels/ exists")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "cu"))
+        .collect();
+    names.sort();
+    let mut generated = String::from(
+        "/// Every kernel file of `kernels/`: (file stem, source with its headers inlined).\n\
+         pub const KERNEL_SOURCES: &[(&str, &str)] = &[\n",
+    );
+    for path in &names {
+        println!("cargo::rerun-if-changed={}", path.display());
+        let text = fs::read_to_string(path).expect("readable kernel");
+        let source = inline_includes(&kernels, &text, &mut Vec::new());
+        let stem = path.file_stem().expect("file name").to_string_lossy();
+        generated.push_str(&format!("    ({stem:?}, {source:?}),\n"));
+    }
+    generated.push_str("];\n");
+    let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets it"));
+    fs::write(out.join("kernels.rs"), generated).expect("writable OUT_DIR");
+
+    #[cfg(feature = "cuda")]
+    compile_shim(&kernels);
+}
+
+/// The kernels as C++ for the CPU, one static library per dimension.
+#[cfg(feature = "cuda")]
+fn compile_shim(kernels: &Path) {
+    for dim in ["2", "3"] {
+        cc::Build::new()
+            .cpp(true)
+            .file(kernels.join("shim/shim.cpp"))
+            .define("SPH_DIM", dim)
+            .flag_if_supported("-std=c++17")
+            .flag_if_supported("-Wno-unused-function")
+            .flag_if_supported("-Wno-unused-parameter")
+            .opt_level(2)
+            .compile(&format!("sph_kernel_shim_{dim}"));
+    }
 }

@@ -7,6 +7,10 @@
 
 use super::BackendError;
 
+pub mod sources;
+#[cfg(feature = "cuda")]
+pub mod shim;
+
 /// Checks whether the CUDA backend can run on this machine.
 pub fn probe() -> Result<(), BackendError> {
     Err(BackendError::Unavailable {

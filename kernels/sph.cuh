@@ -1,0 +1,169 @@
+// Shared by every kernel in this folder: the dimension, the step parameters, the neighbour grid
+// and the smoothing kernels. Mirrors `backend::params`, `smoothing.rs` and the CUDA backend's
+// dense cell grid (`backend::cuda::grid`). Single precision, as in the paper (section 3).
+//
+// Rules for kernels here (so the C++ host shim in `shim/` runs them exactly):
+// - one thread per item, `unsigned i = blockIdx.x * blockDim.x + threadIdx.x; if (i >= n) return;`;
+// - no shared memory, no __syncthreads, no warp intrinsics: a thread never waits for another;
+// - cross-thread results only through the atomics of `shim/cuda_shim.h` (atomicAdd on unsigned,
+//   float and double, atomicMax/atomicMin on int and unsigned).
+// - every entry point is declared with SPH_KERNEL(name)(args), which is `extern "C" __global__`
+//   on the GPU and a plain function in the shim.
+#pragma once
+
+#ifndef SPH_DIM
+#error "compile with -DSPH_DIM=2 or -DSPH_DIM=3"
+#endif
+#define D SPH_DIM
+
+#ifndef SPH_KERNEL
+#define SPH_KERNEL(name) extern "C" __global__ void name
+#endif
+
+#define SPH_FLUID 0u
+
+typedef unsigned int u32;
+
+/// A D-vector of floats, laid out as the Rust `Vector<D>` (`[f32; D]`).
+struct vec_t {
+    float c[D];
+};
+
+__device__ __forceinline__ vec_t vzero() {
+    vec_t r;
+    for (int k = 0; k < D; ++k) r.c[k] = 0.0f;
+    return r;
+}
+__device__ __forceinline__ vec_t vload(const float* a, u32 i) {
+    vec_t r;
+    for (int k = 0; k < D; ++k) r.c[k] = a[(size_t)i * D + k];
+    return r;
+}
+__device__ __forceinline__ void vstore(float* a, u32 i, vec_t v) {
+    for (int k = 0; k < D; ++k) a[(size_t)i * D + k] = v.c[k];
+}
+__device__ __forceinline__ vec_t vsub(vec_t a, vec_t b) {
+    for (int k = 0; k < D; ++k) a.c[k] -= b.c[k];
+    return a;
+}
+__device__ __forceinline__ vec_t vadd(vec_t a, vec_t b) {
+    for (int k = 0; k < D; ++k) a.c[k] += b.c[k];
+    return a;
+}
+__device__ __forceinline__ vec_t vscale(vec_t a, float s) {
+    for (int k = 0; k < D; ++k) a.c[k] *= s;
+    return a;
+}
+__device__ __forceinline__ float vdot(vec_t a, vec_t b) {
+    float s = 0.0f;
+    for (int k = 0; k < D; ++k) s += a.c[k] * b.c[k];
+    return s;
+}
+
+/// Mirror of `backend::params::StepParams<D>` (`#[repr(C)]`), SI units.
+struct StepParams {
+    float h;                        // kernel support [m]
+    float rho0;                     // rest density [kg/m^3]
+    float c2;                       // C^2 of eq. (19) [m^2/s^2]
+    float mu;                       // dynamic viscosity, eq. (17) [Pa s]
+    float alpha;                    // artificial viscosity coefficient
+    float c;                        // sound speed [m/s]
+    float pressure_gradient_scale;  // 1/kappa of the spiky gradient in eq. (16)
+    float gravity[D];               // [m/s^2]
+    float domain_min[D];            // [m]
+    float domain_max[D];            // [m]
+};
+
+/// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of
+/// size h over the domain, padded by one cell on each side.
+struct GridGeometry {
+    float origin[D];  // lower corner of cell (0, 0[, 0]) [m]
+    float inv_cell;   // 1 / cell size [1/m]
+    u32 dims[D];      // cells per axis, x fastest in the key
+};
+
+/// Cell coordinates of a position, clamped to [1, dims - 2] so that the neighbour cells exist.
+/// Clamping is monotone and moves a coordinate by at most the distance to the grid, so every pair
+/// closer than one cell still lands in the same or adjacent cells.
+__device__ __forceinline__ void cell_of(const GridGeometry& g, vec_t x, int cell[D]) {
+    for (int k = 0; k < D; ++k) {
+        float f = floorf((x.c[k] - g.origin[k]) * g.inv_cell);
+        int hi = (int)g.dims[k] - 2;
+        // Compare as float first: a huge or NaN coordinate must not overflow the int conversion.
+        int ck = !(f >= 1.0f) ? 1 : (f > (float)hi ? hi : (int)f);
+        cell[k] = ck;
+    }
+}
+
+__device__ __forceinline__ u32 cell_key(const GridGeometry& g, const int cell[D]) {
+    u32 key = (u32)cell[D - 1];
+    for (int k = D - 2; k >= 0; --k) key = key * g.dims[k] + (u32)cell[k];
+    return key;
+}
+
+/// Visits the 3^(D-1) rows of cells around `key` (the key of particle i's cell at the last sort):
+/// each row `(x-1, x, x+1)` is one contiguous particle range `[cell_start[row-1], cell_start[row+2])`.
+/// BODY sees `j` (u32). Mirrors `Grid::for_each_neighbour`'s ranges (the caller tests r < h).
+#define SPH_FOR_EACH_CANDIDATE(g, cell_start, key, j, BODY)                                  \
+    do {                                                                                      \
+        const u32 _stride1 = (g).dims[0];                                                     \
+        const u32 _rows = (D == 3) ? 9u : 3u;                                                 \
+        for (u32 _r = 0; _r < _rows; ++_r) {                                                  \
+            long long _row = (long long)(key) + ((long long)(_r % 3u) - 1) * _stride1;        \
+            if (D == 3) _row += ((long long)(_r / 3u) - 1) * _stride1 * (long long)(g).dims[1 % D]; \
+            const u32 _a = (cell_start)[_row - 1];                                            \
+            const u32 _b = (cell_start)[_row + 2];                                            \
+            for (u32 j = _a; j < _b; ++j) {                                                   \
+                BODY                                                                          \
+            }                                                                                 \
+        }                                                                                     \
+    } while (0)
+
+/// Mirror of `smoothing::Smoothing<D>` (Müller et al. 2003 kernels), support h.
+struct Smoothing {
+    float h, h2, poly6, spiky, visc, visc_laplacian;
+};
+
+#define SPH_PI 3.14159265358979323846
+
+__device__ __forceinline__ Smoothing smoothing(float h) {
+    Smoothing s;
+    double hd = (double)h;
+    s.h = h;
+    s.h2 = h * h;
+    if (D == 2) {
+        s.poly6 = (float)(4.0 / (SPH_PI * pow(hd, 8)));
+        s.spiky = (float)(10.0 / (SPH_PI * pow(hd, 5)));
+        s.visc = (float)(10.0 / (3.0 * SPH_PI * hd * hd));
+        s.visc_laplacian = (float)(40.0 / (SPH_PI * pow(hd, 5)));
+    } else {
+        s.poly6 = (float)(315.0 / (64.0 * SPH_PI * pow(hd, 9)));
+        s.spiky = (float)(15.0 / (SPH_PI * pow(hd, 6)));
+        s.visc = (float)(15.0 / (2.0 * SPH_PI * hd * hd * hd));
+        s.visc_laplacian = (float)(45.0 / (SPH_PI * pow(hd, 6)));
+    }
+    return s;
+}
+
+/// `smoothing::R_MIN_FRACTION`: below this fraction of h the spiky gradient is zero.
+#define SPH_R_MIN_FRACTION 1.0e-3f
+
+/// Poly6 kernel W(r^2) [1/m^D].
+__device__ __forceinline__ float w_poly6(const Smoothing& s, float r2) {
+    if (r2 >= s.h2) return 0.0f;
+    float q = s.h2 - r2;
+    return s.poly6 * q * q * q;
+}
+
+/// Gradient of the spiky kernel at offset x, |x| = r [1/m^(D+1)].
+__device__ __forceinline__ vec_t grad_w_spiky(const Smoothing& s, vec_t x, float r) {
+    if (r >= s.h || r <= SPH_R_MIN_FRACTION * s.h) return vzero();
+    float q = s.h - r;
+    return vscale(x, -3.0f * s.spiky * q * q / r);
+}
+
+/// Laplacian of the viscosity kernel [1/m^(D+2)].
+__device__ __forceinline__ float laplacian_w_viscosity(const Smoothing& s, float r) {
+    if (r >= s.h) return 0.0f;
+    return s.visc_laplacian * (s.h - r);
+}
