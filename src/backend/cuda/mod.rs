@@ -7,6 +7,7 @@
 
 use super::BackendError;
 
+pub mod grid;
 pub mod sources;
 #[cfg(feature = "cuda")]
 pub mod shim;
