@@ -11,7 +11,7 @@
 //   on the GPU and a plain function in the shim.
 #pragma once
 
-#ifndef SPH_DIM
+#if !defined(SPH_DIM) || (SPH_DIM != 2 && SPH_DIM != 3)
 #error "compile with -DSPH_DIM=2 or -DSPH_DIM=3"
 #endif
 #define D SPH_DIM

@@ -76,6 +76,12 @@ impl ProbeLog {
         })
     }
 
+    /// Whether [`ProbeLog::record`] at time `t` [s] reads particle fields (a front probe is
+    /// due), so a device-resident backend must copy them to the host first.
+    pub fn wants_fields(&self, t: f64, now: bool) -> bool {
+        (t >= self.next || now) && self.probes.iter().any(|p| p.kind == ProbeKind::Front)
+    }
+
     /// Called after every step of length `dt` [s] ending at `t` [s]: records the probes if a
     /// sample is due (or `now`); force probes report their mean over the interval.
     pub fn record<const D: usize>(

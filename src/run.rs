@@ -209,6 +209,7 @@ fn drive<const D: usize>(
         Some(dir) => Some(Writers::create(dir, !sim.solid_names().is_empty())?),
         None => None,
     };
+    sim.use_backend(options.backend)?;
     let solver = scene.solver.kind.name();
     let mut summary = Summary {
         scene: options.scene_name.clone(),
@@ -249,7 +250,13 @@ fn drive<const D: usize>(
             }
         };
         let clock = sim.clock();
-        probes.record(clock.time, dt, &sim.fields, sim.solid_forces(), clock.time >= end)?;
+        let last = clock.time >= end;
+        let frame_due =
+            writers.is_some() && scene.write_frames && (clock.time >= next_frame - 1e-12 * end || last);
+        if frame_due || probes.wants_fields(clock.time, last) {
+            sim.sync_fields()?;
+        }
+        probes.record(clock.time, dt, &sim.fields, sim.solid_forces(), last)?;
         if let Some(w) = writers.as_mut() {
             if let Some(log) = w.forces.as_mut() {
                 for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
@@ -273,6 +280,7 @@ fn drive<const D: usize>(
         });
     }
     let wall = start.elapsed().as_secs_f64();
+    sim.sync_fields()?;
     let clock = sim.clock();
     let stats = sim.stats();
     let steps = clock.step.max(1) as f64;

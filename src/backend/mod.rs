@@ -85,6 +85,24 @@ pub struct StateExtremes {
 pub trait Backend<const D: usize> {
     /// Short name for reports (`"cpu"`, `"cuda"`).
     fn name(&self) -> &'static str;
+    /// Bytes the backend holds beside `Fields` (grid, scratch; device buffers for CUDA).
+    fn heap_bytes(&self) -> usize;
+    /// Whether the state lives in the backend (device memory) rather than in `Fields`, so that
+    /// `Fields` is stale after a stage until [`Backend::download`].
+    fn holds_state(&self) -> bool {
+        false
+    }
+    /// Copies the backend's state into `fields`: every field, in the backend's current order.
+    /// Nothing to do for a backend that works on `fields` itself.
+    fn download(&mut self, _fields: &mut Fields<D>) -> Result<(), BackendError> {
+        Ok(())
+    }
+    /// The first device failure since the last call, if any. Stage methods cannot return errors
+    /// (the CPU's cannot fail); a backend whose stages can fail records the first failure, skips
+    /// the stages after it, and the step driver reports it here at the end of the step.
+    fn take_error(&mut self) -> Option<BackendError> {
+        None
+    }
     /// Section 3: hash particles to cells of size `h`, radix-sort, reorder every field.
     fn sort_by_cell(&mut self, fields: &mut Fields<D>, h: f32) -> Result<(), GridError>;
     /// Eq. (18): density of fluid particles by summation.
@@ -144,7 +162,7 @@ pub enum BackendKind {
     Cuda,
 }
 
-/// Errors of backend selection and setup.
+/// Errors of backend selection, setup and device transfers.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BackendError {
     /// The backend cannot run here; the reason says why.
@@ -153,6 +171,16 @@ pub enum BackendError {
         /// Backend name.
         backend: &'static str,
         /// Why it cannot run.
+        reason: String,
+    },
+    /// The device failed during the run (a launch, a copy, an allocation).
+    #[error("backend {backend} failed while {during}: {reason}")]
+    Device {
+        /// Backend name.
+        backend: &'static str,
+        /// What it was doing.
+        during: String,
+        /// The driver's message.
         reason: String,
     },
 }

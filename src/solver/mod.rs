@@ -10,6 +10,7 @@ pub mod timestep;
 
 use crate::backend::cpu::CpuBackend;
 use crate::backend::params::StepParams;
+use crate::backend::{Backend, BackendError, BackendKind};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::physics::gravity::gravity_at;
@@ -168,6 +169,14 @@ pub enum StepError {
         /// The tolerance.
         delta: f64,
     },
+    /// The backend failed (a device launch or copy).
+    #[error("step {step}: {source}")]
+    Backend {
+        /// Step number.
+        step: u64,
+        /// The backend's error.
+        source: crate::backend::BackendError,
+    },
     /// The neighbour grid could not be built.
     #[error("step {step}: {source}")]
     Grid {
@@ -263,7 +272,10 @@ impl CorrectionStats {
 pub struct Simulation<const D: usize> {
     /// Particle fields (cell-sorted after the first step).
     pub fields: Fields<D>,
-    backend: CpuBackend<D>,
+    backend: Box<dyn Backend<D>>,
+    /// `fields` lags the backend's state (a device-resident backend ran stages since the last
+    /// [`Simulation::sync_fields`]).
+    fields_stale: bool,
     plan: Vec<Stage>,
     config: SimConfig<D>,
     solid_names: Vec<String>,
@@ -345,7 +357,8 @@ impl<const D: usize> Simulation<D> {
         });
         Ok(Self {
             fields,
-            backend: CpuBackend::new(),
+            backend: Box::new(CpuBackend::new()),
+            fields_stale: false,
             plan,
             solid_names: solids.iter().map(|(n, _)| n.clone()).collect(),
             pressure_gradient_scale: (1.0 / kappa) as Real,
@@ -397,8 +410,37 @@ impl<const D: usize> Simulation<D> {
 
     /// Backend name.
     pub fn backend_name(&self) -> &'static str {
-        use crate::backend::Backend;
         self.backend.name()
+    }
+
+    /// Runs the stages on `kind` from now on (the CPU backend is the default). The CUDA backend
+    /// takes a copy of the current fields into device memory.
+    ///
+    /// # Errors
+    /// [`BackendError`] when the backend cannot run here (no `--features cuda`, no driver, no
+    /// NVRTC, no GPU) or the upload fails.
+    pub fn use_backend(&mut self, kind: BackendKind) -> Result<(), BackendError> {
+        self.sync_fields()?;
+        self.backend = match kind {
+            BackendKind::Cpu => Box::new(CpuBackend::new()),
+            BackendKind::Cuda => crate::backend::cuda::create(&self.fields, &self.step_params())?,
+        };
+        self.grid_fresh = false;
+        self.density_fresh = false;
+        Ok(())
+    }
+
+    /// Brings `fields` up to date with the backend's state (a copy from the device for CUDA;
+    /// nothing for the CPU). Call before reading `fields` after steps.
+    ///
+    /// # Errors
+    /// [`BackendError::Device`] when the copy fails.
+    pub fn sync_fields(&mut self) -> Result<(), BackendError> {
+        if self.fields_stale {
+            self.backend.download(&mut self.fields)?;
+            self.fields_stale = false;
+        }
+        Ok(())
     }
 
     /// Bytes held by the particle fields, the grid and the scratch buffers.

