@@ -12,7 +12,12 @@
 #define __global__
 #define __device__
 #define __host__
-#define __forceinline__ inline
+// `static`: the shim is built once per dimension and both libraries are linked into one binary;
+// an `inline` helper (`vload`, `smoothing`, a kernel's template body) has the same mangled name
+// in both but a different body (the vector length D), and the linker would keep one of them for
+// both dimensions. Every device helper is `__device__ __forceinline__`, so each library keeps its
+// own.
+#define __forceinline__ static inline
 #define __restrict__
 
 using std::floor;
@@ -29,8 +34,9 @@ struct sph_uint3 {
     unsigned int x, y, z;
 };
 
-// The launch indices of the thread being run (one at a time).
-static sph_uint3 threadIdx, blockIdx, blockDim, gridDim;
+// The launch indices of the thread being run (one at a time). Per OS thread: tests call the
+// launchers from several threads at once.
+static thread_local sph_uint3 threadIdx, blockIdx, blockDim, gridDim;
 
 inline unsigned int atomicAdd(unsigned int* a, unsigned int v) { unsigned int o = *a; *a += v; return o; }
 inline int atomicAdd(int* a, int v) { int o = *a; *a += v; return o; }

@@ -1,0 +1,142 @@
+// Eqs. (23)-(24): the position correction (section 2), one sweep as the CPU runs it. Twins of
+// `CpuBackend::correction_error`, `correction_pressure`, `correct_positions` and of
+// `physics::correction`. A sweep on the device:
+//   correction_pressure_fluid -> correction_pressure_wall -> correction_pressure_apply
+//   (= `correction_pressure`), then correction_displacement -> host scale -> apply_displacement
+//   (= `correct_positions`). Maxima are float bits in ints (see `extremes.cuh`); the host zeroes
+//   them before the launch.
+#include "sph.cuh"
+#include "extremes.cuh"
+#include "pair_forces.cuh"
+
+/// The density error `(rho - rho0)/rho0` in f64, as `correction::compression` and `residual`.
+__device__ __forceinline__ double correction_density_error(float rho, float rho0) {
+    return ((double)rho - (double)rho0) / (double)rho0;
+}
+
+/// Eq. (24) with note 6: out[0] = bits of the largest fluid compression `max(rho - rho0, 0)/rho0`
+/// (`correction::compression`), out[1] = of the largest `correction::residual` (|e| where p > 0,
+/// else max(e, 0)). Computed in f64 as the CPU, rounded to f32 for the atomic.
+SPH_KERNEL(correction_error)(u32 n, float rho0, const float* __restrict__ density,
+                             const float* __restrict__ pressure, const u32* __restrict__ kind,
+                             int* __restrict__ out) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    const double e = correction_density_error(density[i], rho0);
+    const double compression = e > 0.0 ? e : 0.0;  // f64::max(e, 0): NaN gives 0
+    const double residual = pressure[i] > 0.0f ? fabs(e) : compression;
+    atomicMax(&out[0], max_bits((float)compression));
+    atomicMax(&out[1], max_bits((float)residual));
+}
+
+/// Eq. (19) inside the correction, fluid only: `delta_p = pressure_increment(rho, rho0, p + m, k) + m`
+/// with the heavy-ball momentum `m = beta delta_p_prev` (`has_prev` != 0; `correction::MOMENTUM`),
+/// `pressure_increment(rho, rho0, p, k) = max(p + k (rho - rho0), 0) - p`. Solids get 0.
+SPH_KERNEL(correction_pressure_fluid)(u32 n, float rho0, float k, float beta, int has_prev,
+                                      const float* __restrict__ density,
+                                      const float* __restrict__ pressure,
+                                      const u32* __restrict__ kind,
+                                      const float* __restrict__ delta_p_prev,
+                                      float* __restrict__ delta_p) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    if (kind[i] != SPH_FLUID) {
+        delta_p[i] = 0.0f;
+        return;
+    }
+    const float m = has_prev ? beta * delta_p_prev[i] : 0.0f;
+    const float p_m = pressure[i] + m;
+    delta_p[i] = (fmaxf(p_m + k * (density[i] - rho0), 0.0f) - p_m) + m;
+}
+
+/// [A12] eq. (27) without gravity for solid particles: `delta_p_w = max(sum_f delta_p_f W_wf /
+/// sum_f W_wf, 0)` over fluid neighbours f (0 without any), as `WallPressureSums::pressure` with
+/// zero gravity. In place: solids read only fluid increments, which this kernel does not write.
+SPH_KERNEL(correction_pressure_wall)(u32 n, StepParams p, GridGeometry g,
+                                     const u32* __restrict__ cell_start,
+                                     const u32* __restrict__ cell_key, const float* __restrict__ pos,
+                                     const float* __restrict__ density, const u32* __restrict__ kind,
+                                     float* delta_p) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] == SPH_FLUID) return;
+    const Smoothing s = smoothing(p.h);
+    const vec_t x_w = vload(pos, i);
+    float weight = 0.0f;
+    float pressure_sum = 0.0f;
+    vec_t density_offset = vzero();
+    SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
+        const vec_t d = vsub(x_w, vload(pos, j));
+        const float r2 = vdot(d, d);
+        if (!(r2 < s.h2) || kind[j] != SPH_FLUID) continue;
+        const float w = w_poly6(s, r2);
+        weight += w;
+        pressure_sum += delta_p[j] * w;
+        density_offset = vadd(density_offset, vscale(d, density[j] * w));
+    });
+    float result = 0.0f;
+    if (weight > 0.0f) {
+        // g . sum rho_f (x_w - x_f) W with g = 0, kept so that non-finite values propagate alike.
+        const float gravity_term = vdot(vzero(), density_offset);
+        result = fmaxf((pressure_sum + gravity_term) / weight, 0.0f);
+    }
+    delta_p[i] = result;
+}
+
+/// End of `correction_pressure`: `p += delta_p` and `delta_p_prev = delta_p`, every particle.
+SPH_KERNEL(correction_pressure_apply)(u32 n, const float* __restrict__ delta_p,
+                                      float* __restrict__ pressure,
+                                      float* __restrict__ delta_p_prev) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const float dp = delta_p[i];
+    pressure[i] += dp;
+    delta_p_prev[i] = dp;
+}
+
+/// Eq. (23): `dx_i = tau^2 a_i^press(delta_p)` for fluid (zero for solids), the pressure force (16)
+/// of the increments over every neighbour j != i; atomicMax of |dx| bits into `*largest`.
+SPH_KERNEL(correction_displacement)(u32 n, StepParams p, GridGeometry g,
+                                    const u32* __restrict__ cell_start,
+                                    const u32* __restrict__ cell_key, const float* __restrict__ pos,
+                                    const float* __restrict__ mass, const float* __restrict__ density,
+                                    const float* __restrict__ delta_p, const u32* __restrict__ kind,
+                                    float tau2, float* __restrict__ displacement,
+                                    int* __restrict__ largest) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    if (kind[i] != SPH_FLUID) {
+        vstore(displacement, i, vzero());
+        return;
+    }
+    const Smoothing s = smoothing(p.h);
+    const vec_t x_i = vload(pos, i);
+    const float dp_i = delta_p[i];
+    const float rho_i = density[i];
+    vec_t a = vzero();
+    SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
+        if (j == i) continue;
+        const vec_t d = vsub(x_i, vload(pos, j));
+        const float r2 = vdot(d, d);
+        if (!(r2 < s.h2)) continue;
+        const vec_t grad = vscale(grad_w_spiky(s, d, sqrtf(r2)), p.pressure_gradient_scale);
+        a = vadd(a, pressure_acceleration(dp_i, rho_i, delta_p[j], density[j], mass[j], grad));
+    });
+    const vec_t dx = vscale(a, tau2);  // eq. (23)
+    vstore(displacement, i, dx);
+    atomicMax(largest, max_bits(sqrtf(vdot(dx, dx))));
+}
+
+/// Eq. (23) applied, fluid only: `dx = displacement * scale`, `x += dx`, `u += dx / tau`
+/// (PAPER.md note 7); `scale` (<= 1) is one factor for all particles, chosen on the host from
+/// `largest` as `CpuBackend::correct_positions` does (`extremes::sweep`).
+SPH_KERNEL(apply_displacement)(u32 n, float scale, float tau, const u32* __restrict__ kind,
+                               const float* __restrict__ displacement, float* __restrict__ pos,
+                               float* __restrict__ vel) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    const vec_t dx = vscale(vload(displacement, i), scale);
+    vec_t u = vload(vel, i);
+    for (int k = 0; k < D; ++k) u.c[k] += dx.c[k] / tau;
+    vstore(pos, i, vadd(vload(pos, i), dx));
+    vstore(vel, i, u);
+}

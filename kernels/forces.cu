@@ -1,0 +1,74 @@
+// Stage `forces`: eqs. (15)-(17) and (6), the acceleration of fluid particles; solids get zero.
+// Twin of `CpuBackend::forces` (`fluid_acceleration`). One body, four entry points: the terms a
+// scene does not ask for are compiled out, as the CPU monomorphises them (`ForceTerms`):
+// `forces_p` (pressure), `forces_pv` (+ viscosity 17), `forces_pa` (+ artificial viscosity
+// [M92]), `forces_pva` (both).
+#include "sph.cuh"
+#include "pair_forces.cuh"
+
+/// Eqs. (15)-(17) and (6) for particle i: gravity plus the pair terms of every neighbour j != i,
+/// added per neighbour in the CPU's order (pressure, artificial viscosity, viscosity).
+template <bool VISCOUS, bool ARTIFICIAL>
+__device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const GridGeometry& g,
+                                            const u32* __restrict__ cell_start,
+                                            const u32* __restrict__ cell_key,
+                                            const float* __restrict__ pos,
+                                            const float* __restrict__ vel,
+                                            const float* __restrict__ mass,
+                                            const float* __restrict__ density,
+                                            const float* __restrict__ pressure,
+                                            const u32* __restrict__ kind, float* __restrict__ acc) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    if (kind[i] != SPH_FLUID) {
+        vstore(acc, i, vzero());
+        return;
+    }
+    const Smoothing s = smoothing(p.h);
+    const vec_t x_i = vload(pos, i);
+    const vec_t u_i = vload(vel, i);
+    const float p_i = pressure[i];
+    const float rho_i = density[i];
+    vec_t a;
+    for (int k = 0; k < D; ++k) a.c[k] = p.gravity[k];  // eq. (6)
+    SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
+        if (j == i) continue;
+        const vec_t d = vsub(x_i, vload(pos, j));
+        const float r2 = vdot(d, d);
+        if (!(r2 < s.h2)) continue;
+        const float r = sqrtf(r2);
+        const float m_j = mass[j];
+        const float rho_j = density[j];
+        const vec_t grad = vscale(grad_w_spiky(s, d, r), p.pressure_gradient_scale);
+        a = vadd(a, pressure_acceleration(p_i, rho_i, pressure[j], rho_j, m_j, grad));
+        if (ARTIFICIAL) {
+            const vec_t u_ij = vsub(u_i, vload(vel, j));
+            a = vadd(a, artificial_viscous_acceleration(p.alpha, p.c, p.h, d, r2, u_ij, rho_i, rho_j,
+                                                        m_j, grad));
+        }
+        if (VISCOUS) {
+            const float lap = laplacian_w_viscosity(s, r);
+            a = vadd(a, viscous_acceleration(p.mu, u_i, vload(vel, j), rho_i, rho_j, m_j, lap));
+        }
+    });
+    vstore(acc, i, a);
+}
+
+#define SPH_FORCES_ENTRY(name, VISCOUS, ARTIFICIAL)                                                \
+    SPH_KERNEL(name)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,     \
+                     const u32* __restrict__ cell_key, const float* __restrict__ pos,             \
+                     const float* __restrict__ vel, const float* __restrict__ mass,               \
+                     const float* __restrict__ density, const float* __restrict__ pressure,       \
+                     const u32* __restrict__ kind, float* __restrict__ acc) {                     \
+        forces_body<VISCOUS, ARTIFICIAL>(n, p, g, cell_start, cell_key, pos, vel, mass, density, \
+                                         pressure, kind, acc);                                    \
+    }
+
+/// Pressure (16) and gravity only.
+SPH_FORCES_ENTRY(forces_p, false, false)
+/// Pressure and viscosity (17).
+SPH_FORCES_ENTRY(forces_pv, true, false)
+/// Pressure and artificial viscosity ([M92]).
+SPH_FORCES_ENTRY(forces_pa, false, true)
+/// Pressure, viscosity and artificial viscosity.
+SPH_FORCES_ENTRY(forces_pva, true, true)

@@ -1,0 +1,40 @@
+// Stage `solid_forces` (Fig. 4): the force of the fluid on each named solid. Twin of
+// `CpuBackend::solid_forces`: each solid particle s sums `force_on_solid` over its fluid
+// neighbours in f32, then adds the sum in f64 to its solid's three slots
+// `out[3 (kind[s] - 1) + axis]` (z = 0 in 2D). The host zeroes `out` (3 doubles per solid; every
+// solid particle's kind must be at most the number of solids) and, for the correction's impulse
+// (`SolidForceSource::Correction`), passes `p` with `mu = alpha = 0` and the pressure increments
+// `delta_p` as `pressure`, as the CPU does.
+#include "sph.cuh"
+#include "pair_forces.cuh"
+
+SPH_KERNEL(solid_forces)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,
+                         const u32* __restrict__ cell_key, const float* __restrict__ pos,
+                         const float* __restrict__ vel, const float* __restrict__ mass,
+                         const float* __restrict__ density, const float* __restrict__ pressure,
+                         const u32* __restrict__ kind, double* __restrict__ out) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] == SPH_FLUID) return;
+    const Smoothing s = smoothing(p.h);
+    const vec_t x_s = vload(pos, i);
+    const float m_s = mass[i];
+    const float p_s = pressure[i];
+    const float rho_s = density[i];
+    vec_t force = vzero();
+    u32 fluid_neighbours = 0;
+    SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
+        if (kind[j] != SPH_FLUID) continue;
+        const vec_t d = vsub(x_s, vload(pos, j));
+        const float r2 = vdot(d, d);
+        if (!(r2 < s.h2)) continue;
+        const float r = sqrtf(r2);
+        const vec_t grad = vscale(grad_w_spiky(s, d, r), p.pressure_gradient_scale);
+        force = vadd(force, force_on_solid(p, m_s, p_s, rho_s, mass[j], pressure[j], density[j], d, r2,
+                                           vload(vel, j), grad, laplacian_w_viscosity(s, r)));
+        ++fluid_neighbours;
+    });
+    // A solid particle away from the fluid adds nothing; skipping it spares the slots' atomics.
+    if (fluid_neighbours == 0) return;
+    double* slot = out + 3 * (size_t)(kind[i] - 1);
+    for (int k = 0; k < D; ++k) atomicAdd(slot + k, (double)force.c[k]);
+}
