@@ -17,6 +17,7 @@
 pub use nalgebra;
 
 pub mod backend;
+pub mod bench;
 pub mod boundary;
 pub mod cli;
 pub mod error;

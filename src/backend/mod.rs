@@ -87,6 +87,10 @@ pub trait Backend<const D: usize> {
     fn name(&self) -> &'static str;
     /// Bytes the backend holds beside `Fields` (grid, scratch; device buffers for CUDA).
     fn heap_bytes(&self) -> usize;
+    /// The device the stages run on, for reports (`None`: the host's CPUs).
+    fn device(&self) -> Option<String> {
+        None
+    }
     /// Whether the state lives in the backend (device memory) rather than in `Fields`, so that
     /// `Fields` is stale after a stage until [`Backend::download`].
     fn holds_state(&self) -> bool {
@@ -97,6 +101,9 @@ pub trait Backend<const D: usize> {
     fn download(&mut self, _fields: &mut Fields<D>) -> Result<(), BackendError> {
         Ok(())
     }
+    /// Waits until every stage launched so far has finished (for timings; a no-op on the CPU,
+    /// whose stages return when done).
+    fn synchronize(&mut self) {}
     /// The first device failure since the last call, if any. Stage methods cannot return errors
     /// (the CPU's cannot fail); a backend whose stages can fail records the first failure, skips
     /// the stages after it, and the step driver reports it here at the end of the step.

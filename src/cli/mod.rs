@@ -2,8 +2,10 @@
 //!
 //! `sph run SCENE` runs a scene and writes its results; `sph check SCENE` validates a scene and
 //! prints its particle counts, memory estimate and stage plan; `sph sweep SCENE --set
-//! KEY=V1,V2,...` runs one variant per value and compares them.
+//! KEY=V1,V2,...` runs one variant per value and compares them; `sph bench` times the solver at
+//! several sizes on each backend.
 
+mod bench;
 mod check;
 mod run;
 mod sweep;
@@ -74,6 +76,34 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=V1,V2,...")]
         sets: Vec<String>,
     },
+    /// Time the solver at several particle counts on each backend (the paper's Fig. 5): prints
+    /// the table and writes bench.csv.
+    Bench {
+        /// Scene to rescale to each size.
+        #[arg(long, default_value = "scenes/dam_break_column_3d.toml")]
+        scene: PathBuf,
+        /// Backends, comma-separated.
+        #[arg(long, value_enum, value_delimiter = ',', default_value = "cpu")]
+        backend: Vec<BackendArg>,
+        /// Particle counts to aim for, comma-separated (e.g. 1e4,1e5,1e6).
+        #[arg(long, value_delimiter = ',', default_value = "1e4,1e5")]
+        sizes: Vec<String>,
+        /// Timed steps per row.
+        #[arg(long, default_value_t = 5)]
+        steps: usize,
+        /// Timed sweeps per row.
+        #[arg(long, default_value_t = 10)]
+        sweeps: usize,
+        /// Output directory for bench.csv [default: out/bench].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// CPU worker threads [default: all cores].
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Override any scene key by its dotted TOML path.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+    },
     /// Validate a scene; print particle counts, memory needed and the stage plan.
     Check {
         /// Scene file (TOML).
@@ -119,5 +149,15 @@ where
             sweep::sweep(&scene, out, threads, backend, &sets)
         }
         Command::Check { scene, sets } => check::check(&scene, &sets),
+        Command::Bench {
+            scene,
+            backend,
+            sizes,
+            steps,
+            sweeps,
+            out,
+            threads,
+            sets,
+        } => bench::run_bench(&scene, out, threads, &backend, &sizes, steps, sweeps, &sets),
     }
 }

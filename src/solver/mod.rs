@@ -413,6 +413,21 @@ impl<const D: usize> Simulation<D> {
         self.backend.name()
     }
 
+    /// The device the backend runs on (`None` for the host's CPUs).
+    pub fn backend_device(&self) -> Option<String> {
+        self.backend.device()
+    }
+
+    /// Memory per run the backend's side holds [B]: host fields, grid and scratch for the CPU;
+    /// device buffers for a device-resident backend.
+    pub fn backend_bytes(&self) -> usize {
+        if self.backend.holds_state() {
+            self.backend.heap_bytes()
+        } else {
+            self.heap_bytes()
+        }
+    }
+
     /// Runs the stages on `kind` from now on (the CPU backend is the default). The CUDA backend
     /// takes a copy of the current fields into device memory.
     ///
@@ -428,6 +443,45 @@ impl<const D: usize> Simulation<D> {
         self.grid_fresh = false;
         self.density_fresh = false;
         Ok(())
+    }
+
+    /// Times `count` sweeps (one density pass, the equation of state and one force pass, the
+    /// unit of the paper's Fig. 5) on the current state after one untimed warm-up sweep, and
+    /// returns the seconds per sweep. The fields keep the last sweep's density, pressure and
+    /// acceleration; positions and velocities are unchanged.
+    ///
+    /// # Errors
+    /// [`StepError::Grid`] or [`StepError::Backend`] when a stage fails.
+    pub fn time_sweeps(&mut self, count: usize) -> Result<f64, StepError> {
+        let step = self.clock.step;
+        let params = self.step_params();
+        let terms = crate::backend::ForceTerms {
+            viscosity: self.config.viscosity.is_some(),
+            artificial_viscosity: self.config.artificial_viscosity.is_some(),
+        };
+        let (bk, f) = (&mut self.backend, &mut self.fields);
+        bk.sort_by_cell(f, params.h)
+            .map_err(|source| StepError::Grid { step, source })?;
+        let sweep = |bk: &mut Box<dyn Backend<D>>, f: &mut Fields<D>| {
+            bk.density(f, &params);
+            bk.equation_of_state(f, &params);
+            bk.forces(f, &params, terms);
+        };
+        sweep(bk, f);
+        bk.synchronize();
+        let start = std::time::Instant::now();
+        for _ in 0..count {
+            sweep(bk, f);
+        }
+        bk.synchronize();
+        let seconds = start.elapsed().as_secs_f64() / count.max(1) as f64;
+        self.grid_fresh = true;
+        self.density_fresh = true;
+        self.fields_stale = self.backend.holds_state();
+        if let Some(source) = self.backend.take_error() {
+            return Err(StepError::Backend { step, source });
+        }
+        Ok(seconds)
     }
 
     /// Brings `fields` up to date with the backend's state (a copy from the device for CUDA;

@@ -55,7 +55,7 @@ impl<const D: usize> GridGeometry<D> {
             min: min.iter().copied().collect(),
             max: max.iter().copied().collect(),
         };
-        if !(h > 0.0) || !h.is_finite() {
+        if h.is_nan() || h <= 0.0 || !h.is_finite() {
             return Err(invalid());
         }
         let mut origin = [0.0; D];

@@ -17,9 +17,8 @@ use crate::fields::Fields;
 
 #[cfg(feature = "cuda")]
 pub mod compile;
-// WIP: the device backend is wired in once every kernel exists.
-// #[cfg(feature = "cuda")]
-// mod device;
+#[cfg(feature = "cuda")]
+mod device;
 #[cfg(feature = "cuda")]
 pub mod extremes;
 pub mod grid;
@@ -28,6 +27,9 @@ pub mod library;
 #[cfg(feature = "cuda")]
 pub mod shim;
 pub mod sources;
+
+#[cfg(feature = "cuda")]
+pub use device::CudaBackend;
 
 /// Checks whether the CUDA backend can run on this machine: the binary has the feature, and the
 /// driver and NVRTC libraries load and a GPU answers.
@@ -61,11 +63,7 @@ pub fn create<const D: usize>(
     params: &StepParams<D>,
 ) -> Result<Box<dyn Backend<D>>, BackendError> {
     probe()?;
-    let _ = (fields, params);
-    Err(BackendError::Unavailable {
-        backend: "cuda",
-        reason: "the CUDA stage kernels are not wired in yet".into(),
-    })
+    Ok(Box::new(CudaBackend::new(fields, params)?))
 }
 
 /// Without `--features cuda` the backend cannot be created.

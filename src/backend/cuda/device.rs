@@ -1,0 +1,849 @@
+//! [`CudaBackend`]: every particle field in device memory, one kernel launch (or a short fixed
+//! sequence) per `Backend` stage, under the CPU backend's names. Particle data crosses to the
+//! host only in [`Backend::download`] (output frames, probes, checkpoints, error reports) and a
+//! few scalars per stage (reductions the driver needs: the time step's extremes, the correction's
+//! residual and largest displacement, forces on solids).
+
+use super::compile::{arch_for, compile_all};
+use super::extremes::{DeviceExtremes, max_from_bits, sweep};
+use super::grid::GridGeometry;
+use crate::backend::params::StepParams;
+use crate::backend::{
+    Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel,
+};
+use crate::fields::Fields;
+use crate::grid::GridError;
+use crate::math::{Real, Vector};
+use crate::physics::correction;
+use cudarc::driver::{
+    CudaContext, CudaFunction, CudaSlice, CudaStream, DeviceRepr, DriverError, LaunchConfig, PushKernelArg,
+};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+// SAFETY: both are `#[repr(C)]` plain-old-data mirrors of the structs of `kernels/sph.cuh`,
+// passed to kernels by value.
+unsafe impl<const D: usize> DeviceRepr for StepParams<D> {}
+unsafe impl<const D: usize> DeviceRepr for GridGeometry<D> {}
+// SAFETY: `#[repr(C)]` mirror of `Extremes` in `kernels/extremes.cuh`.
+unsafe impl DeviceRepr for DeviceExtremes {}
+
+/// Threads per block of every launch (the host shim uses the same shape).
+const THREADS: u32 = 256;
+/// Cells per thread in the first pass of the cell-count scan.
+const SCAN_CHUNK: u32 = 512;
+
+fn launch_config(n: usize) -> LaunchConfig {
+    LaunchConfig {
+        grid_dim: ((n as u32).div_ceil(THREADS).max(1), 1, 1),
+        block_dim: (THREADS, 1, 1),
+        shared_mem_bytes: 0,
+    }
+}
+
+/// Views a slice of `D`-vectors as its `n·D` floats (the layout the kernels use).
+fn floats<const D: usize>(v: &[Vector<D>]) -> &[Real] {
+    const { assert!(std::mem::size_of::<Vector<1>>() == std::mem::size_of::<Real>()) };
+    // SAFETY: `Vector<D>` is nalgebra's `#[repr(C)]` matrix over a `[[Real; D]; 1]` array
+    // storage: `D` contiguous floats with the alignment of `Real`, no padding.
+    unsafe { std::slice::from_raw_parts(v.as_ptr().cast::<Real>(), v.len() * D) }
+}
+
+fn floats_mut<const D: usize>(v: &mut [Vector<D>]) -> &mut [Real] {
+    // SAFETY: as in `floats`.
+    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<Real>(), v.len() * D) }
+}
+
+/// The particle fields in device memory (mirror of `Fields`, struct of arrays, `D` floats per
+/// vector).
+struct DeviceFields {
+    position: CudaSlice<f32>,
+    velocity: CudaSlice<f32>,
+    acceleration: CudaSlice<f32>,
+    position_start: CudaSlice<f32>,
+    velocity_start: CudaSlice<f32>,
+    density: CudaSlice<f32>,
+    pressure: CudaSlice<f32>,
+    mass: CudaSlice<f32>,
+    kind: CudaSlice<u32>,
+    id: CudaSlice<u32>,
+}
+
+/// The dense cell grid and the sort's buffers.
+struct DeviceGrid<const D: usize> {
+    geometry: GridGeometry<D>,
+    cell_size: Real,
+    /// Per particle: key at hashing time (unsorted order).
+    key: CudaSlice<u32>,
+    /// Per particle: key of its cell at the last sort (sorted order).
+    cell_key: CudaSlice<u32>,
+    /// Per cell (+1): particle count, then the scan's output.
+    cell_count: CudaSlice<u32>,
+    cell_start: CudaSlice<u32>,
+    cell_fill: CudaSlice<u32>,
+    chunk_sums: CudaSlice<u32>,
+    perm: CudaSlice<u32>,
+}
+
+/// The CUDA backend of dimension `D`.
+pub struct CudaBackend<const D: usize> {
+    stream: Arc<CudaStream>,
+    kernels: HashMap<&'static str, CudaFunction>,
+    n: usize,
+    domain: (Vector<D>, Vector<D>),
+    f: DeviceFields,
+    grid: Option<DeviceGrid<D>>,
+    scratch_vec: CudaSlice<f32>,
+    scratch_u32: CudaSlice<u32>,
+    delta_p: CudaSlice<f32>,
+    delta_p_previous: CudaSlice<f32>,
+    has_previous: bool,
+    displacement: CudaSlice<f32>,
+    reduce_i32: CudaSlice<i32>,
+    extremes: CudaSlice<DeviceExtremes>,
+    solid_out: CudaSlice<f64>,
+    error: Option<BackendError>,
+    device_name: String,
+}
+
+/// Keeps the first failure in `error`; later stages are skipped until the driver takes it.
+fn record<T>(error: &mut Option<BackendError>, during: &str, r: Result<T, DriverError>) -> Option<T> {
+    match r {
+        Ok(v) => Some(v),
+        Err(e) => {
+            if error.is_none() {
+                *error = Some(device_error(during, e));
+            }
+            None
+        }
+    }
+}
+
+fn device_error(during: &str, e: impl std::fmt::Debug) -> BackendError {
+    BackendError::Device {
+        backend: "cuda",
+        during: during.into(),
+        reason: format!("{e:?}"),
+    }
+}
+
+impl<const D: usize> CudaBackend<D> {
+    /// Compiles the kernels for the first GPU and uploads `fields`; `params` gives the domain of
+    /// the dense grid. Call `cuda::probe` first (cudarc panics when a library is missing).
+    ///
+    /// # Errors
+    /// [`BackendError::Unavailable`] when NVRTC rejects a kernel, [`BackendError::Device`] when
+    /// the context, an allocation or the upload fails.
+    pub fn new(fields: &Fields<D>, params: &StepParams<D>) -> Result<Self, BackendError> {
+        let ctx = CudaContext::new(0).map_err(|e| device_error("opening GPU 0", e))?;
+        let (major, minor) = ctx
+            .compute_capability()
+            .map_err(|e| device_error("reading the compute capability", e))?;
+        let device_name = ctx.name().unwrap_or_else(|_| "unknown GPU".into());
+        let arch = arch_for(major, minor);
+        let modules = compile_all(D, arch).map_err(|e| BackendError::Unavailable {
+            backend: "cuda",
+            reason: e.to_string(),
+        })?;
+        let mut kernels = HashMap::new();
+        for (file, ptx) in modules {
+            let module = ctx
+                .load_module(ptx)
+                .map_err(|e| device_error(&format!("loading kernels/{file}.cu"), e))?;
+            for &name in KERNEL_NAMES {
+                if let Ok(function) = module.load_function(name) {
+                    kernels.insert(name, function);
+                }
+            }
+        }
+        if let Some(missing) = KERNEL_NAMES.iter().find(|k| !kernels.contains_key(*k)) {
+            return Err(BackendError::Unavailable {
+                backend: "cuda",
+                reason: format!("no kernel named {missing} in kernels/"),
+            });
+        }
+        let stream = ctx.default_stream();
+        let n = fields.len();
+        let up = |during: &str, e: DriverError| device_error(during, e);
+        let dn = (n * D).max(1);
+        let vec_zeros = |s: &Arc<CudaStream>| s.alloc_zeros::<f32>(dn).map_err(|e| up("allocating", e));
+        let f = DeviceFields {
+            position: stream
+                .clone_htod(floats(&fields.position))
+                .map_err(|e| up("uploading", e))?,
+            velocity: stream
+                .clone_htod(floats(&fields.velocity))
+                .map_err(|e| up("uploading", e))?,
+            acceleration: stream
+                .clone_htod(floats(&fields.acceleration))
+                .map_err(|e| up("uploading", e))?,
+            position_start: vec_zeros(&stream)?,
+            velocity_start: vec_zeros(&stream)?,
+            density: stream
+                .clone_htod(&fields.density)
+                .map_err(|e| up("uploading", e))?,
+            pressure: stream
+                .clone_htod(&fields.pressure)
+                .map_err(|e| up("uploading", e))?,
+            mass: stream.clone_htod(&fields.mass).map_err(|e| up("uploading", e))?,
+            kind: stream.clone_htod(&fields.kind).map_err(|e| up("uploading", e))?,
+            id: stream.clone_htod(&fields.id).map_err(|e| up("uploading", e))?,
+        };
+        let zeros_f32 = |len: usize| {
+            stream
+                .alloc_zeros::<f32>(len.max(1))
+                .map_err(|e| up("allocating", e))
+        };
+        let backend = Self {
+            kernels,
+            n,
+            domain: (params.domain_min, params.domain_max),
+            f,
+            grid: None,
+            scratch_vec: zeros_f32(n * D)?,
+            scratch_u32: stream
+                .alloc_zeros::<u32>(n.max(1))
+                .map_err(|e| up("allocating", e))?,
+            delta_p: zeros_f32(n)?,
+            delta_p_previous: zeros_f32(n)?,
+            has_previous: false,
+            displacement: zeros_f32(n * D)?,
+            reduce_i32: stream.alloc_zeros::<i32>(2).map_err(|e| up("allocating", e))?,
+            extremes: stream
+                .clone_htod(&[DeviceExtremes::initial()])
+                .map_err(|e| up("allocating", e))?,
+            solid_out: stream.alloc_zeros::<f64>(3).map_err(|e| up("allocating", e))?,
+            error: None,
+            device_name,
+            stream,
+        };
+        Ok(backend)
+    }
+
+    /// The GPU's name, for reports.
+    pub fn device_name(&self) -> &str {
+        &self.device_name
+    }
+
+    /// Builds (or keeps) the dense grid for cells of size `h`.
+    fn ensure_grid(&mut self, h: Real) -> Result<(), BackendError> {
+        if self.grid.as_ref().is_some_and(|g| g.cell_size == h) {
+            return Ok(());
+        }
+        let geometry =
+            GridGeometry::new(&self.domain.0, &self.domain.1, h).map_err(|e| BackendError::Unavailable {
+                backend: "cuda",
+                reason: e.to_string(),
+            })?;
+        let cells = geometry.cell_count();
+        let chunks = (cells + 1).div_ceil(SCAN_CHUNK as usize);
+        let s = &self.stream;
+        let a = |len: usize| {
+            s.alloc_zeros::<u32>(len.max(1))
+                .map_err(|e| device_error("allocating the grid", e))
+        };
+        self.grid = Some(DeviceGrid {
+            geometry,
+            cell_size: h,
+            key: a(self.n)?,
+            cell_key: a(self.n)?,
+            cell_count: a(cells + 1)?,
+            cell_start: a(cells + 1)?,
+            cell_fill: a(cells)?,
+            chunk_sums: a(chunks)?,
+            perm: a(self.n)?,
+        });
+        Ok(())
+    }
+
+    /// Gathers one vector field by the sort's permutation.
+    fn gather_vec(&mut self, which: VecField) {
+        let n = self.n as u32;
+        let grid = self.grid.as_ref().expect("sorted");
+        let src = match which {
+            VecField::Position => &mut self.f.position,
+            VecField::Velocity => &mut self.f.velocity,
+            VecField::Acceleration => &mut self.f.acceleration,
+            VecField::PositionStart => &mut self.f.position_start,
+            VecField::VelocityStart => &mut self.f.velocity_start,
+        };
+        let f = &self.kernels["gather_vec"];
+        // SAFETY: perm, src and scratch hold n entries (times D for vectors).
+        let r = unsafe {
+            self.stream
+                .launch_builder(f)
+                .arg(&n)
+                .arg(&grid.perm)
+                .arg(&*src)
+                .arg(&mut self.scratch_vec)
+                .launch(launch_config(self.n))
+        };
+        std::mem::swap(src, &mut self.scratch_vec);
+        record(&mut self.error, "gathering a vector field", r);
+    }
+
+    fn gather_scalar(&mut self, which: ScalarField) {
+        let n = self.n as u32;
+        let grid = self.grid.as_ref().expect("sorted");
+        // The scalar scratch reuses the vector scratch's first n floats.
+        let src = match which {
+            ScalarField::Density => &mut self.f.density,
+            ScalarField::Pressure => &mut self.f.pressure,
+            ScalarField::Mass => &mut self.f.mass,
+        };
+        let f = &self.kernels["gather_f32"];
+        // SAFETY: perm and src hold n entries; the scratch holds at least n floats.
+        let r = unsafe {
+            self.stream
+                .launch_builder(f)
+                .arg(&n)
+                .arg(&grid.perm)
+                .arg(&*src)
+                .arg(&mut self.delta_p_previous)
+                .launch(launch_config(self.n))
+        };
+        // delta_p_previous is dead after a sort (the momentum restarts), so it is the scratch.
+        std::mem::swap(src, &mut self.delta_p_previous);
+        record(&mut self.error, "gathering a scalar field", r);
+    }
+
+    fn gather_index(&mut self, which: IndexField) {
+        let n = self.n as u32;
+        let grid = self.grid.as_mut().expect("sorted");
+        let f = &self.kernels["gather_u32"];
+        let r = match which {
+            IndexField::Kind | IndexField::Id => {
+                let src = if which == IndexField::Kind {
+                    &mut self.f.kind
+                } else {
+                    &mut self.f.id
+                };
+                // SAFETY: perm, src and scratch hold n entries.
+                let r = unsafe {
+                    self.stream
+                        .launch_builder(f)
+                        .arg(&n)
+                        .arg(&grid.perm)
+                        .arg(&*src)
+                        .arg(&mut self.scratch_u32)
+                        .launch(launch_config(self.n))
+                };
+                std::mem::swap(src, &mut self.scratch_u32);
+                r
+            }
+            // SAFETY: perm, key and cell_key hold n entries.
+            IndexField::CellKey => unsafe {
+                self.stream
+                    .launch_builder(f)
+                    .arg(&n)
+                    .arg(&grid.perm)
+                    .arg(&grid.key)
+                    .arg(&mut grid.cell_key)
+                    .launch(launch_config(self.n))
+            },
+        };
+        record(&mut self.error, "gathering an index field", r);
+    }
+
+    /// Copies particle `i`'s fields to name the first non-finite quantity, as the CPU does.
+    fn non_finite_quantity(&mut self, i: usize) -> &'static str {
+        let s = self.stream.clone();
+        let vec_at = |b: &CudaSlice<f32>| -> Vec<f32> {
+            s.clone_dtoh(&b.slice(i * D..(i + 1) * D)).unwrap_or_default()
+        };
+        let scalar_at =
+            |b: &CudaSlice<f32>| -> Vec<f32> { s.clone_dtoh(&b.slice(i..i + 1)).unwrap_or_default() };
+        let bad = |v: Vec<f32>| v.iter().any(|c| !c.is_finite());
+        if bad(vec_at(&self.f.position)) {
+            "position"
+        } else if bad(vec_at(&self.f.velocity)) {
+            "velocity"
+        } else if bad(vec_at(&self.f.acceleration)) {
+            "acceleration"
+        } else if bad(scalar_at(&self.f.density)) {
+            "density"
+        } else {
+            "pressure"
+        }
+    }
+}
+
+/// Launches `$name` over `$n` items with the arguments given, recording a failure.
+macro_rules! launch {
+    ($self:ident, $during:expr, $name:literal, $n:expr; $($arg:expr),* $(,)?) => {{
+        let cfg = launch_config($n);
+        let function = &$self.kernels[$name];
+        let mut builder = $self.stream.launch_builder(function);
+        $( builder.arg($arg); )*
+        // SAFETY: every buffer passed holds the item count the kernel reads or writes (n
+        // particles, times D for vectors; ncell + 1 for cell arrays), and the argument list
+        // matches the kernel's signature in kernels/ (checked by the shim tests).
+        let r = unsafe { builder.launch(cfg) };
+        record(&mut $self.error, $during, r);
+    }};
+}
+
+impl<const D: usize> Backend<D> for CudaBackend<D> {
+    fn name(&self) -> &'static str {
+        "cuda"
+    }
+
+    fn heap_bytes(&self) -> usize {
+        let n = self.n;
+        // Device memory: 7 vector buffers, 6 scalar buffers, 5 index buffers, the cell arrays.
+        let cells = self.grid.as_ref().map_or(0, |g| g.geometry.cell_count());
+        n * (7 * D * 4 + 6 * 4 + 5 * 4) + cells * 12
+    }
+
+    fn holds_state(&self) -> bool {
+        true
+    }
+
+    fn device(&self) -> Option<String> {
+        Some(self.device_name.clone())
+    }
+
+    fn synchronize(&mut self) {
+        let r = self.stream.synchronize();
+        record(&mut self.error, "waiting for the GPU", r);
+    }
+
+    fn download(&mut self, fields: &mut Fields<D>) -> Result<(), BackendError> {
+        let n = self.n;
+        let s = &self.stream;
+        let e = |x: DriverError| device_error("copying the fields to the host", x);
+        fields.position.resize(n, Vector::zeros());
+        fields.velocity.resize(n, Vector::zeros());
+        fields.acceleration.resize(n, Vector::zeros());
+        s.memcpy_dtoh(&self.f.position, floats_mut(&mut fields.position))
+            .map_err(e)?;
+        s.memcpy_dtoh(&self.f.velocity, floats_mut(&mut fields.velocity))
+            .map_err(e)?;
+        s.memcpy_dtoh(&self.f.acceleration, floats_mut(&mut fields.acceleration))
+            .map_err(e)?;
+        fields.density = s.clone_dtoh(&self.f.density).map_err(e)?;
+        fields.pressure = s.clone_dtoh(&self.f.pressure).map_err(e)?;
+        fields.mass = s.clone_dtoh(&self.f.mass).map_err(e)?;
+        fields.kind = s.clone_dtoh(&self.f.kind).map_err(e)?;
+        fields.id = s.clone_dtoh(&self.f.id).map_err(e)?;
+        for v in [&mut fields.density, &mut fields.pressure, &mut fields.mass] {
+            v.truncate(n);
+        }
+        fields.kind.truncate(n);
+        fields.id.truncate(n);
+        // The step-start copies are the backend's scratch of SSP-RK3; the host keeps none.
+        fields.position_start.clear();
+        fields.velocity_start.clear();
+        Ok(())
+    }
+
+    fn take_error(&mut self) -> Option<BackendError> {
+        self.error.take()
+    }
+
+    fn sort_by_cell(&mut self, _fields: &mut Fields<D>, h: f32) -> Result<(), GridError> {
+        if self.error.is_some() {
+            return Ok(());
+        }
+        if let Err(e) = self.ensure_grid(h) {
+            self.error = Some(e);
+            return Ok(());
+        }
+        let n = self.n;
+        let n32 = n as u32;
+        {
+            let grid = self.grid.as_mut().expect("built above");
+            let r = self.stream.memset_zeros(&mut grid.cell_count);
+            let r2 = self.stream.memset_zeros(&mut grid.cell_fill);
+            let r = r.and(r2);
+            if let Err(e) = r {
+                self.error = Some(device_error("clearing the cell counts", e));
+                return Ok(());
+            }
+        }
+        let grid = self.grid.as_mut().expect("built above");
+        let geometry = grid.geometry;
+        let cells = geometry.cell_count();
+        let m = (cells + 1) as u32;
+        let chunks = m.div_ceil(SCAN_CHUNK);
+        let chunk = SCAN_CHUNK;
+        let ncell = cells as u32;
+        let (stream, kernels) = (&self.stream, &self.kernels);
+        let mut results = Vec::with_capacity(6);
+        // SAFETY (all launches below): buffers sized n, ncell + 1 and chunks as the kernels of
+        // kernels/sort_by_cell.cu expect.
+        unsafe {
+            results.push(
+                stream
+                    .launch_builder(&kernels["cell_hash"])
+                    .arg(&n32)
+                    .arg(&geometry)
+                    .arg(&self.f.position)
+                    .arg(&mut grid.key)
+                    .arg(&mut grid.cell_count)
+                    .launch(launch_config(n)),
+            );
+            results.push(
+                stream
+                    .launch_builder(&kernels["scan_chunks"])
+                    .arg(&m)
+                    .arg(&chunk)
+                    .arg(&grid.cell_count)
+                    .arg(&mut grid.cell_start)
+                    .arg(&mut grid.chunk_sums)
+                    .launch(launch_config(chunks as usize)),
+            );
+            results.push(
+                stream
+                    .launch_builder(&kernels["scan_chunk_sums"])
+                    .arg(&chunks)
+                    .arg(&mut grid.chunk_sums)
+                    .launch(launch_config(1)),
+            );
+            results.push(
+                stream
+                    .launch_builder(&kernels["scan_add"])
+                    .arg(&m)
+                    .arg(&chunk)
+                    .arg(&mut grid.cell_start)
+                    .arg(&grid.chunk_sums)
+                    .launch(launch_config(m as usize)),
+            );
+            results.push(
+                stream
+                    .launch_builder(&kernels["scatter"])
+                    .arg(&n32)
+                    .arg(&grid.key)
+                    .arg(&grid.cell_start)
+                    .arg(&mut grid.cell_fill)
+                    .arg(&mut grid.perm)
+                    .launch(launch_config(n)),
+            );
+            results.push(
+                stream
+                    .launch_builder(&kernels["order_cells"])
+                    .arg(&ncell)
+                    .arg(&grid.cell_start)
+                    .arg(&self.f.id)
+                    .arg(&mut grid.perm)
+                    .launch(launch_config(cells)),
+            );
+        }
+        for r in results {
+            record(&mut self.error, "sorting by cell", r);
+        }
+        for v in [
+            VecField::Position,
+            VecField::Velocity,
+            VecField::Acceleration,
+            VecField::PositionStart,
+            VecField::VelocityStart,
+        ] {
+            self.gather_vec(v);
+        }
+        for sf in [ScalarField::Density, ScalarField::Pressure, ScalarField::Mass] {
+            self.gather_scalar(sf);
+        }
+        for i in [IndexField::Kind, IndexField::Id, IndexField::CellKey] {
+            self.gather_index(i);
+        }
+        self.has_previous = false;
+        Ok(())
+    }
+
+    fn density(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
+        let Some(g) = self.grid.as_ref() else { return };
+        let n = self.n as u32;
+        launch!(self, "computing the density", "density", self.n;
+            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
+            &self.f.kind, &mut self.f.density);
+    }
+
+    fn equation_of_state(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
+        let n = self.n as u32;
+        launch!(self, "applying the equation of state", "equation_of_state", self.n;
+            &n, params, &self.f.density, &self.f.kind, &mut self.f.pressure);
+    }
+
+    fn wall_pressure(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, model: WallModel) {
+        let Some(g) = self.grid.as_ref() else { return };
+        let n = self.n as u32;
+        let summed = i32::from(model == WallModel::ExtrapolatedOrSummed);
+        launch!(self, "extrapolating the wall pressure", "wall_pressure", self.n;
+            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
+            &self.f.kind, &summed, &mut self.f.pressure, &mut self.f.density);
+    }
+
+    fn forces(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
+        let Some(g) = self.grid.as_ref() else { return };
+        let n = self.n as u32;
+        let name = match (terms.viscosity, terms.artificial_viscosity) {
+            (false, false) => "forces_p",
+            (true, false) => "forces_pv",
+            (false, true) => "forces_pa",
+            (true, true) => "forces_pva",
+        };
+        let cfg = launch_config(self.n);
+        let mut b = self.stream.launch_builder(&self.kernels[name]);
+        b.arg(&n)
+            .arg(params)
+            .arg(&g.geometry)
+            .arg(&g.cell_start)
+            .arg(&g.cell_key)
+            .arg(&self.f.position)
+            .arg(&self.f.velocity)
+            .arg(&self.f.mass)
+            .arg(&self.f.density)
+            .arg(&self.f.pressure)
+            .arg(&self.f.kind)
+            .arg(&mut self.f.acceleration);
+        // SAFETY: as in `launch!`.
+        let r = unsafe { b.launch(cfg) };
+        record(&mut self.error, "computing the forces", r);
+    }
+
+    fn solid_forces(
+        &mut self,
+        _fields: &Fields<D>,
+        params: &StepParams<D>,
+        solids: usize,
+        source: SolidForceSource,
+    ) -> Vec<[f64; 3]> {
+        let zero = vec![[0.0; 3]; solids];
+        if self.error.is_some() || solids == 0 {
+            return zero;
+        }
+        let Some(g) = self.grid.as_ref() else { return zero };
+        if self.solid_out.len() < 3 * solids {
+            let r = self.stream.alloc_zeros::<f64>(3 * solids);
+            match record(&mut self.error, "allocating the solid forces", r) {
+                Some(b) => self.solid_out = b,
+                None => return zero,
+            }
+        }
+        let r = self.stream.memset_zeros(&mut self.solid_out);
+        if record(&mut self.error, "clearing the solid forces", r).is_none() {
+            return zero;
+        }
+        let (p, pressure) = match source {
+            SolidForceSource::Forces => (*params, &self.f.pressure),
+            SolidForceSource::Correction => (
+                StepParams {
+                    mu: 0.0,
+                    alpha: 0.0,
+                    ..*params
+                },
+                &self.delta_p,
+            ),
+        };
+        let n = self.n as u32;
+        let cfg = launch_config(self.n);
+        let mut b = self.stream.launch_builder(&self.kernels["solid_forces"]);
+        b.arg(&n)
+            .arg(&p)
+            .arg(&g.geometry)
+            .arg(&g.cell_start)
+            .arg(&g.cell_key)
+            .arg(&self.f.position)
+            .arg(&self.f.velocity)
+            .arg(&self.f.mass)
+            .arg(&self.f.density)
+            .arg(pressure)
+            .arg(&self.f.kind)
+            .arg(&mut self.solid_out);
+        // SAFETY: as in `launch!`; solid_out holds 3 doubles per solid.
+        let r = unsafe { b.launch(cfg) };
+        if record(&mut self.error, "summing the forces on solids", r).is_none() {
+            return zero;
+        }
+        let out = self.stream.clone_dtoh(&self.solid_out);
+        match record(&mut self.error, "copying the solid forces", out) {
+            Some(v) => (0..solids)
+                .map(|k| [v[3 * k], v[3 * k + 1], v[3 * k + 2]])
+                .collect(),
+            None => zero,
+        }
+    }
+
+    fn state_extremes(&mut self, _fields: &Fields<D>, params: &StepParams<D>) -> StateExtremes {
+        let fallback = StateExtremes::default();
+        if self.error.is_some() {
+            return fallback;
+        }
+        let r = self
+            .stream
+            .memcpy_htod(&[DeviceExtremes::initial()], &mut self.extremes);
+        if record(&mut self.error, "resetting the extremes", r).is_none() {
+            return fallback;
+        }
+        let n = self.n as u32;
+        launch!(self, "reducing the extremes", "state_extremes", self.n;
+            &n, params, &self.f.position, &self.f.velocity, &self.f.acceleration, &self.f.density,
+            &self.f.pressure, &self.f.kind, &mut self.extremes);
+        let out = self.stream.clone_dtoh(&self.extremes);
+        let Some(out) = record(&mut self.error, "copying the extremes", out) else {
+            return fallback;
+        };
+        let mut e = out[0].finish(params.rho0);
+        if let Some(i) = out[0].first_non_finite() {
+            e.non_finite = Some((i, self.non_finite_quantity(i)));
+        }
+        e
+    }
+
+    fn integrate(&mut self, _fields: &mut Fields<D>, dt: f32) {
+        let n = self.n as u32;
+        launch!(self, "integrating", "integrate", self.n;
+            &n, &dt, &self.f.kind, &self.f.acceleration, &mut self.f.velocity, &mut self.f.position);
+    }
+
+    fn store_step_start(&mut self, _fields: &mut Fields<D>) {
+        let n = self.n as u32;
+        launch!(self, "storing the step start", "store_step_start", self.n;
+            &n, &self.f.position, &self.f.velocity, &mut self.f.position_start,
+            &mut self.f.velocity_start);
+    }
+
+    fn rk_stage(&mut self, _fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
+        let n = self.n as u32;
+        launch!(self, "taking a Runge-Kutta stage", "rk_stage", self.n;
+            &n, &dt, &a, &b, &self.f.kind, &self.f.acceleration, &self.f.position_start,
+            &self.f.velocity_start, &mut self.f.position, &mut self.f.velocity);
+    }
+
+    fn correction_error(&mut self, _fields: &Fields<D>, rho0: f32) -> CorrectionError {
+        let failed = CorrectionError {
+            compression: f64::NAN,
+            residual: f64::NAN,
+        };
+        if self.error.is_some() {
+            return failed;
+        }
+        let r = self.stream.memset_zeros(&mut self.reduce_i32);
+        if record(&mut self.error, "clearing the residual", r).is_none() {
+            return failed;
+        }
+        let n = self.n as u32;
+        launch!(self, "reducing the density error", "correction_error", self.n;
+            &n, &rho0, &self.f.density, &self.f.pressure, &self.f.kind, &mut self.reduce_i32);
+        let out = self.stream.clone_dtoh(&self.reduce_i32);
+        match record(&mut self.error, "copying the residual", out) {
+            Some(v) => CorrectionError {
+                compression: max_from_bits(v[0]),
+                residual: max_from_bits(v[1]),
+            },
+            None => failed,
+        }
+    }
+
+    fn begin_correction(&mut self, _fields: &mut Fields<D>) {
+        self.has_previous = false;
+    }
+
+    fn correction_pressure(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
+        let Some(g) = self.grid.as_ref() else { return };
+        let n = self.n as u32;
+        let beta = correction::MOMENTUM;
+        let has_previous = i32::from(self.has_previous);
+        launch!(self, "computing pressure increments", "correction_pressure_fluid", self.n;
+            &n, &params.rho0, &k, &beta, &has_previous, &self.f.density, &self.f.pressure,
+            &self.f.kind, &self.delta_p_previous, &mut self.delta_p);
+        launch!(self, "extrapolating pressure increments to walls", "correction_pressure_wall", self.n;
+            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position,
+            &self.f.density, &self.f.kind, &mut self.delta_p);
+        launch!(self, "adding pressure increments", "correction_pressure_apply", self.n;
+            &n, &self.delta_p, &mut self.f.pressure, &mut self.delta_p_previous);
+        self.has_previous = true;
+    }
+
+    fn correct_positions(
+        &mut self,
+        _fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+        max_step: f32,
+    ) -> Sweep {
+        let none = Sweep {
+            largest: 0.0,
+            scale: 1.0,
+        };
+        let Some(g) = self.grid.as_ref() else { return none };
+        if self.error.is_some() {
+            return none;
+        }
+        let r = self.stream.memset_zeros(&mut self.reduce_i32);
+        if record(&mut self.error, "clearing the largest displacement", r).is_none() {
+            return none;
+        }
+        let n = self.n as u32;
+        let tau2 = tau * tau;
+        launch!(self, "computing displacements", "correction_displacement", self.n;
+            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
+            &self.f.density, &self.delta_p, &self.f.kind, &tau2, &mut self.displacement,
+            &mut self.reduce_i32);
+        let out = self.stream.clone_dtoh(&self.reduce_i32);
+        let Some(out) = record(&mut self.error, "copying the largest displacement", out) else {
+            return none;
+        };
+        let sweep = sweep(out[0], max_step);
+        let scale = sweep.scale as Real;
+        launch!(self, "moving particles", "apply_displacement", self.n;
+            &n, &scale, &tau, &self.f.kind, &self.displacement, &mut self.f.position,
+            &mut self.f.velocity);
+        sweep
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum VecField {
+    Position,
+    Velocity,
+    Acceleration,
+    PositionStart,
+    VelocityStart,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum ScalarField {
+    Density,
+    Pressure,
+    Mass,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum IndexField {
+    Kind,
+    Id,
+    CellKey,
+}
+
+/// Every entry point the backend launches (checked at start-up).
+const KERNEL_NAMES: &[&str] = &[
+    "cell_hash",
+    "scan_chunks",
+    "scan_chunk_sums",
+    "scan_add",
+    "scatter",
+    "order_cells",
+    "gather_vec",
+    "gather_f32",
+    "gather_u32",
+    "density",
+    "equation_of_state",
+    "wall_pressure",
+    "forces_p",
+    "forces_pv",
+    "forces_pa",
+    "forces_pva",
+    "solid_forces",
+    "state_extremes",
+    "integrate",
+    "store_step_start",
+    "rk_stage",
+    "correction_error",
+    "correction_pressure_fluid",
+    "correction_pressure_wall",
+    "correction_pressure_apply",
+    "correction_displacement",
+    "apply_displacement",
+];

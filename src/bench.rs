@@ -1,0 +1,222 @@
+//! `sph bench`: the paper's Fig. 5 as a command. For each particle count and backend, a scene is
+//! rescaled (its particle spacing, and with it the smoothing length) to about that many particles
+//! and timed: seconds per sweep (one density pass, the equation of state and one force pass over
+//! every particle), seconds per step of the scene's own solver, sweeps per step, particle-steps
+//! and neighbour interactions per second, and memory per particle; the GPU's speedup over the
+//! CPU at each size where both ran.
+//!
+//! Interactions are the pairs `(i, j)`, `i ≠ j`, closer than `h`, counted once on the CPU grid for
+//! each size; a sweep visits each twice (density and forces).
+
+use crate::backend::BackendKind;
+use crate::error::Error;
+use crate::grid::Grid;
+use crate::run::AnySimulation;
+use crate::scene::{Scene, generate::count_particles, load_scene};
+use crate::solver::Simulation;
+use std::path::Path;
+use std::time::Instant;
+
+/// One measured row of the table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BenchRow {
+    /// Particles (fluid and solid).
+    pub particles: u64,
+    /// Backend name (`"cpu"`, `"cuda"`).
+    pub backend: String,
+    /// Where it ran (`"16 threads"`, the GPU's name).
+    pub device: String,
+    /// Particle spacing used [m].
+    pub spacing: f64,
+    /// Seconds per step of the scene's solver (mean over the timed steps).
+    pub seconds_per_step: f64,
+    /// Seconds per sweep (density + equation of state + forces).
+    pub seconds_per_sweep: f64,
+    /// Neighbour passes per step: force stages plus correction iterations.
+    pub sweeps_per_step: f64,
+    /// Particles times steps per wall second.
+    pub particle_steps_per_second: f64,
+    /// Neighbour pairs visited per wall second in sweeps (two passes per sweep).
+    pub interactions_per_second: f64,
+    /// Memory the backend holds per particle [B] (host for the CPU, device for CUDA).
+    pub bytes_per_particle: f64,
+    /// Mean neighbours per particle (pairs closer than h, self excluded).
+    pub neighbours: f64,
+    /// This row's speedup over the CPU row of the same size, for GPU rows.
+    pub speedup: Option<f64>,
+}
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    /// Particle counts to aim for.
+    pub sizes: Vec<u64>,
+    /// Backends, in order.
+    pub backends: Vec<BackendKind>,
+    /// Timed steps per row (after one untimed step).
+    pub steps: usize,
+    /// Timed sweeps per row (after one untimed sweep).
+    pub sweeps: usize,
+    /// CPU worker threads (for the device column).
+    pub threads: usize,
+}
+
+/// The scene at `path` with its spacing scaled so that it has about `target` particles.
+///
+/// # Errors
+/// [`Error::Scene`] when the scene or a rescaled version of it does not validate.
+pub fn scaled_scene(path: &Path, sets: &[String], target: u64) -> Result<Scene, Error> {
+    let base = load_scene(path, sets)?;
+    let n0 = count_particles(&base)?.total.max(1) as f64;
+    let dx0 = base.spacing;
+    let dim = base.dimension as f64;
+    let mut dx = dx0 * (n0 / target.max(1) as f64).powf(1.0 / dim);
+    // Coarser spacings thicken the walls: widen the domain by a margin of the coarsest walls.
+    let ratio = base.smoothing_length / dx0;
+    let with_spacing = |dx: f64| -> Vec<String> {
+        let margin = 2.0 * ratio * dx.max(dx0);
+        let lo: Vec<String> = base
+            .domain
+            .min
+            .iter()
+            .map(|v| format!("{:e}", v - margin))
+            .collect();
+        let hi: Vec<String> = base
+            .domain
+            .max
+            .iter()
+            .map(|v| format!("{:e}", v + margin))
+            .collect();
+        let mut s = sets.to_vec();
+        s.push(format!("particles.spacing={dx:e}"));
+        s.push(format!("domain.min=[{}]", lo.join(",")));
+        s.push(format!("domain.max=[{}]", hi.join(",")));
+        s
+    };
+    // Boxes snap to whole spacings: correct with the count the spacing gives.
+    for _ in 0..2 {
+        let scene = load_scene(path, &with_spacing(dx))?;
+        let n = count_particles(&scene)?.total.max(1) as f64;
+        dx *= (n / target.max(1) as f64).powf(1.0 / dim);
+    }
+    Ok(load_scene(path, &with_spacing(dx))?)
+}
+
+/// Pairs closer than `h` (self excluded), per particle, on the CPU grid.
+fn neighbours_per_particle<const D: usize>(sim: &Simulation<D>) -> f64 {
+    let f = &sim.fields;
+    let h = sim.step_params().h;
+    let mut grid = Grid::<D>::default();
+    let Ok(perm) = grid.sort(&f.position, h) else {
+        return f64::NAN;
+    };
+    let position: Vec<_> = perm.iter().map(|&p| f.position[p as usize]).collect();
+    grid.link();
+    use rayon::prelude::*;
+    let pairs: u64 = (0..position.len())
+        .into_par_iter()
+        .map(|i| {
+            let mut c = 0u64;
+            grid.for_each_neighbour(&position, i, |j, _, _| c += u64::from(j != i));
+            c
+        })
+        .sum();
+    pairs as f64 / position.len().max(1) as f64
+}
+
+fn measure<const D: usize>(
+    mut sim: Simulation<D>,
+    scene: &Scene,
+    backend: BackendKind,
+    options: &BenchOptions,
+) -> Result<BenchRow, Error> {
+    let particles = sim.fields.len() as u64;
+    let neighbours = neighbours_per_particle(&sim);
+    sim.use_backend(backend)?;
+    let seconds_per_sweep = sim.time_sweeps(options.sweeps)?;
+    sim.step(f64::INFINITY)?;
+    let before = sim.stats().correction.iterations;
+    let start = Instant::now();
+    for _ in 0..options.steps {
+        sim.step(f64::INFINITY)?;
+    }
+    sim.sync_fields()?;
+    let seconds_per_step = start.elapsed().as_secs_f64() / options.steps.max(1) as f64;
+    let iterations = (sim.stats().correction.iterations - before) as f64 / options.steps.max(1) as f64;
+    let force_stages = sim.config().integrator.stages().len() as f64;
+    let device = match backend {
+        BackendKind::Cpu => format!("{} threads", options.threads),
+        BackendKind::Cuda => sim.backend_device().unwrap_or_else(|| "GPU".into()),
+    };
+    Ok(BenchRow {
+        particles,
+        backend: sim.backend_name().into(),
+        device,
+        spacing: scene.spacing,
+        seconds_per_step,
+        seconds_per_sweep,
+        sweeps_per_step: force_stages + iterations,
+        particle_steps_per_second: particles as f64 / seconds_per_step,
+        interactions_per_second: 2.0 * neighbours * particles as f64 / seconds_per_sweep,
+        bytes_per_particle: sim.backend_bytes() as f64 / particles.max(1) as f64,
+        neighbours,
+        speedup: None,
+    })
+}
+
+/// Measures every size on every backend, reporting each row as it is done.
+///
+/// # Errors
+/// The first scene, setup, step or backend error.
+pub fn bench(
+    path: &Path,
+    sets: &[String],
+    options: &BenchOptions,
+    report: &mut dyn FnMut(&BenchRow),
+) -> Result<Vec<BenchRow>, Error> {
+    let mut rows: Vec<BenchRow> = Vec::new();
+    for &size in &options.sizes {
+        let scene = scaled_scene(path, sets, size)?;
+        for &backend in &options.backends {
+            let mut row = match AnySimulation::from_scene(&scene)? {
+                AnySimulation::D2(sim) => measure(sim, &scene, backend, options)?,
+                AnySimulation::D3(sim) => measure(sim, &scene, backend, options)?,
+            };
+            if backend != BackendKind::Cpu {
+                row.speedup = rows
+                    .iter()
+                    .find(|r| r.particles == row.particles && r.backend == "cpu")
+                    .map(|cpu| cpu.seconds_per_step / row.seconds_per_step);
+            }
+            report(&row);
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+/// The table as CSV (header and one line per row).
+pub fn to_csv(rows: &[BenchRow]) -> String {
+    let mut s = String::from(
+        "particles,backend,device,spacing_m,seconds_per_step,seconds_per_sweep,sweeps_per_step,\
+         particle_steps_per_second,interactions_per_second,bytes_per_particle,neighbours,speedup\n",
+    );
+    for r in rows {
+        s.push_str(&format!(
+            "{},{},{},{:e},{:e},{:e},{:.2},{:e},{:e},{:.1},{:.2},{}\n",
+            r.particles,
+            r.backend,
+            r.device.replace(',', " "),
+            r.spacing,
+            r.seconds_per_step,
+            r.seconds_per_sweep,
+            r.sweeps_per_step,
+            r.particle_steps_per_second,
+            r.interactions_per_second,
+            r.bytes_per_particle,
+            r.neighbours,
+            r.speedup.map_or(String::new(), |x| format!("{x:.2}"))
+        ));
+    }
+    s
+}

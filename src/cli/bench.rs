@@ -1,0 +1,101 @@
+//! `sph bench [--backend cpu,cuda] [--sizes 1e4,1e5,...] [--scene S]`: the paper's Fig. 5 as a
+//! table (printed, and written to `bench.csv`).
+
+use super::BackendArg;
+use crate::backend::BackendKind;
+use crate::bench::{BenchOptions, BenchRow, bench, to_csv};
+use anyhow::Context;
+use std::path::{Path, PathBuf};
+
+/// Parses a particle count such as `1e5` or `250000`.
+pub fn parse_size(text: &str) -> anyhow::Result<u64> {
+    let v: f64 = text
+        .trim()
+        .parse()
+        .with_context(|| format!("--sizes: {text:?} is not a number"))?;
+    anyhow::ensure!(
+        (100.0..=1e10).contains(&v),
+        "--sizes: {text} is outside 100 .. 1e10 particles"
+    );
+    Ok(v.round() as u64)
+}
+
+fn print_row(r: &BenchRow) {
+    println!(
+        "{:>11} {:>5} {:>24} {:>12.3e} {:>12.3e} {:>7.2} {:>12.3e} {:>12.3e} {:>8.0} {:>8}",
+        r.particles,
+        r.backend,
+        r.device,
+        r.seconds_per_step,
+        r.seconds_per_sweep,
+        r.sweeps_per_step,
+        r.particle_steps_per_second,
+        r.interactions_per_second,
+        r.bytes_per_particle,
+        r.speedup.map_or("-".to_string(), |x| format!("{x:.1}x")),
+    );
+}
+
+/// Runs the benchmark.
+#[allow(clippy::too_many_arguments)]
+pub fn run_bench(
+    scene: &Path,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+    backends: &[BackendArg],
+    sizes: &[String],
+    steps: usize,
+    sweeps: usize,
+    sets: &[String],
+) -> anyhow::Result<()> {
+    let sizes = sizes
+        .iter()
+        .map(|s| parse_size(s))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    anyhow::ensure!(
+        steps >= 1 && sweeps >= 1,
+        "--steps and --sweeps must be at least 1"
+    );
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        anyhow::ensure!(n > 0, "--threads must be at least 1");
+        builder = builder.num_threads(n);
+    }
+    let pool = builder.build().context("starting the worker threads")?;
+    let options = BenchOptions {
+        sizes,
+        backends: backends
+            .iter()
+            .map(|b| match b {
+                BackendArg::Cpu => BackendKind::Cpu,
+                BackendArg::Cuda => BackendKind::Cuda,
+            })
+            .collect(),
+        steps,
+        sweeps,
+        threads: pool.current_num_threads(),
+    };
+    if options.backends.contains(&BackendKind::Cuda) {
+        crate::backend::cuda::probe()?;
+    }
+    println!(
+        "{:>11} {:>5} {:>24} {:>12} {:>12} {:>7} {:>12} {:>12} {:>8} {:>8}",
+        "particles",
+        "back",
+        "device",
+        "s/step",
+        "s/sweep",
+        "sw/step",
+        "p-steps/s",
+        "inter/s",
+        "B/part",
+        "speedup"
+    );
+    let rows = pool.install(|| bench(scene, sets, &options, &mut print_row))?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join("bench"));
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let csv = out.join("bench.csv");
+    std::fs::write(&csv, to_csv(&rows)).with_context(|| format!("writing {}", csv.display()))?;
+    println!("wrote {}", csv.display());
+    Ok(())
+}

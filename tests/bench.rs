@@ -1,0 +1,50 @@
+//! `sph bench`: rescaling a scene to a particle count, and one measured row on the CPU.
+
+use sph::backend::BackendKind;
+use sph::bench::{BenchOptions, bench, scaled_scene, to_csv};
+use sph::scene::generate::count_particles;
+use std::path::Path;
+
+const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/dam_break_column_3d.toml");
+
+#[test]
+fn scaled_scene_has_about_the_asked_particle_count() {
+    for target in [5_000u64, 40_000] {
+        let scene = scaled_scene(Path::new(SCENE), &[], target).expect("rescales");
+        let n = count_particles(&scene).expect("counts").total as f64;
+        // Boxes snap to whole spacings, so the count moves in steps of a layer: within 15 %.
+        assert!((n / target as f64 - 1.0).abs() < 0.15, "{n} for {target}");
+        assert!(
+            (scene.smoothing_length / scene.spacing - 2.0).abs() < 1e-9,
+            "h follows dx"
+        );
+    }
+}
+
+#[test]
+fn one_cpu_row_is_measured_and_written() {
+    let options = BenchOptions {
+        sizes: vec![3_000],
+        backends: vec![BackendKind::Cpu],
+        steps: 1,
+        sweeps: 1,
+        threads: 1,
+    };
+    let mut reported = 0;
+    let rows = bench(Path::new(SCENE), &[], &options, &mut |_| reported += 1).expect("runs");
+    assert_eq!((rows.len(), reported), (1, 1));
+    let r = &rows[0];
+    assert_eq!(r.backend, "cpu");
+    assert!(r.seconds_per_step > 0.0 && r.seconds_per_sweep > 0.0);
+    assert_eq!(
+        r.sweeps_per_step, 1.0,
+        "wcsph with symplectic Euler: one force pass per step"
+    );
+    // A 3D lattice with h = 2 dx has 32 neighbours inside; walls and the free surface have fewer.
+    assert!(r.neighbours > 10.0 && r.neighbours < 33.0, "{}", r.neighbours);
+    assert!(r.bytes_per_particle > 50.0 && r.bytes_per_particle < 600.0);
+    assert_eq!(r.speedup, None);
+    let csv = to_csv(&rows);
+    assert_eq!(csv.lines().count(), 2);
+    assert!(csv.starts_with("particles,backend,device,"));
+}
