@@ -25,8 +25,11 @@ SPH_KERNEL(correction_error)(u32 n, float rho0, const float* __restrict__ densit
     const double e = correction_density_error(density[i], rho0);
     const double compression = e > 0.0 ? e : 0.0;  // f64::max(e, 0): NaN gives 0
     const double residual = pressure[i] > 0.0f ? fabs(e) : compression;
-    atomicMax(&out[0], max_bits((float)compression));
-    atomicMax(&out[1], max_bits((float)residual));
+    // Read before the atomic: the maxima settle within a few blocks, after which almost every
+    // thread skips its atomic (a stale read only costs an atomic that changes nothing).
+    const int bc = max_bits((float)compression), br = max_bits((float)residual);
+    if (bc > out[0]) atomicMax(&out[0], bc);
+    if (br > out[1]) atomicMax(&out[1], br);
 }
 
 /// Eq. (19) inside the correction, fluid only: `delta_p = pressure_increment(rho, rho0, p + m, k) + m`
@@ -123,7 +126,8 @@ SPH_KERNEL(correction_displacement)(u32 n, StepParams p, GridGeometry g,
     });
     const vec_t dx = vscale(a, tau2);  // eq. (23)
     vstore(displacement, i, dx);
-    atomicMax(largest, max_bits(sqrtf(vdot(dx, dx))));
+    const int b = max_bits(sqrtf(vdot(dx, dx)));
+    if (b > *largest) atomicMax(largest, b);  // read first: see correction_error
 }
 
 /// Eq. (23) applied, fluid only: `dx = displacement * scale`, `x += dx`, `u += dx / tau`

@@ -12,29 +12,50 @@ SPH_KERNEL(state_extremes)(u32 n, StepParams p, const float* __restrict__ pos,
                            const float* __restrict__ vel, const float* __restrict__ acc,
                            const float* __restrict__ density, const float* __restrict__ pressure,
                            const u32* __restrict__ kind, Extremes* __restrict__ out) {
-    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n) return;
-    const vec_t x = vload(pos, i);
-    const vec_t u = vload(vel, i);
-    const vec_t a = vload(acc, i);
-    const float rho = density[i];
-    // Any particle, any of the fields `first_non_finite` checks.
-    if (!(finite_vec(x) && finite_vec(u) && finite_vec(a) && finite_float(rho) && finite_float(pressure[i])))
-        atomicMin(&out->non_finite, i);
-    if (kind[i] != SPH_FLUID) return;
-    atomicAdd(&out->fluid_count, 1u);
-    atomicMax(&out->max_speed, max_bits(sqrtf(vdot(u, u))));
-    atomicMax(&out->max_acceleration, max_bits(sqrtf(vdot(a, a))));
-    if (rho != rho) {
-        atomicMax(&out->density_nan, 1u);
-    } else {
-        atomicMax(&out->max_density, ordered_bits(rho));
-        atomicMin(&out->min_density, ordered_bits(rho));
+    // Grid-stride loop with per-thread accumulators: one set of atomics per thread, not per
+    // particle (the backend launches about n/64 threads; the shim one per particle).
+    const u32 stride = gridDim.x * blockDim.x;
+    u32 count = 0, non_finite = SPH_NO_PARTICLE, escaped = SPH_NO_PARTICLE, nan = 0;
+    int speed = 0, accel = 0, rho_max = ordered_bits(__int_as_float((int)0xff800000u)),
+        rho_min = ordered_bits(__int_as_float(0x7f800000));
+    double abs_sum = 0.0, comp_sum = 0.0;
+    for (u32 i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += stride) {
+        const vec_t x = vload(pos, i);
+        const vec_t u = vload(vel, i);
+        const vec_t a = vload(acc, i);
+        const float rho = density[i];
+        if (!(finite_vec(x) && finite_vec(u) && finite_vec(a) && finite_float(rho) &&
+              finite_float(pressure[i])))
+            non_finite = non_finite < i ? non_finite : i;
+        if (kind[i] != SPH_FLUID) continue;
+        count += 1;
+        const int bs = max_bits(sqrtf(vdot(u, u))), ba = max_bits(sqrtf(vdot(a, a)));
+        speed = speed > bs ? speed : bs;
+        accel = accel > ba ? accel : ba;
+        if (rho != rho) {
+            nan = 1;
+        } else {
+            const int b = ordered_bits(rho);
+            rho_max = rho_max > b ? rho_max : b;
+            rho_min = rho_min < b ? rho_min : b;
+        }
+        const double e = ((double)rho - (double)p.rho0) / (double)p.rho0;
+        abs_sum += fabs(e);
+        comp_sum += e > 0.0 ? e : 0.0;  // max(e, 0): NaN gives 0, as in Rust
+        bool outside = false;
+        for (int k = 0; k < D; ++k)
+            outside = outside || x.c[k] < p.domain_min[k] || x.c[k] > p.domain_max[k];
+        if (outside) escaped = escaped < i ? escaped : i;
     }
-    const double e = ((double)rho - (double)p.rho0) / (double)p.rho0;
-    atomicAdd(&out->abs_error_sum, fabs(e));
-    atomicAdd(&out->compression_sum, e > 0.0 ? e : 0.0);  // max(e, 0): NaN gives 0, as in Rust
-    bool outside = false;
-    for (int k = 0; k < D; ++k) outside = outside || x.c[k] < p.domain_min[k] || x.c[k] > p.domain_max[k];
-    if (outside) atomicMin(&out->escaped, i);
+    if (non_finite != SPH_NO_PARTICLE) atomicMin(&out->non_finite, non_finite);
+    if (count == 0) return;
+    atomicAdd(&out->fluid_count, count);
+    atomicMax(&out->max_speed, speed);
+    atomicMax(&out->max_acceleration, accel);
+    if (nan) atomicMax(&out->density_nan, 1u);
+    atomicMax(&out->max_density, rho_max);
+    atomicMin(&out->min_density, rho_min);
+    atomicAdd(&out->abs_error_sum, abs_sum);
+    atomicAdd(&out->compression_sum, comp_sum);
+    if (escaped != SPH_NO_PARTICLE) atomicMin(&out->escaped, escaped);
 }

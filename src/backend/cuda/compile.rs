@@ -22,7 +22,6 @@ pub struct CompileError {
 /// The architecture name NVRTC takes for compute capability `major.minor` (`"sm_90"`).
 pub fn arch_for(major: i32, minor: i32) -> &'static str {
     match (major, minor) {
-        (7, 0) => "sm_70",
         (7, 5) => "sm_75",
         (8, 0) => "sm_80",
         (8, 6) => "sm_86",
@@ -31,8 +30,9 @@ pub fn arch_for(major: i32, minor: i32) -> &'static str {
         (9, 0) => "sm_90",
         (10, 0) => "sm_100",
         (12, 0) => "sm_120",
-        // Newer or unlisted chips: PTX for the oldest listed target runs on every later one.
-        _ => "sm_70",
+        // Unlisted chips: PTX for the oldest target CUDA 12 and 13 both support (Turing), which
+        // the driver compiles for any later chip.
+        _ => "sm_75",
     }
 }
 

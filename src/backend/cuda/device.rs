@@ -30,8 +30,21 @@ unsafe impl DeviceRepr for DeviceExtremes {}
 
 /// Threads per block of every launch (the host shim uses the same shape).
 const THREADS: u32 = 256;
-/// Cells per thread in the first pass of the cell-count scan.
-const SCAN_CHUNK: u32 = 512;
+/// Items per thread at each level of the cell-count scan: a level of `m` items leaves `m/64`
+/// chunk sums, scanned the same way, until at most `SCAN_TOP` remain for one thread.
+const SCAN_CHUNK: u32 = 64;
+/// Largest level the scan leaves to a single thread.
+const SCAN_TOP: u32 = 1024;
+
+/// Sizes of the scan's levels above the cell counts: `m/64`, `m/64²`, ... down to `SCAN_TOP`.
+fn scan_levels(m: u32) -> Vec<u32> {
+    let mut sizes = vec![m.div_ceil(SCAN_CHUNK)];
+    while *sizes.last().expect("one level") > SCAN_TOP {
+        let next = sizes.last().expect("one level").div_ceil(SCAN_CHUNK);
+        sizes.push(next);
+    }
+    sizes
+}
 
 fn launch_config(n: usize) -> LaunchConfig {
     LaunchConfig {
@@ -81,7 +94,8 @@ struct DeviceGrid<const D: usize> {
     cell_count: CudaSlice<u32>,
     cell_start: CudaSlice<u32>,
     cell_fill: CudaSlice<u32>,
-    chunk_sums: CudaSlice<u32>,
+    /// Per scan level: the chunk sums of the level below, and their exclusive scan.
+    chunk_sums: Vec<(CudaSlice<u32>, CudaSlice<u32>)>,
     perm: CudaSlice<u32>,
 }
 
@@ -236,7 +250,6 @@ impl<const D: usize> CudaBackend<D> {
                 reason: e.to_string(),
             })?;
         let cells = geometry.cell_count();
-        let chunks = (cells + 1).div_ceil(SCAN_CHUNK as usize);
         let s = &self.stream;
         let a = |len: usize| {
             s.alloc_zeros::<u32>(len.max(1))
@@ -250,7 +263,10 @@ impl<const D: usize> CudaBackend<D> {
             cell_count: a(cells + 1)?,
             cell_start: a(cells + 1)?,
             cell_fill: a(cells)?,
-            chunk_sums: a(chunks)?,
+            chunk_sums: scan_levels(cells as u32 + 1)
+                .into_iter()
+                .map(|m| Ok((a(m as usize)?, a(m as usize)?)))
+                .collect::<Result<_, BackendError>>()?,
             perm: a(self.n)?,
         });
         Ok(())
@@ -389,10 +405,50 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
     }
 
     fn heap_bytes(&self) -> usize {
-        let n = self.n;
-        // Device memory: 7 vector buffers, 6 scalar buffers, 5 index buffers, the cell arrays.
-        let cells = self.grid.as_ref().map_or(0, |g| g.geometry.cell_count());
-        n * (7 * D * 4 + 6 * 4 + 5 * 4) + cells * 12
+        // Every device buffer, counted from its length (the driver's own context is not).
+        let f = &self.f;
+        let mut bytes = [
+            &f.position,
+            &f.velocity,
+            &f.acceleration,
+            &f.position_start,
+            &f.velocity_start,
+            &f.density,
+            &f.pressure,
+            &f.mass,
+            &self.scratch_vec,
+            &self.delta_p,
+            &self.delta_p_previous,
+            &self.displacement,
+        ]
+        .iter()
+        .map(|b| b.num_bytes())
+        .sum::<usize>()
+            + f.kind.num_bytes()
+            + f.id.num_bytes()
+            + self.scratch_u32.num_bytes()
+            + self.reduce_i32.num_bytes()
+            + self.extremes.num_bytes()
+            + self.solid_out.num_bytes();
+        if let Some(g) = &self.grid {
+            bytes += [
+                &g.key,
+                &g.cell_key,
+                &g.cell_count,
+                &g.cell_start,
+                &g.cell_fill,
+                &g.perm,
+            ]
+            .iter()
+            .map(|b| b.num_bytes())
+            .sum::<usize>();
+            bytes += g
+                .chunk_sums
+                .iter()
+                .map(|(a, b)| a.num_bytes() + b.num_bytes())
+                .sum::<usize>();
+        }
+        bytes
     }
 
     fn holds_state(&self) -> bool {
@@ -465,7 +521,6 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let geometry = grid.geometry;
         let cells = geometry.cell_count();
         let m = (cells + 1) as u32;
-        let chunks = m.div_ceil(SCAN_CHUNK);
         let chunk = SCAN_CHUNK;
         let ncell = cells as u32;
         let (stream, kernels) = (&self.stream, &self.kernels);
@@ -483,6 +538,9 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
                     .arg(&mut grid.cell_count)
                     .launch(launch_config(n)),
             );
+            // The exclusive scan of the counts, level by level (see `scan_levels`).
+            let levels = &mut grid.chunk_sums;
+            let sizes = scan_levels(m);
             results.push(
                 stream
                     .launch_builder(&kernels["scan_chunks"])
@@ -490,23 +548,53 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
                     .arg(&chunk)
                     .arg(&grid.cell_count)
                     .arg(&mut grid.cell_start)
-                    .arg(&mut grid.chunk_sums)
-                    .launch(launch_config(chunks as usize)),
+                    .arg(&mut levels[0].0)
+                    .launch(launch_config(sizes[0] as usize)),
             );
+            for l in 1..sizes.len() {
+                let (below, above) = levels.split_at_mut(l);
+                let (sums, scanned) = (&below[l - 1].0, &mut below[l - 1].1);
+                results.push(
+                    stream
+                        .launch_builder(&kernels["scan_chunks"])
+                        .arg(&sizes[l - 1])
+                        .arg(&chunk)
+                        .arg(sums)
+                        .arg(scanned)
+                        .arg(&mut above[0].0)
+                        .launch(launch_config(sizes[l] as usize)),
+                );
+            }
+            let top = sizes.len() - 1;
             results.push(
                 stream
                     .launch_builder(&kernels["scan_chunk_sums"])
-                    .arg(&chunks)
-                    .arg(&mut grid.chunk_sums)
+                    .arg(&sizes[top])
+                    .arg(&mut levels[top].0)
                     .launch(launch_config(1)),
             );
+            for l in (1..sizes.len()).rev() {
+                // Level l's scanned sums complete the scan of level l - 1's sums.
+                let (below, above) = levels.split_at_mut(l);
+                let add = if l == top { &above[0].0 } else { &above[0].1 };
+                results.push(
+                    stream
+                        .launch_builder(&kernels["scan_add"])
+                        .arg(&sizes[l - 1])
+                        .arg(&chunk)
+                        .arg(&mut below[l - 1].1)
+                        .arg(add)
+                        .launch(launch_config(sizes[l - 1] as usize)),
+                );
+            }
+            let add = if top == 0 { &levels[0].0 } else { &levels[0].1 };
             results.push(
                 stream
                     .launch_builder(&kernels["scan_add"])
                     .arg(&m)
                     .arg(&chunk)
                     .arg(&mut grid.cell_start)
-                    .arg(&grid.chunk_sums)
+                    .arg(add)
                     .launch(launch_config(m as usize)),
             );
             results.push(
@@ -677,7 +765,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return fallback;
         }
         let n = self.n as u32;
-        launch!(self, "reducing the extremes", "state_extremes", self.n;
+        // About 64 particles per thread (grid-stride loop), so one set of atomics per 64.
+        launch!(self, "reducing the extremes", "state_extremes", self.n.div_ceil(64);
             &n, params, &self.f.position, &self.f.velocity, &self.f.acceleration, &self.f.density,
             &self.f.pressure, &self.f.kind, &mut self.extremes);
         let out = self.stream.clone_dtoh(&self.extremes);
