@@ -1,6 +1,6 @@
 // Stage `solid_forces` (Fig. 4): the force of the fluid on each named solid. Twin of
 // `CpuBackend::solid_forces`: each solid particle s sums `force_on_solid` over its fluid
-// neighbours in f32, then adds the sum in f64 to its solid's three slots
+// neighbours in f32, then adds the sum in f64 (per thread, see below) to its solid's three slots
 // `out[3 (kind[s] - 1) + axis]` (z = 0 in 2D). The host zeroes `out` (3 doubles per solid; every
 // solid particle's kind must be at most the number of solids) and, for the correction's impulse
 // (`SolidForceSource::Correction`), passes `p` with `mu = alpha = 0` and the pressure increments
@@ -13,28 +13,49 @@ SPH_KERNEL(solid_forces)(u32 n, StepParams p, GridGeometry g, const u32* __restr
                          const float* __restrict__ vel, const float* __restrict__ mass,
                          const float* __restrict__ density, const float* __restrict__ pressure,
                          const u32* __restrict__ kind, double* __restrict__ out) {
-    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n || kind[i] == SPH_FLUID) return;
+    // Grid-stride loop: the backend launches about n/8 threads, each summing its solid particles
+    // per solid in registers and adding to the slots only when the solid changes and at the end
+    // (the slots are a handful of addresses every thread would otherwise hit). The shim launches
+    // one thread per particle.
+    const u32 stride = gridDim.x * blockDim.x;
     const Smoothing s = smoothing(p.h);
-    const vec_t x_s = vload(pos, i);
-    const float m_s = mass[i];
-    const float p_s = pressure[i];
-    const float rho_s = density[i];
-    vec_t force = vzero();
-    u32 fluid_neighbours = 0;
-    SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
-        if (kind[j] != SPH_FLUID) continue;
-        const vec_t d = vsub(x_s, vload(pos, j));
-        const float r2 = vdot(d, d);
-        if (!(r2 < s.h2)) continue;
-        const float r = sqrtf(r2);
-        const vec_t grad = vscale(grad_w_spiky(s, d, r), p.pressure_gradient_scale);
-        force = vadd(force, force_on_solid(p, m_s, p_s, rho_s, mass[j], pressure[j], density[j], d, r2,
-                                           vload(vel, j), grad, laplacian_w_viscosity(s, r)));
-        ++fluid_neighbours;
-    });
-    // A solid particle away from the fluid adds nothing; skipping it spares the slots' atomics.
-    if (fluid_neighbours == 0) return;
-    double* slot = out + 3 * (size_t)(kind[i] - 1);
-    for (int k = 0; k < D; ++k) atomicAdd(slot + k, (double)force.c[k]);
+    u32 current = SPH_FLUID;
+    vec_t total = vzero();
+    bool touched = false;
+    for (u32 i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += stride) {
+        if (kind[i] == SPH_FLUID) continue;
+        const vec_t x_s = vload(pos, i);
+        const float m_s = mass[i];
+        const float p_s = pressure[i];
+        const float rho_s = density[i];
+        vec_t force = vzero();
+        u32 fluid_neighbours = 0;
+        SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
+            if (kind[j] != SPH_FLUID) continue;
+            const vec_t d = vsub(x_s, vload(pos, j));
+            const float r2 = vdot(d, d);
+            if (!(r2 < s.h2)) continue;
+            const float r = sqrtf(r2);
+            const vec_t grad = vscale(grad_w_spiky(s, d, r), p.pressure_gradient_scale);
+            force = vadd(force, force_on_solid(p, m_s, p_s, rho_s, mass[j], pressure[j], density[j], d,
+                                               r2, vload(vel, j), grad, laplacian_w_viscosity(s, r)));
+            ++fluid_neighbours;
+        });
+        // A solid particle away from the fluid adds nothing.
+        if (fluid_neighbours == 0) continue;
+        if (kind[i] != current) {
+            if (touched) {
+                double* slot = out + 3 * (size_t)(current - 1);
+                for (int k = 0; k < D; ++k) atomicAdd(slot + k, (double)total.c[k]);
+            }
+            current = kind[i];
+            total = vzero();
+        }
+        total = vadd(total, force);
+        touched = true;
+    }
+    if (touched) {
+        double* slot = out + 3 * (size_t)(current - 1);
+        for (int k = 0; k < D; ++k) atomicAdd(slot + k, (double)total.c[k]);
+    }
 }

@@ -725,7 +725,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             ),
         };
         let n = self.n as u32;
-        let cfg = launch_config(self.n);
+        // About 8 particles per thread (grid-stride loop in kernels/solid_forces.cu).
+        let cfg = launch_config(self.n.div_ceil(8));
         let mut b = self.stream.launch_builder(&self.kernels["solid_forces"]);
         b.arg(&n)
             .arg(&p)
