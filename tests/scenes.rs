@@ -145,3 +145,56 @@ fn cli_reports_bad_input_without_panicking() {
     assert!(format!("{err:#}").contains("cuda"), "{err:#}");
     std::fs::remove_dir_all(&out).expect("cleanup");
 }
+
+/// `sph compare` draws two runs' force probes against the Yeh & Petroff record and refuses a run
+/// without that probe, naming it.
+#[test]
+fn compare_draws_runs_against_the_reference() {
+    let out = scratch("compare");
+    std::fs::create_dir_all(&out).expect("dir");
+    for (name, peak) in [("a", 30.0), ("b", 40.0)] {
+        let dir = out.join(name);
+        std::fs::create_dir_all(&dir).expect("dir");
+        let mut csv = String::from("t_s,column_force_pysph_N,column_force_anuga_N\n");
+        for k in 0..=80 {
+            let t = f64::from(k) * 0.01;
+            let f = if (0.3..0.4).contains(&t) { peak } else { 0.0 };
+            csv.push_str(&format!("{t},{f},{f}\n"));
+        }
+        std::fs::write(dir.join("probes.csv"), csv).expect("write");
+    }
+    let figure = out.join("force.png");
+    let run = |label: &str, dir: &str| format!("{label}={}", out.join(dir).display());
+    sph::cli::run([
+        "sph",
+        "compare",
+        "scenes/yeh_petroff_3d.toml",
+        "--run",
+        &run("a = 30", "a"),
+        "--run",
+        &run("b", "b"),
+        "--probe",
+        "column_force_pysph",
+        "--t-max",
+        "0.8",
+        "--out",
+        figure.to_str().expect("utf-8"),
+    ])
+    .unwrap_or_else(|e| panic!("sph compare: {e:#}"));
+    let png = std::fs::read(&figure).expect("figure written");
+    assert_eq!(&png[1..4], b"PNG");
+    let err = sph::cli::run([
+        "sph",
+        "compare",
+        "scenes/yeh_petroff_3d.toml",
+        "--run",
+        &run("a", "a"),
+        "--probe",
+        "no_such_probe",
+        "--out",
+        figure.to_str().expect("utf-8"),
+    ])
+    .expect_err("unknown probe");
+    assert!(format!("{err:#}").contains("no_such_probe"), "{err:#}");
+    std::fs::remove_dir_all(&out).expect("cleanup");
+}

@@ -7,6 +7,7 @@
 
 mod bench;
 mod check;
+mod compare;
 mod run;
 mod sweep;
 
@@ -104,6 +105,27 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
     },
+    /// Draw one probe of several finished runs (their probes.csv) against the scene's
+    /// reference data on one figure, and print each run's error or force peak.
+    Compare {
+        /// Scene the runs came from (for the probe and its reference data).
+        scene: PathBuf,
+        /// A run to draw, as LABEL=DIR (DIR holds its probes.csv; split at the last `=`); repeat.
+        #[arg(long = "run", value_name = "LABEL=DIR", required = true)]
+        runs: Vec<String>,
+        /// Probe name.
+        #[arg(long)]
+        probe: String,
+        /// Figure to write (PNG).
+        #[arg(long, default_value = "compare.png")]
+        out: PathBuf,
+        /// Draw only t <= T [s] (the probe's own time axis).
+        #[arg(long)]
+        t_max: Option<f64>,
+        /// Override any scene key by its dotted TOML path.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+    },
     /// Validate a scene; print particle counts, memory needed and the stage plan.
     Check {
         /// Scene file (TOML).
@@ -149,6 +171,14 @@ where
             sweep::sweep(&scene, out, threads, backend, &sets)
         }
         Command::Check { scene, sets } => check::check(&scene, &sets),
+        Command::Compare {
+            scene,
+            runs,
+            probe,
+            out,
+            t_max,
+            sets,
+        } => compare::compare(&scene, &runs, &probe, &out, t_max, &sets),
         Command::Bench {
             scene,
             backend,
