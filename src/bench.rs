@@ -44,6 +44,9 @@ pub struct BenchRow {
     pub neighbours: f64,
     /// This row's speedup over the CPU row of the same size, for GPU rows.
     pub speedup: Option<f64>,
+    /// Seconds per step in each stage of the plan (timed in extra steps, each stage waiting for
+    /// the backend to finish).
+    pub stages: Vec<(String, f64)>,
 }
 
 /// What to measure.
@@ -148,6 +151,16 @@ fn measure<const D: usize>(
     sim.sync_fields()?;
     let seconds_per_step = start.elapsed().as_secs_f64() / options.steps.max(1) as f64;
     let iterations = (sim.stats().correction.iterations - before) as f64 / options.steps.max(1) as f64;
+    sim.time_stages(true);
+    for _ in 0..options.steps {
+        sim.step(f64::INFINITY)?;
+    }
+    let stages = sim
+        .stage_seconds()
+        .iter()
+        .map(|(name, s)| (name.to_string(), s / options.steps.max(1) as f64))
+        .collect();
+    sim.time_stages(false);
     let force_stages = sim.config().integrator.stages().len() as f64;
     let device = match backend {
         BackendKind::Cpu => format!("{} threads", options.threads),
@@ -166,6 +179,7 @@ fn measure<const D: usize>(
         bytes_per_particle: sim.backend_bytes() as f64 / particles.max(1) as f64,
         neighbours,
         speedup: None,
+        stages,
     })
 }
 
@@ -198,6 +212,17 @@ pub fn bench(
         }
     }
     Ok(rows)
+}
+
+/// The per-stage breakdown as CSV: particles, backend, stage, seconds per step.
+pub fn stages_csv(rows: &[BenchRow]) -> String {
+    let mut s = String::from("particles,backend,stage,seconds_per_step\n");
+    for r in rows {
+        for (stage, t) in &r.stages {
+            s.push_str(&format!("{},{},{stage},{t:e}\n", r.particles, r.backend));
+        }
+    }
+    s
 }
 
 /// The table as CSV (header and one line per row).

@@ -44,6 +44,22 @@ fn one_cpu_row_is_measured_and_written() {
     assert!(r.neighbours > 10.0 && r.neighbours < 33.0, "{}", r.neighbours);
     assert!(r.bytes_per_particle > 50.0 && r.bytes_per_particle < 600.0);
     assert_eq!(r.speedup, None);
+    let names: Vec<&str> = r.stages.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "sort_by_cell",
+            "density",
+            "equation_of_state",
+            "wall_pressure",
+            "forces",
+            "solid_forces",
+            "time_step",
+            "integrate"
+        ],
+        "the wcsph plan with walls, in order"
+    );
+    assert!(r.stages.iter().all(|(_, t)| *t >= 0.0));
     let csv = to_csv(&rows);
     assert_eq!(csv.lines().count(), 2);
     assert!(csv.starts_with("particles,backend,device,"));

@@ -3,7 +3,7 @@
 
 use super::BackendArg;
 use crate::backend::BackendKind;
-use crate::bench::{BenchOptions, BenchRow, bench, to_csv};
+use crate::bench::{BenchOptions, BenchRow, bench, stages_csv, to_csv};
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 
@@ -96,6 +96,17 @@ pub fn run_bench(
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let csv = out.join("bench.csv");
     std::fs::write(&csv, to_csv(&rows)).with_context(|| format!("writing {}", csv.display()))?;
-    println!("wrote {}", csv.display());
+    let stages = out.join("bench_stages.csv");
+    std::fs::write(&stages, stages_csv(&rows)).with_context(|| format!("writing {}", stages.display()))?;
+    println!("per stage [ms per step]:");
+    for r in &rows {
+        let parts: Vec<String> = r
+            .stages
+            .iter()
+            .map(|(name, t)| format!("{name} {:.3}", 1e3 * t))
+            .collect();
+        println!("{:>11} {:>5}: {}", r.particles, r.backend, parts.join(", "));
+    }
+    println!("wrote {} and {}", csv.display(), stages.display());
     Ok(())
 }

@@ -273,6 +273,8 @@ pub struct Simulation<const D: usize> {
     /// Particle fields (cell-sorted after the first step).
     pub fields: Fields<D>,
     backend: Box<dyn Backend<D>>,
+    /// Wall seconds per stage name since [`Simulation::time_stages`] turned timing on.
+    stage_seconds: Option<Vec<(&'static str, f64)>>,
     /// `fields` lags the backend's state (a device-resident backend ran stages since the last
     /// [`Simulation::sync_fields`]).
     fields_stale: bool,
@@ -358,6 +360,7 @@ impl<const D: usize> Simulation<D> {
         Ok(Self {
             fields,
             backend: Box::new(CpuBackend::new()),
+            stage_seconds: None,
             fields_stale: false,
             plan,
             solid_names: solids.iter().map(|(n, _)| n.clone()).collect(),
@@ -443,6 +446,18 @@ impl<const D: usize> Simulation<D> {
         self.grid_fresh = false;
         self.density_fresh = false;
         Ok(())
+    }
+
+    /// Turns per-stage timing on (from zero) or off. While on, each stage waits for the backend
+    /// to finish (`Backend::synchronize`) so its time is its own; the step gets slightly slower.
+    pub fn time_stages(&mut self, on: bool) {
+        self.stage_seconds = on.then(Vec::new);
+    }
+
+    /// Wall seconds spent in each stage of the plan since timing was turned on, by stage name
+    /// in plan order (the correction loop counts as `correct_positions`).
+    pub fn stage_seconds(&self) -> &[(&'static str, f64)] {
+        self.stage_seconds.as_deref().unwrap_or(&[])
     }
 
     /// Times `count` sweeps (one density pass, the equation of state and one force pass, the

@@ -52,6 +52,7 @@ impl<const D: usize> Simulation<D> {
             let params = self.params_at(time + t_frac * report.dt);
             for s in 0..self.plan.len() {
                 let stage = self.plan[s];
+                let started = self.stage_seconds.is_some().then(std::time::Instant::now);
                 let (bk, f) = (&mut self.backend, &mut self.fields);
                 match stage {
                     Stage::SortByCell => {
@@ -96,6 +97,16 @@ impl<const D: usize> Simulation<D> {
                         // Impulse τ F, weighted by how much of this stage reaches y^{n+1}.
                         let w = integrator.correction_weights()[k] * tau / report.dt.max(f64::MIN_POSITIVE);
                         add_force(&mut solid_force, &impulse_force, w);
+                    }
+                }
+                if let Some(t0) = started {
+                    self.backend.synchronize();
+                    let elapsed = t0.elapsed().as_secs_f64();
+                    if let Some(times) = self.stage_seconds.as_mut() {
+                        match times.iter_mut().find(|(name, _)| *name == stage.name()) {
+                            Some((_, total)) => *total += elapsed,
+                            None => times.push((stage.name(), elapsed)),
+                        }
                     }
                 }
             }
