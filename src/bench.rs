@@ -148,7 +148,7 @@ fn measure<const D: usize>(
     for _ in 0..options.steps {
         sim.step(f64::INFINITY)?;
     }
-    sim.sync_fields()?;
+    sim.synchronize()?;
     let seconds_per_step = start.elapsed().as_secs_f64() / options.steps.max(1) as f64;
     let iterations = (sim.stats().correction.iterations - before) as f64 / options.steps.max(1) as f64;
     sim.time_stages(true);

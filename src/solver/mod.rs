@@ -3,6 +3,7 @@
 //! A [`Simulation`] holds the particle fields, the backend, the plan and the clock. The step
 //! driver (`step.rs`) walks the plan and calls one backend method per stage.
 
+pub mod checkpoint;
 pub mod plan;
 pub mod stage;
 pub mod step;
@@ -204,7 +205,7 @@ pub enum SetupError {
 }
 
 /// Simulated time and step count.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Clock {
     /// Simulated time [s].
     pub time: f64,
@@ -224,7 +225,7 @@ pub struct StepReport {
 }
 
 /// Density-error statistics over a run (fluid particles; see `StateExtremes`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunStats {
     /// Largest `|ρ − ρ0|/ρ0` seen.
     pub max_abs_density_error: f64,
@@ -239,7 +240,7 @@ pub struct RunStats {
 }
 
 /// What the position correction did over a run.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CorrectionStats {
     /// Integrator stages corrected.
     pub stages: u64,
@@ -272,7 +273,7 @@ impl CorrectionStats {
 pub struct Simulation<const D: usize> {
     /// Particle fields (cell-sorted after the first step).
     pub fields: Fields<D>,
-    backend: Box<dyn Backend<D>>,
+    backend: Box<dyn Backend<D> + Send>,
     /// Wall seconds per stage name since [`Simulation::time_stages`] turned timing on.
     stage_seconds: Option<Vec<(&'static str, f64)>>,
     /// `fields` lags the backend's state (a device-resident backend ran stages since the last
@@ -416,6 +417,15 @@ impl<const D: usize> Simulation<D> {
         self.backend.name()
     }
 
+    /// Which backend runs the stages.
+    pub fn backend_kind(&self) -> BackendKind {
+        if self.backend.holds_state() {
+            BackendKind::Cuda
+        } else {
+            BackendKind::Cpu
+        }
+    }
+
     /// The device the backend runs on (`None` for the host's CPUs).
     pub fn backend_device(&self) -> Option<String> {
         self.backend.device()
@@ -448,6 +458,15 @@ impl<const D: usize> Simulation<D> {
         Ok(())
     }
 
+    /// Waits until the backend has finished every stage launched so far (for timings).
+    ///
+    /// # Errors
+    /// [`BackendError`] when a stage failed on the device.
+    pub fn synchronize(&mut self) -> Result<(), BackendError> {
+        self.backend.synchronize();
+        self.backend.take_error().map_or(Ok(()), Err)
+    }
+
     /// Turns per-stage timing on (from zero) or off. While on, each stage waits for the backend
     /// to finish (`Backend::synchronize`) so its time is its own; the step gets slightly slower.
     pub fn time_stages(&mut self, on: bool) {
@@ -477,7 +496,7 @@ impl<const D: usize> Simulation<D> {
         let (bk, f) = (&mut self.backend, &mut self.fields);
         bk.sort_by_cell(f, params.h)
             .map_err(|source| StepError::Grid { step, source })?;
-        let sweep = |bk: &mut Box<dyn Backend<D>>, f: &mut Fields<D>| {
+        let sweep = |bk: &mut Box<dyn Backend<D> + Send>, f: &mut Fields<D>| {
             bk.density(f, &params);
             bk.equation_of_state(f, &params);
             bk.forces(f, &params, terms);

@@ -61,7 +61,7 @@ pub fn probe() -> Result<(), BackendError> {
 pub fn create<const D: usize>(
     fields: &Fields<D>,
     params: &StepParams<D>,
-) -> Result<Box<dyn Backend<D>>, BackendError> {
+) -> Result<Box<dyn Backend<D> + Send>, BackendError> {
     probe()?;
     Ok(Box::new(CudaBackend::new(fields, params)?))
 }
@@ -74,7 +74,7 @@ pub fn create<const D: usize>(
 pub fn create<const D: usize>(
     _fields: &crate::fields::Fields<D>,
     _params: &super::params::StepParams<D>,
-) -> Result<Box<dyn super::Backend<D>>, BackendError> {
+) -> Result<Box<dyn super::Backend<D> + Send>, BackendError> {
     probe()?;
     unreachable!("probe fails without the cuda feature")
 }

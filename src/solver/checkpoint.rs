@@ -1,0 +1,292 @@
+//! Checkpoints: the whole state a step depends on, written atomically and read back so that a
+//! restarted run continues bit for bit (issue "hard cases": checkpoint and restart).
+//!
+//! A step depends on the fields (positions, velocities, the last accelerations for the time
+//! step, densities, the pressures the `corrected` solver carries, masses, kinds, ids, in their
+//! current order), the clock, the run statistics and the last forces on solids; every step starts
+//! with a fresh sort (`step.rs`), so no grid or scratch state is needed.
+//!
+//! File layout (little endian): the magic `SPHCKPT1`, `u32` dimension, `u64` particle count,
+//! `u64` length and the JSON of [`Header`] (plus the caller's metadata), then the arrays
+//! position, velocity, acceleration (`n·D` f32 each), density, pressure, mass (`n` f32), kind, id
+//! (`n` u32), and an FNV-1a 64-bit checksum of everything before it. It is written to
+//! `<path>.tmp`, flushed to disk and renamed over `<path>`, so `<path>` always holds a complete
+//! checkpoint.
+
+use super::{Clock, RunStats, Simulation};
+use crate::backend::BackendError;
+use crate::fields::Fields;
+use crate::math::{Real, Vector};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+const MAGIC: &[u8; 8] = b"SPHCKPT1";
+
+/// The scalar state of a checkpoint, stored as JSON in the file.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Header {
+    /// Simulated time and steps.
+    pub clock: Clock,
+    /// Density-error and correction statistics so far.
+    pub stats: RunStats,
+    /// Force of the fluid on each solid at the last step [N].
+    pub solid_force: Vec<[f64; 3]>,
+    /// Whatever the caller keeps with the state (the run driver: output bookkeeping).
+    pub metadata: serde_json::Value,
+}
+
+/// The state of a simulation between two steps.
+#[derive(Clone, Debug)]
+pub struct Checkpoint<const D: usize> {
+    /// Scalars.
+    pub header: Header,
+    /// Particle fields, in the simulation's current order (`position_start` and
+    /// `velocity_start` are empty: they only live inside a step).
+    pub fields: Fields<D>,
+}
+
+/// Errors reading, writing or applying a checkpoint.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckpointError {
+    /// The file could not be read or written.
+    #[error("checkpoint {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The file is not a complete checkpoint of this program.
+    #[error("checkpoint {path} is damaged or not a checkpoint: {reason}")]
+    Malformed {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The checkpoint does not belong to this simulation.
+    #[error("checkpoint does not match the scene: {reason}")]
+    Mismatch {
+        /// What differs.
+        reason: String,
+    },
+    /// The backend could not hand over its state.
+    #[error(transparent)]
+    Backend(#[from] BackendError),
+}
+
+/// FNV-1a, 64 bit: detects a truncated or altered file (not an adversary).
+fn fnv1a(bytes: &[u8], mut hash: u64) -> u64 {
+    for &b in bytes {
+        hash ^= u64::from(b);
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    hash
+}
+const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+fn put_reals(out: &mut Vec<u8>, values: impl Iterator<Item = Real>) {
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+}
+
+impl<const D: usize> Simulation<D> {
+    /// The current state (copied from the device first for a device-resident backend), with
+    /// `metadata` kept in its header.
+    ///
+    /// # Errors
+    /// [`CheckpointError::Backend`] when the device copy fails.
+    pub fn checkpoint(&mut self, metadata: serde_json::Value) -> Result<Checkpoint<D>, CheckpointError> {
+        self.sync_fields()?;
+        let mut fields = self.fields.clone();
+        fields.position_start.clear();
+        fields.velocity_start.clear();
+        Ok(Checkpoint {
+            header: Header {
+                clock: self.clock,
+                stats: self.stats,
+                solid_force: self.solid_force.clone(),
+                metadata,
+            },
+            fields,
+        })
+    }
+
+    /// Continues from `checkpoint`, which must come from a simulation of the same scene: the
+    /// same particles (count, and the mass and kind of every id) and solids.
+    ///
+    /// # Errors
+    /// [`CheckpointError::Mismatch`] naming what differs; [`CheckpointError::Backend`] when the
+    /// backend cannot take the state.
+    pub fn restore(&mut self, checkpoint: Checkpoint<D>) -> Result<(), CheckpointError> {
+        let mismatch = |reason: String| CheckpointError::Mismatch { reason };
+        let (ours, theirs) = (&self.fields, &checkpoint.fields);
+        if ours.len() != theirs.len() {
+            return Err(mismatch(format!(
+                "{} particles in the checkpoint, {} in the scene",
+                theirs.len(),
+                ours.len()
+            )));
+        }
+        if checkpoint.header.solid_force.len() != self.solid_names.len() {
+            return Err(mismatch(format!(
+                "{} solids in the checkpoint, {} in the scene",
+                checkpoint.header.solid_force.len(),
+                self.solid_names.len()
+            )));
+        }
+        // Every id once, with the scene's mass and kind for that id.
+        let mut by_id = vec![usize::MAX; ours.len()];
+        for (i, &id) in ours.id.iter().enumerate() {
+            by_id[id as usize] = i;
+        }
+        let mut seen = vec![false; ours.len()];
+        for k in 0..theirs.len() {
+            let id = theirs.id[k] as usize;
+            let Some(&i) = by_id.get(id) else {
+                return Err(mismatch(format!("particle id {id} is not in the scene")));
+            };
+            if std::mem::replace(&mut seen[id], true) {
+                return Err(mismatch(format!("particle id {id} appears twice")));
+            }
+            if ours.kind[i] != theirs.kind[k] || ours.mass[i].to_bits() != theirs.mass[k].to_bits() {
+                return Err(mismatch(format!(
+                    "particle {id} differs in kind or mass (spacing, boxes or solids changed?)"
+                )));
+            }
+        }
+        let kind = self.backend_kind();
+        self.fields = checkpoint.fields;
+        self.clock = checkpoint.header.clock;
+        self.stats = checkpoint.header.stats;
+        self.solid_force = checkpoint.header.solid_force;
+        self.fields_stale = false;
+        self.use_backend(kind)?;
+        Ok(())
+    }
+}
+
+impl<const D: usize> Checkpoint<D> {
+    /// Writes the checkpoint to `path` atomically (temporary file, flush to disk, rename).
+    ///
+    /// # Errors
+    /// [`CheckpointError::Io`] naming the file.
+    pub fn write(&self, path: &Path) -> Result<(), CheckpointError> {
+        let io = |source| CheckpointError::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        let f = &self.fields;
+        let n = f.len();
+        let header = serde_json::to_vec(&self.header).map_err(|e| io(std::io::Error::other(e)))?;
+        let mut out = Vec::with_capacity(64 + header.len() + n * (3 * D + 5) * 4);
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&(D as u32).to_le_bytes());
+        out.extend_from_slice(&(n as u64).to_le_bytes());
+        out.extend_from_slice(&(header.len() as u64).to_le_bytes());
+        out.extend_from_slice(&header);
+        for v in [&f.position, &f.velocity, &f.acceleration] {
+            put_reals(&mut out, v.iter().flat_map(|x| x.iter().copied()));
+        }
+        for v in [&f.density, &f.pressure, &f.mass] {
+            put_reals(&mut out, v.iter().copied());
+        }
+        for v in [&f.kind, &f.id] {
+            for x in v.iter() {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        let sum = fnv1a(&out, FNV_OFFSET);
+        out.extend_from_slice(&sum.to_le_bytes());
+        let tmp = path.with_extension("tmp");
+        let write = || -> std::io::Result<()> {
+            let mut file = std::fs::File::create(&tmp)?;
+            file.write_all(&out)?;
+            file.sync_all()?;
+            std::fs::rename(&tmp, path)
+        };
+        write().map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            io(e)
+        })
+    }
+
+    /// Reads a checkpoint written by [`Checkpoint::write`].
+    ///
+    /// # Errors
+    /// [`CheckpointError::Io`], or [`CheckpointError::Malformed`] for a truncated, altered or
+    /// foreign file, or one of another dimension.
+    pub fn read(path: &Path) -> Result<Self, CheckpointError> {
+        let bytes = std::fs::read(path).map_err(|source| CheckpointError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let bad = |reason: &str| CheckpointError::Malformed {
+            path: path.to_path_buf(),
+            reason: reason.into(),
+        };
+        if bytes.len() < 36 || &bytes[..8] != MAGIC {
+            return Err(bad("no SPHCKPT1 header"));
+        }
+        let (body, sum) = bytes.split_at(bytes.len() - 8);
+        if fnv1a(body, FNV_OFFSET).to_le_bytes() != sum {
+            return Err(bad("checksum mismatch (truncated or altered)"));
+        }
+        let u32_at = |at: usize| u32::from_le_bytes(body[at..at + 4].try_into().expect("4 bytes"));
+        let u64_at = |at: usize| u64::from_le_bytes(body[at..at + 8].try_into().expect("8 bytes"));
+        let dim = u32_at(8) as usize;
+        if dim != D {
+            return Err(bad(&format!("a {dim}D checkpoint, the scene is {D}D")));
+        }
+        let n = usize::try_from(u64_at(12)).map_err(|_| bad("particle count overflows"))?;
+        let header_len = usize::try_from(u64_at(20)).map_err(|_| bad("header length overflows"))?;
+        let arrays = n
+            .checked_mul((3 * D + 5) * 4)
+            .and_then(|a| a.checked_add(28 + header_len))
+            .ok_or_else(|| bad("sizes overflow"))?;
+        if arrays != body.len() {
+            return Err(bad("length does not match its particle count"));
+        }
+        let header: Header =
+            serde_json::from_slice(&body[28..28 + header_len]).map_err(|e| bad(&format!("header: {e}")))?;
+        let mut at = 28 + header_len;
+        let mut reals = |count: usize| -> Vec<Real> {
+            let v = body[at..at + 4 * count]
+                .chunks_exact(4)
+                .map(|c| Real::from_le_bytes(c.try_into().expect("4 bytes")))
+                .collect();
+            at += 4 * count;
+            v
+        };
+        let vectors = |flat: Vec<Real>| -> Vec<Vector<D>> {
+            flat.chunks_exact(D).map(Vector::<D>::from_column_slice).collect()
+        };
+        let position = vectors(reals(n * D));
+        let velocity = vectors(reals(n * D));
+        let acceleration = vectors(reals(n * D));
+        let density = reals(n);
+        let pressure = reals(n);
+        let mass = reals(n);
+        let words: Vec<u32> = body[at..]
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes(c.try_into().expect("4 bytes")))
+            .collect();
+        let (kind, id) = words.split_at(n);
+        Ok(Self {
+            header,
+            fields: Fields {
+                position,
+                velocity,
+                acceleration,
+                density,
+                pressure,
+                mass,
+                kind: kind.to_vec(),
+                id: id.to_vec(),
+                position_start: Vec::new(),
+                velocity_start: Vec::new(),
+            },
+        })
+    }
+}
