@@ -24,6 +24,9 @@ pub enum Error {
     /// A parameter sweep could not be set up or run.
     #[error(transparent)]
     Sweep(#[from] crate::sweep::SweepError),
+    /// A checkpoint could not be written, read or applied.
+    #[error(transparent)]
+    Checkpoint(#[from] crate::solver::checkpoint::CheckpointError),
     /// The requested backend is not available.
     #[error(transparent)]
     Backend(#[from] crate::backend::BackendError),

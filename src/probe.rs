@@ -16,7 +16,7 @@ use crate::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
 use crate::output::{CsvTable, CsvValue, OutputError};
 use crate::scene::{Probe, ProbeKind, Scene};
 use crate::validation::{CurveError, read_column_force, read_surge_front, relative_error};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Value of one probe on the current state: the front position [m], or the force on its solid
 /// during the last step [N] (`solid_forces` as `Simulation::solid_forces`).
@@ -49,10 +49,67 @@ pub struct ProbeLog {
     running: Vec<(f64, f64)>,
 }
 
+/// What a [`ProbeLog`] has recorded, kept with a checkpoint.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ProbeState {
+    /// `(t [s], value)` per probe.
+    pub samples: Vec<Vec<(f64, f64)>>,
+    /// Time of the next sample [s].
+    pub next: f64,
+    /// Per probe: `Σ value · dt` and `Σ dt` since the last sample.
+    pub running: Vec<(f64, f64)>,
+    /// Length of `probes.csv` [bytes], when written.
+    pub table_len: Option<u64>,
+}
+
 impl ProbeLog {
     /// A log for `scene`'s probes, sampled every `interval` [s]; writes `probes.csv` in `dir`
     /// when given (columns `t_s` and one `<name>_m` per probe).
     pub fn create(scene: &Scene, dir: Option<&Path>, interval: f64) -> Result<Self, OutputError> {
+        Self::open(scene, dir, interval, None)
+    }
+
+    /// The log as it was at a checkpoint: its samples, and `probes.csv` cut back to its length
+    /// then.
+    pub fn resume(
+        scene: &Scene,
+        dir: Option<&Path>,
+        interval: f64,
+        state: ProbeState,
+    ) -> Result<Self, OutputError> {
+        let mut log = Self::open(scene, dir, interval, state.table_len)?;
+        if state.samples.len() != log.probes.len() || state.running.len() != log.probes.len() {
+            return Err(OutputError::malformed(
+                &dir.map_or_else(PathBuf::new, |d| d.join("checkpoint.bin")),
+                "its probes are not this scene's",
+            ));
+        }
+        log.samples = state.samples;
+        log.running = state.running;
+        log.next = state.next;
+        Ok(log)
+    }
+
+    /// What the log has recorded (flushing `probes.csv` to learn its length).
+    pub fn state(&mut self) -> Result<ProbeState, OutputError> {
+        let table_len = match self.table.as_mut() {
+            Some(t) => Some(t.len_on_disk()?),
+            None => None,
+        };
+        Ok(ProbeState {
+            samples: self.samples.clone(),
+            next: self.next,
+            running: self.running.clone(),
+            table_len,
+        })
+    }
+
+    fn open(
+        scene: &Scene,
+        dir: Option<&Path>,
+        interval: f64,
+        resume_len: Option<u64>,
+    ) -> Result<Self, OutputError> {
         let probes = scene.probes.clone();
         let table = match dir {
             Some(dir) if !probes.is_empty() => {
@@ -62,7 +119,11 @@ impl ProbeLog {
                     ProbeKind::Force => format!("{}_N", p.name),
                 }));
                 let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
-                Some(CsvTable::create(&dir.join("probes.csv"), &columns)?)
+                let path = dir.join("probes.csv");
+                Some(match resume_len {
+                    Some(len) => CsvTable::resume(&path, &columns, len)?,
+                    None => CsvTable::create(&path, &columns)?,
+                })
             }
             _ => None,
         };

@@ -12,6 +12,7 @@ use crate::output::vtu::Frame;
 use crate::output::{ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu};
 use crate::probe::{ProbeLog, compare, write_figures};
 use crate::scene::{Effect, Scene, SceneError, SolverKind, generate};
+use crate::solver::checkpoint::{Checkpoint, CheckpointError};
 use crate::solver::{Correction, Integrator};
 use crate::solver::{SimConfig, Simulation};
 use std::path::{Path, PathBuf};
@@ -120,7 +121,42 @@ pub struct RunOptions {
     pub threads: usize,
     /// Scene name for the summary.
     pub scene_name: String,
+    /// Checkpoints and restart.
+    pub restart: Restart,
 }
+
+/// Checkpoints of a run (`sph run --checkpoint-every N`, `sph run --resume DIR`).
+#[derive(Clone, Debug, Default)]
+pub struct Restart {
+    /// Write `checkpoint.bin` in the output directory every this many steps and at the end.
+    pub every: Option<u64>,
+    /// Continue from `checkpoint.bin` in the output directory.
+    pub resume: bool,
+    /// The scene file and its overrides, kept in the checkpoint for `--resume`.
+    pub scene: Option<(PathBuf, Vec<String>)>,
+}
+
+/// The run driver's state kept in a checkpoint beside the simulation's.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct RunState {
+    /// The scene file (absolute) and its overrides.
+    pub scene: Option<(PathBuf, Vec<String>)>,
+    /// Time of the next output frame [s].
+    pub next_frame: f64,
+    /// Frames written so far: `(t [s], file)`.
+    pub frames: Vec<(f64, String)>,
+    /// Steps per time-step limit so far.
+    pub limits: std::collections::BTreeMap<String, u64>,
+    /// The probes' record so far.
+    pub probes: crate::probe::ProbeState,
+    /// Length of `forces.csv` [bytes].
+    pub forces_len: Option<u64>,
+    /// Wall seconds spent before the checkpoint.
+    pub wall_seconds: f64,
+}
+
+/// The name of the checkpoint file in a run's output directory.
+pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
 
 /// Progress of a run, reported after every step.
 #[derive(Clone, Copy, Debug)]
@@ -160,6 +196,25 @@ struct Writers {
 }
 
 impl Writers {
+    /// The writers as they were at a checkpoint: frames listed up to then, `forces.csv` cut back.
+    fn resume(dir: &Path, with_forces: bool, state: &RunState) -> Result<Self, OutputError> {
+        std::fs::create_dir_all(dir.join("frames")).map_err(|e| OutputError::io(&dir.join("frames"), e))?;
+        let forces = match (with_forces, state.forces_len) {
+            (true, Some(len)) => Some(ForceLog::resume(&dir.join("forces.csv"), len)?),
+            (true, None) => Some(ForceLog::create(&dir.join("forces.csv"))?),
+            (false, _) => None,
+        };
+        let mut pvd = PvdSeries::new();
+        for (t, name) in &state.frames {
+            pvd.push(*t, name.clone());
+        }
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            pvd,
+            forces,
+        })
+    }
+
     fn create(dir: &Path, with_forces: bool) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir.join("frames")).map_err(|e| OutputError::io(&dir.join("frames"), e))?;
         let forces = if with_forces {
@@ -205,9 +260,28 @@ fn drive<const D: usize>(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Summary, Error> {
     let end = scene.end_time;
-    let mut writers = match &options.out_dir {
-        Some(dir) => Some(Writers::create(dir, !sim.solid_names().is_empty())?),
-        None => None,
+    let restart = &options.restart;
+    let with_forces = !sim.solid_names().is_empty();
+    // On --resume: the state and the output bookkeeping of the checkpoint.
+    let resumed: Option<RunState> = match (&options.out_dir, restart.resume) {
+        (Some(dir), true) => {
+            let checkpoint = Checkpoint::<D>::read(&dir.join(CHECKPOINT_FILE))?;
+            let state: RunState =
+                serde_json::from_value(checkpoint.header.metadata.clone()).map_err(|e| {
+                    CheckpointError::Malformed {
+                        path: dir.join(CHECKPOINT_FILE),
+                        reason: format!("run state: {e}"),
+                    }
+                })?;
+            sim.restore(checkpoint)?;
+            Some(state)
+        }
+        _ => None,
+    };
+    let mut writers = match (&options.out_dir, &resumed) {
+        (Some(dir), Some(state)) => Some(Writers::resume(dir, with_forces, state)?),
+        (Some(dir), None) => Some(Writers::create(dir, with_forces)?),
+        (None, _) => None,
     };
     sim.use_backend(options.backend)?;
     let solver = scene.solver.kind.name();
@@ -222,18 +296,30 @@ fn drive<const D: usize>(
         status: "running".into(),
         ..Summary::default()
     };
-    if let Some(w) = writers.as_mut() {
-        w.frame(&sim, scene.write_frames)?;
-    }
-    let mut probes = ProbeLog::create(
-        scene,
-        writers.as_ref().map(|w| w.dir.as_path()),
-        scene.output_interval / 10.0,
-    )?;
-    probes.record(0.0, 0.0, &sim.fields, sim.solid_forces(), true)?;
+    let probe_dir = writers.as_ref().map(|w| w.dir.as_path());
+    let probe_interval = scene.output_interval / 10.0;
+    let (mut probes, mut next_frame, mut limits, wall_before) = match resumed {
+        Some(state) => (
+            ProbeLog::resume(scene, probe_dir, probe_interval, state.probes)?,
+            state.next_frame,
+            state.limits,
+            state.wall_seconds,
+        ),
+        None => {
+            let mut probes = ProbeLog::create(scene, probe_dir, probe_interval)?;
+            if let Some(w) = writers.as_mut() {
+                w.frame(&sim, scene.write_frames)?;
+            }
+            probes.record(0.0, 0.0, &sim.fields, sim.solid_forces(), true)?;
+            (
+                probes,
+                scene.output_interval,
+                std::collections::BTreeMap::new(),
+                0.0,
+            )
+        }
+    };
     let start = Instant::now();
-    let mut next_frame = scene.output_interval;
-    let mut limits = std::collections::BTreeMap::<String, u64>::new();
     let mut failure = None;
     while sim.clock().time < end {
         let dt = match sim.step(end) {
@@ -270,6 +356,27 @@ fn drive<const D: usize>(
                 }
             }
         }
+        if let (Some(w), Some(every)) = (writers.as_mut(), restart.every)
+            && (clock.step % every.max(1) == 0 || clock.time >= end)
+        {
+            let state = RunState {
+                scene: restart.scene.clone(),
+                next_frame,
+                frames: w.pvd.entries().to_vec(),
+                limits: limits.clone(),
+                probes: probes.state()?,
+                forces_len: match w.forces.as_mut() {
+                    Some(f) => Some(f.len_on_disk()?),
+                    None => None,
+                },
+                wall_seconds: wall_before + start.elapsed().as_secs_f64(),
+            };
+            let metadata = serde_json::to_value(&state).map_err(|e| CheckpointError::Malformed {
+                path: w.dir.join(CHECKPOINT_FILE),
+                reason: format!("run state: {e}"),
+            })?;
+            sim.checkpoint(metadata)?.write(&w.dir.join(CHECKPOINT_FILE))?;
+        }
         let wall = start.elapsed().as_secs_f64();
         progress(&Progress {
             time: clock.time,
@@ -279,7 +386,7 @@ fn drive<const D: usize>(
             unconverged_stages: sim.stats().correction.unconverged_stages,
         });
     }
-    let wall = start.elapsed().as_secs_f64();
+    let wall = wall_before + start.elapsed().as_secs_f64();
     sim.sync_fields()?;
     let clock = sim.clock();
     let stats = sim.stats();

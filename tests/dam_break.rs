@@ -25,6 +25,7 @@ fn corrected_dam_break_front_within_8_percent_of_martin_moyce() {
         backend: Default::default(),
         threads: rayon::current_num_threads(),
         scene_name: "dam_break_2d".into(),
+        restart: Default::default(),
     };
     let summary = run_scene(&scene, &options, &mut |_| {}).expect("runs");
     assert_eq!(summary.status, "completed");

@@ -75,6 +75,7 @@ fn run_writes_summary_frames_and_forces() {
         backend: sph::backend::BackendKind::Cpu,
         threads: rayon::current_num_threads(),
         scene_name: "dam_break_2d".into(),
+        restart: Default::default(),
     };
     let summary = run_scene(&scene, &options, &mut |_| {}).expect("runs");
     let written = read_summary(&out.join("summary.json")).expect("summary.json");

@@ -87,6 +87,7 @@ fn options() -> RunOptions {
         backend: Default::default(),
         threads: rayon::current_num_threads(),
         scene_name: "tiny_dam_break".into(),
+        restart: Default::default(),
     }
 }
 

@@ -35,8 +35,9 @@ pub enum BackendArg {
 enum Command {
     /// Run a scene to its end time and write summary.json, frames (.vtu/.pvd) and forces.csv.
     Run {
-        /// Scene file (TOML).
-        scene: PathBuf,
+        /// Scene file (TOML); absent with --resume.
+        #[arg(required_unless_present = "resume")]
+        scene: Option<PathBuf>,
         /// Output directory [default: out/<scene name>].
         #[arg(long)]
         out: Option<PathBuf>,
@@ -52,6 +53,13 @@ enum Command {
         /// Override any scene key by its dotted TOML path, e.g. --set solver.dt=1e-4.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
+        /// Write the full state to OUT/checkpoint.bin every N steps and at the end (atomically).
+        #[arg(long, value_name = "N")]
+        checkpoint_every: Option<u64>,
+        /// Continue the run in RUN_DIR from its checkpoint.bin (scene and settings from the
+        /// checkpoint; --end-time and --set still apply).
+        #[arg(long, value_name = "RUN_DIR", conflicts_with = "out")]
+        resume: Option<PathBuf>,
     },
     /// Run one variant of a scene per value of the swept keys and compare them: writes sweep.csv,
     /// sweep.png (error against wall time) and fronts.png (probe curves with reference data).
@@ -151,11 +159,17 @@ where
             backend,
             end_time,
             mut sets,
+            checkpoint_every,
+            resume,
         } => {
             if let Some(t) = end_time {
                 sets.push(format!("solver.end_time={t:e}"));
             }
-            run::run(&scene, out, threads, backend, &sets)
+            let checkpoint = run::CheckpointArgs {
+                every: checkpoint_every,
+                resume,
+            };
+            run::run(scene.as_deref(), out, threads, backend, &sets, checkpoint)
         }
         Command::Sweep {
             scene,

@@ -2,8 +2,9 @@
 
 use super::BackendArg;
 use crate::backend::BackendKind;
-use crate::run::{RunOptions, run_scene};
+use crate::run::{CHECKPOINT_FILE, Restart, RunOptions, RunState, run_scene};
 use crate::scene::load_scene;
+use crate::solver::checkpoint::read_header;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
@@ -24,20 +25,69 @@ pub(crate) fn progress_bar() -> ProgressBar {
     bar
 }
 
-/// Runs the scene at `path`.
+/// How `sph run` checkpoints: every N steps, and/or resuming the run in a directory.
+#[derive(Clone, Debug, Default)]
+pub struct CheckpointArgs {
+    /// `--checkpoint-every N`.
+    pub every: Option<u64>,
+    /// `--resume RUN_DIR`.
+    pub resume: Option<PathBuf>,
+}
+
+/// Runs the scene at `path`, or resumes the run in `checkpoint.resume`.
 pub fn run(
-    path: &Path,
+    path: Option<&Path>,
     out: Option<PathBuf>,
     threads: Option<usize>,
     backend: BackendArg,
     sets: &[String],
+    checkpoint: CheckpointArgs,
 ) -> anyhow::Result<()> {
-    let scene = load_scene(path, sets).with_context(|| format!("loading scene {}", path.display()))?;
+    anyhow::ensure!(
+        checkpoint.every != Some(0),
+        "--checkpoint-every must be at least 1 step"
+    );
+    let (path, sets, out, resume): (PathBuf, Vec<String>, PathBuf, bool) = match &checkpoint.resume {
+        Some(dir) => {
+            anyhow::ensure!(
+                path.is_none() && out.is_none(),
+                "--resume RUN_DIR takes the scene and the output folder from the run; give no SCENE or --out"
+            );
+            let file = dir.join(CHECKPOINT_FILE);
+            let (_, header) =
+                read_header(&file).with_context(|| format!("resuming from {}", dir.display()))?;
+            let state: RunState = serde_json::from_value(header.metadata)
+                .with_context(|| format!("{}: not a checkpoint of sph run", file.display()))?;
+            let (scene, mut stored) = state
+                .scene
+                .with_context(|| format!("{}: names no scene file", file.display()))?;
+            // Later overrides (e.g. a new --end-time) win over the stored ones.
+            stored.extend(sets.iter().cloned());
+            (scene, stored, dir.clone(), true)
+        }
+        None => {
+            let path = path.context("give a SCENE file, or --resume RUN_DIR")?;
+            let stem = path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scene".into());
+            let out = out.unwrap_or_else(|| PathBuf::from("out").join(&stem));
+            (path.to_path_buf(), sets.to_vec(), out, false)
+        }
+    };
+    let path = path.as_path();
+    let scene = load_scene(path, &sets).with_context(|| format!("loading scene {}", path.display()))?;
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&stem));
+    // Stored absolute, so that --resume works from any folder.
+    let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+    let restart = Restart {
+        every: checkpoint.every,
+        resume,
+        scene: Some((absolute, sets.clone())),
+    };
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(n) = threads {
         anyhow::ensure!(n > 0, "--threads must be at least 1");
@@ -52,6 +102,7 @@ pub fn run(
         },
         threads: pool.current_num_threads(),
         scene_name: scene.name.clone().unwrap_or(stem),
+        restart,
     };
     let bar = progress_bar();
     let mut last = std::time::Instant::now();

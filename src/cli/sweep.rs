@@ -41,6 +41,7 @@ pub fn sweep(
         },
         threads: pool.current_num_threads(),
         scene_name,
+        restart: Default::default(),
     };
     let mut bar: Option<ProgressBar> = None;
     let mut last = std::time::Instant::now();

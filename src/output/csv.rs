@@ -77,6 +77,47 @@ impl CsvTable {
         Ok(table)
     }
 
+    /// Reopens a table written before a checkpoint: cuts `path` back to its first `len` bytes
+    /// (what it held at the checkpoint; rows written after it are dropped) and appends from
+    /// there. The header must be `columns` ([`OutputError::Malformed`] otherwise).
+    pub fn resume(path: &Path, columns: &[&str], len: u64) -> Result<Self, OutputError> {
+        let io = |e| OutputError::io(path, e);
+        let mut file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(path)
+            .map_err(io)?;
+        let mut first = String::new();
+        {
+            use std::io::BufRead;
+            let mut reader = std::io::BufReader::new(&mut file);
+            reader.read_line(&mut first).map_err(io)?;
+        }
+        if first.trim_end() != columns.join(",") {
+            return Err(OutputError::malformed(path, "its header is not this scene's"));
+        }
+        if (file.metadata().map_err(io)?.len()) < len {
+            return Err(OutputError::malformed(path, "shorter than at the checkpoint"));
+        }
+        file.set_len(len).map_err(io)?;
+        use std::io::Seek;
+        file.seek(std::io::SeekFrom::End(0)).map_err(io)?;
+        Ok(CsvTable {
+            path: path.to_path_buf(),
+            columns: columns.len(),
+            writer: BufWriter::with_capacity(1 << 16, file),
+        })
+    }
+
+    /// Flushes and returns the file's length [bytes] (kept with a checkpoint).
+    pub fn len_on_disk(&mut self) -> Result<u64, OutputError> {
+        self.flush()?;
+        let file = self.writer.get_ref();
+        file.metadata()
+            .map(|m| m.len())
+            .map_err(|e| OutputError::io(&self.path, e))
+    }
+
     /// The file being written.
     pub fn path(&self) -> &Path {
         &self.path
@@ -92,19 +133,22 @@ impl CsvTable {
                 found: row.len(),
             });
         }
-        let w = &mut self.writer;
+        // The row is formatted whole and handed to the buffer in one piece, so the buffer only
+        // ever writes complete rows to the file: a run killed at any moment leaves whole lines.
+        let mut line: Vec<u8> = Vec::with_capacity(16 * row.len());
         let result = (|| {
             for (i, v) in row.iter().enumerate() {
                 if i > 0 {
-                    w.write_all(b",")?;
+                    line.write_all(b",")?;
                 }
                 match v {
-                    CsvValue::Float(x) => w.write_all(fmt_f64(*x).as_bytes())?,
-                    CsvValue::Int(x) => write!(w, "{x}")?,
-                    CsvValue::Text(s) => write_text(w, s)?,
+                    CsvValue::Float(x) => line.write_all(fmt_f64(*x).as_bytes())?,
+                    CsvValue::Int(x) => write!(line, "{x}")?,
+                    CsvValue::Text(s) => write_text(&mut line, s)?,
                 }
             }
-            w.write_all(b"\n")
+            line.write_all(b"\n")?;
+            self.writer.write_all(&line)
         })();
         result.map_err(|e| OutputError::io(&self.path, e))
     }
@@ -131,6 +175,18 @@ impl ForceLog {
         Ok(ForceLog {
             table: CsvTable::create(path, &Self::COLUMNS)?,
         })
+    }
+
+    /// Reopens `path` at its length `len` at a checkpoint ([`CsvTable::resume`]).
+    pub fn resume(path: &Path, len: u64) -> Result<Self, OutputError> {
+        Ok(ForceLog {
+            table: CsvTable::resume(path, &Self::COLUMNS, len)?,
+        })
+    }
+
+    /// Flushes and returns the file's length [bytes].
+    pub fn len_on_disk(&mut self) -> Result<u64, OutputError> {
+        self.table.len_on_disk()
     }
 
     /// The file being written.

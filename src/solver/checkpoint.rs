@@ -167,6 +167,37 @@ impl<const D: usize> Simulation<D> {
     }
 }
 
+/// The header of the checkpoint at `path` and its dimension, without its arrays (for finding
+/// the scene a run came from before knowing its dimension).
+///
+/// # Errors
+/// As [`Checkpoint::read`].
+pub fn read_header(path: &Path) -> Result<(usize, Header), CheckpointError> {
+    let bytes = std::fs::read(path).map_err(|source| CheckpointError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let bad = |reason: &str| CheckpointError::Malformed {
+        path: path.to_path_buf(),
+        reason: reason.into(),
+    };
+    if bytes.len() < 36 || &bytes[..8] != MAGIC {
+        return Err(bad("no SPHCKPT1 header"));
+    }
+    let (body, sum) = bytes.split_at(bytes.len() - 8);
+    if fnv1a(body, FNV_OFFSET).to_le_bytes() != sum {
+        return Err(bad("checksum mismatch (truncated or altered)"));
+    }
+    let dim = u32::from_le_bytes(body[8..12].try_into().expect("4 bytes")) as usize;
+    let len = usize::try_from(u64::from_le_bytes(body[20..28].try_into().expect("8 bytes")))
+        .map_err(|_| bad("header length overflows"))?;
+    let json = body
+        .get(28..28usize.saturating_add(len))
+        .ok_or_else(|| bad("header runs past the end"))?;
+    let header = serde_json::from_slice(json).map_err(|e| bad(&format!("header: {e}")))?;
+    Ok((dim, header))
+}
+
 impl<const D: usize> Checkpoint<D> {
     /// Writes the checkpoint to `path` atomically (temporary file, flush to disk, rename).
     ///
