@@ -110,9 +110,10 @@ pub(crate) fn lattice_dims(min: &[f64], max: &[f64], dx: f64, path: &KeyPath) ->
             return Err(RawProblem::new(
                 path.k("max"),
                 format!(
-                    "box is thinner than the particle spacing along axis {}: max - min = {} m, spacing = {dx} m",
+                    "box is thinner than the particle spacing along axis {}: max - min = {} m, spacing = {:e} m",
                     axis_name(k),
-                    hi - lo
+                    hi - lo,
+                    dx
                 ),
             ));
         }

@@ -395,6 +395,35 @@ pub fn parse_scene(text: &str, origin: &str, sets: &[String]) -> Result<Scene, S
     })
 }
 
+/// `message` with every run of more than 15 digits (a huge number the TOML reader spelled out)
+/// in exponent form, so a problem stays one readable line.
+fn short_numbers(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        out.push_str(&rest[..start]);
+        let digits = rest[start..]
+            .find(|c: char| !c.is_ascii_digit())
+            .map_or(rest.len() - start, |n| n);
+        let run = &rest[start..start + digits];
+        if digits > 15 {
+            out.push_str(&format!("{}.{}e{}", &run[..1], &run[1..4], digits - 1));
+            rest = &rest[start + digits..];
+            // Drop a trailing ".0" of a spelled-out float.
+            if let Some(r) = rest.strip_prefix(".0")
+                && !r.starts_with(|c: char| c.is_ascii_digit())
+            {
+                rest = r;
+            }
+        } else {
+            out.push_str(run);
+            rest = &rest[start + digits..];
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
 /// Converts a TOML / serde error on `text` into a [`Problem`]. The key path
 /// comes from the error span; the location from the span when `use_span`
 /// (and the error is not a missing field), else from `relocate(path)`.
@@ -423,7 +452,7 @@ fn toml_problem(
     let reason = if message.is_empty() {
         "invalid TOML".to_string()
     } else {
-        message.to_string()
+        short_numbers(message)
     };
     Problem {
         key: path.to_string(),

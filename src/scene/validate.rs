@@ -93,7 +93,7 @@ impl Checker {
         if v.is_finite() {
             Some(v)
         } else {
-            self.err(path, format!("must be a finite number, got {v}"));
+            self.err(path, format!("must be a finite number, got {}", num(v)));
             None
         }
     }
@@ -103,7 +103,7 @@ impl Checker {
         if v > 0.0 {
             Some(v)
         } else {
-            self.err(path, format!("must be > 0, got {v}"));
+            self.err(path, format!("must be > 0, got {}", num(v)));
             None
         }
     }
@@ -113,7 +113,7 @@ impl Checker {
         if v >= 0.0 {
             Some(v)
         } else {
-            self.err(path, format!("must be >= 0, got {v}"));
+            self.err(path, format!("must be >= 0, got {}", num(v)));
             None
         }
     }
@@ -162,7 +162,7 @@ fn in_range(c: &mut Checker, path: KeyPath, v: f64, lo: f64, hi: f64, lo_open: b
         Some(v)
     } else {
         let open = if lo_open { "(" } else { "[" };
-        c.err(path, format!("must be in {open}{lo}, {hi}], got {v}"));
+        c.err(path, format!("must be in {open}{lo}, {hi}], got {}", num(v)));
         None
     }
 }
@@ -224,8 +224,10 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
                     c.err(
                         pp.k("smoothing_length"),
                         format!(
-                            "smoothing_length / spacing must be in [1, 5], got {h} / {dx} = {}",
-                            h / dx
+                            "smoothing_length / spacing must be in [1, 5], got {} / {} = {}",
+                            num(h),
+                            num(dx),
+                            num(h / dx)
                         ),
                     );
                     None
@@ -372,7 +374,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         if end < dt {
             c.err(
                 sp.k("end_time"),
-                format!("must be >= solver.dt = {dt}, got {end}"),
+                format!("must be >= solver.dt = {}, got {}", num(dt), num(end)),
             );
         }
     }
@@ -817,5 +819,15 @@ fn check_counts(c: &mut Checker, scene: &Scene) {
                 "spacing {dx} m gives {total} particles needing about {bytes_txt} bytes ({per} per particle), more than the {limit} bytes available ({what})"
             ),
         );
+    }
+}
+
+/// A number as a person reads it in one line: plain in [1e-4, 1e9), else in exponent form
+/// (`1e308`, not 309 digits).
+fn num(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e9).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
