@@ -1,6 +1,7 @@
 //! A whole run: scene → simulation (dimension chosen once) → steps → output files.
 //!
 //! Output directory layout: `summary.json`, `forces.csv` (one row per solid per step),
+//! `steps.csv` (one row per step: time, dt, the criterion that limited it, extremes),
 //! `particles.pvd` and `frames/frame_NNNNN.vtu`. The `.pvd` is rewritten after every frame and
 //! every file is written to a temporary name and renamed, so a run that stops (error or kill)
 //! leaves every frame written so far readable; on a step error `summary.json` records it.
@@ -9,7 +10,9 @@ use crate::backend::{BackendKind, cuda};
 use crate::error::Error;
 use crate::math::Vector;
 use crate::output::vtu::Frame;
-use crate::output::{ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu};
+use crate::output::{
+    CsvTable, CsvValue, ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu,
+};
 use crate::probe::{ProbeLog, compare, write_figures};
 use crate::scene::{Effect, Scene, SceneError, SolverKind, generate};
 use crate::solver::checkpoint::{Checkpoint, CheckpointError};
@@ -151,6 +154,9 @@ pub struct RunState {
     pub probes: crate::probe::ProbeState,
     /// Length of `forces.csv` [bytes].
     pub forces_len: Option<u64>,
+    /// Length of `steps.csv` [bytes].
+    #[serde(default)]
+    pub steps_len: Option<u64>,
     /// Wall seconds spent before the checkpoint.
     pub wall_seconds: f64,
 }
@@ -193,7 +199,20 @@ struct Writers {
     dir: PathBuf,
     pvd: PvdSeries,
     forces: Option<ForceLog>,
+    /// `steps.csv`: one row per step, the step and the criterion that limited it.
+    steps: CsvTable,
 }
+
+/// Columns of `steps.csv`.
+const STEP_COLUMNS: [&str; 7] = [
+    "step",
+    "t_s",
+    "dt_s",
+    "limit",
+    "max_speed_m_per_s",
+    "max_density_error",
+    "correction_iterations",
+];
 
 impl Writers {
     /// The writers as they were at a checkpoint: frames listed up to then, `forces.csv` cut back.
@@ -208,10 +227,16 @@ impl Writers {
         for (t, name) in &state.frames {
             pvd.push(*t, name.clone());
         }
+        let steps_path = dir.join("steps.csv");
+        let steps = match state.steps_len {
+            Some(len) => CsvTable::resume(&steps_path, &STEP_COLUMNS, len)?,
+            None => CsvTable::create(&steps_path, &STEP_COLUMNS)?,
+        };
         Ok(Self {
             dir: dir.to_path_buf(),
             pvd,
             forces,
+            steps,
         })
     }
 
@@ -226,6 +251,7 @@ impl Writers {
             dir: dir.to_path_buf(),
             pvd: PvdSeries::new(),
             forces,
+            steps: CsvTable::create(&dir.join("steps.csv"), &STEP_COLUMNS)?,
         })
     }
 
@@ -233,6 +259,7 @@ impl Writers {
         if let Some(f) = self.forces.as_mut() {
             f.flush()?;
         }
+        self.steps.flush()?;
         if !write_frame {
             return Ok(());
         }
@@ -322,12 +349,27 @@ fn drive<const D: usize>(
     let start = Instant::now();
     let mut failure = None;
     while sim.clock().time < end {
+        let iterations_before = sim.stats().correction.iterations;
         let dt = match sim.step(end) {
             Ok(report) => {
                 let name = serde_json::to_value(report.limit)
                     .ok()
-                    .and_then(|v| v.as_str().map(String::from));
-                *limits.entry(name.unwrap_or_default()).or_default() += 1;
+                    .and_then(|v| v.as_str().map(String::from))
+                    .unwrap_or_default();
+                if let Some(w) = writers.as_mut() {
+                    let e = &report.extremes;
+                    let clock = sim.clock();
+                    w.steps.push_row(&[
+                        CsvValue::Int(clock.step as i64),
+                        CsvValue::Float(clock.time),
+                        CsvValue::Float(report.dt),
+                        CsvValue::Text(&name),
+                        CsvValue::Float(e.max_speed),
+                        CsvValue::Float(e.max_abs_density_error),
+                        CsvValue::Int((sim.stats().correction.iterations - iterations_before) as i64),
+                    ])?;
+                }
+                *limits.entry(name).or_default() += 1;
                 report.dt
             }
             Err(e) => {
@@ -369,6 +411,7 @@ fn drive<const D: usize>(
                     Some(f) => Some(f.len_on_disk()?),
                     None => None,
                 },
+                steps_len: Some(w.steps.len_on_disk()?),
                 wall_seconds: wall_before + start.elapsed().as_secs_f64(),
             };
             let metadata = serde_json::to_value(&state).map_err(|e| CheckpointError::Malformed {

@@ -456,7 +456,7 @@ fn run_variant(
 ) -> Result<VariantResult, SweepError> {
     std::fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))?;
     // Files read back below must come from this run, not an earlier sweep into the same place.
-    for file in ["summary.json", "probes.csv"] {
+    for file in ["summary.json", "probes.csv", "steps.csv"] {
         let path = dir.join(file);
         if path.exists() {
             std::fs::remove_file(&path).map_err(|e| OutputError::io(&path, e))?;

@@ -87,6 +87,7 @@ fn a_killed_run_leaves_complete_files_and_resumes_bit_identically() {
     }
     assert_complete_csv(&killed.join("forces.csv"));
     assert_complete_csv(&killed.join("probes.csv"));
+    assert_complete_csv(&killed.join("steps.csv"));
 
     let resumed = Command::new(BIN)
         .args(["run", "--threads", "1", "--resume"])
@@ -104,7 +105,7 @@ fn a_killed_run_leaves_complete_files_and_resumes_bit_identically() {
     assert_eq!(a.mean_density_error.to_bits(), b.mean_density_error.to_bits());
     assert_eq!(a.extra.get("probe_errors"), b.extra.get("probe_errors"));
     assert_eq!(a.extra.get("time_step_limits"), b.extra.get("time_step_limits"));
-    for file in ["probes.csv", "forces.csv", "particles.pvd"] {
+    for file in ["probes.csv", "forces.csv", "steps.csv", "particles.pvd"] {
         let (x, y) = (
             std::fs::read(straight.join(file)).expect("straight"),
             std::fs::read(killed.join(file)).expect("resumed"),

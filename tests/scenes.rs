@@ -99,6 +99,46 @@ fn run_writes_summary_frames_and_forces() {
         1 + summary.steps,
         "one row per step for the tank"
     );
+    // steps.csv: one row per step, times adding up, each naming the criterion that limited it.
+    let steps = std::fs::read_to_string(out.join("steps.csv")).expect("steps.csv");
+    let mut lines = steps.lines();
+    assert_eq!(
+        lines.next(),
+        Some("step,t_s,dt_s,limit,max_speed_m_per_s,max_density_error,correction_iterations")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len() as u64, summary.steps);
+    let mut t = 0.0;
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(r[0], (k + 1).to_string());
+        t += r[2].parse::<f64>().expect("dt");
+        assert!(
+            (r[1].parse::<f64>().expect("t") - t).abs() < 1e-9,
+            "row {k}: t is the sum of dt"
+        );
+        assert!(
+            [
+                "flow_speed",
+                "force",
+                "viscosity",
+                "end_time",
+                "sound_speed",
+                "fixed"
+            ]
+            .contains(&r[3]),
+            "row {k}: limit {}",
+            r[3]
+        );
+        assert!(
+            r[6].parse::<u32>().expect("iterations") >= 1,
+            "the corrected solver sweeps every step"
+        );
+    }
+    assert_eq!(
+        rows.last().expect("rows")[3],
+        "end_time",
+        "the last step lands on the end time"
+    );
     std::fs::remove_dir_all(&out).expect("cleanup");
 }
 
