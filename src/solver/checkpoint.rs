@@ -167,27 +167,38 @@ impl<const D: usize> Simulation<D> {
     }
 }
 
+fn malformed(path: &Path, reason: &str) -> CheckpointError {
+    CheckpointError::Malformed {
+        path: path.to_path_buf(),
+        reason: reason.into(),
+    }
+}
+
+/// The file's bytes without the checksum, once the magic and the checksum are checked.
+fn verified(path: &Path) -> Result<Vec<u8>, CheckpointError> {
+    let mut bytes = std::fs::read(path).map_err(|source| CheckpointError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    if bytes.len() < 36 || &bytes[..8] != MAGIC {
+        return Err(malformed(path, "no SPHCKPT1 header"));
+    }
+    let sum = bytes.split_off(bytes.len() - 8);
+    if fnv1a(&bytes, FNV_OFFSET).to_le_bytes()[..] != sum[..] {
+        return Err(malformed(path, "checksum mismatch (truncated or altered)"));
+    }
+    Ok(bytes)
+}
+
 /// The header of the checkpoint at `path` and its dimension, without its arrays (for finding
 /// the scene a run came from before knowing its dimension).
 ///
 /// # Errors
 /// As [`Checkpoint::read`].
 pub fn read_header(path: &Path) -> Result<(usize, Header), CheckpointError> {
-    let bytes = std::fs::read(path).map_err(|source| CheckpointError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let bad = |reason: &str| CheckpointError::Malformed {
-        path: path.to_path_buf(),
-        reason: reason.into(),
-    };
-    if bytes.len() < 36 || &bytes[..8] != MAGIC {
-        return Err(bad("no SPHCKPT1 header"));
-    }
-    let (body, sum) = bytes.split_at(bytes.len() - 8);
-    if fnv1a(body, FNV_OFFSET).to_le_bytes() != sum {
-        return Err(bad("checksum mismatch (truncated or altered)"));
-    }
+    let bytes = verified(path)?;
+    let body = bytes.as_slice();
+    let bad = |reason: &str| malformed(path, reason);
     let dim = u32::from_le_bytes(body[8..12].try_into().expect("4 bytes")) as usize;
     let len = usize::try_from(u64::from_le_bytes(body[20..28].try_into().expect("8 bytes")))
         .map_err(|_| bad("header length overflows"))?;
@@ -249,21 +260,9 @@ impl<const D: usize> Checkpoint<D> {
     /// [`CheckpointError::Io`], or [`CheckpointError::Malformed`] for a truncated, altered or
     /// foreign file, or one of another dimension.
     pub fn read(path: &Path) -> Result<Self, CheckpointError> {
-        let bytes = std::fs::read(path).map_err(|source| CheckpointError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let bad = |reason: &str| CheckpointError::Malformed {
-            path: path.to_path_buf(),
-            reason: reason.into(),
-        };
-        if bytes.len() < 36 || &bytes[..8] != MAGIC {
-            return Err(bad("no SPHCKPT1 header"));
-        }
-        let (body, sum) = bytes.split_at(bytes.len() - 8);
-        if fnv1a(body, FNV_OFFSET).to_le_bytes() != sum {
-            return Err(bad("checksum mismatch (truncated or altered)"));
-        }
+        let bytes = verified(path)?;
+        let body = bytes.as_slice();
+        let bad = |reason: &str| malformed(path, reason);
         let u32_at = |at: usize| u32::from_le_bytes(body[at..at + 4].try_into().expect("4 bytes"));
         let u64_at = |at: usize| u64::from_le_bytes(body[at..at + 8].try_into().expect("8 bytes"));
         let dim = u32_at(8) as usize;
