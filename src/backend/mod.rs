@@ -41,6 +41,21 @@ pub enum SolidForceSource {
     Correction,
 }
 
+impl SolidForceSource {
+    /// The parameters the force on solids is summed with: the correction moves particles by
+    /// pressure alone, so its source has no viscous terms.
+    pub fn params<const D: usize>(self, params: &StepParams<D>) -> StepParams<D> {
+        match self {
+            SolidForceSource::Forces => *params,
+            SolidForceSource::Correction => StepParams {
+                mu: 0.0,
+                alpha: 0.0,
+                ..*params
+            },
+        }
+    }
+}
+
 /// How far the state is from the correction's goal (`Backend::correction_error`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CorrectionError {
@@ -85,6 +100,8 @@ pub struct StateExtremes {
 pub trait Backend<const D: usize> {
     /// Short name for reports (`"cpu"`, `"cuda"`).
     fn name(&self) -> &'static str;
+    /// Which backend this is.
+    fn kind(&self) -> BackendKind;
     /// Bytes the backend holds beside `Fields` (grid, scratch; device buffers for CUDA).
     fn heap_bytes(&self) -> usize;
     /// The device the stages run on, for reports (`None`: the host's CPUs).

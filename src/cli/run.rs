@@ -25,6 +25,13 @@ pub(crate) fn progress_bar() -> ProgressBar {
     bar
 }
 
+/// The scene file's name without extension (default output folder and scene name).
+fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into())
+}
+
 /// How `sph run` checkpoints: every N steps, and/or resuming the run in a directory.
 #[derive(Clone, Debug, Default)]
 pub struct CheckpointArgs {
@@ -67,20 +74,13 @@ pub fn run(
         }
         None => {
             let path = path.context("give a SCENE file, or --resume RUN_DIR")?;
-            let stem = path
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "scene".into());
-            let out = out.unwrap_or_else(|| PathBuf::from("out").join(&stem));
+            let out = out.unwrap_or_else(|| PathBuf::from("out").join(stem(path)));
             (path.to_path_buf(), sets.to_vec(), out, false)
         }
     };
     let path = path.as_path();
     let scene = load_scene(path, &sets).with_context(|| format!("loading scene {}", path.display()))?;
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "scene".into());
+    let stem = stem(path);
     // Stored absolute, so that --resume works from any folder.
     let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
     let restart = Restart {

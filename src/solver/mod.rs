@@ -419,11 +419,7 @@ impl<const D: usize> Simulation<D> {
 
     /// Which backend runs the stages.
     pub fn backend_kind(&self) -> BackendKind {
-        if self.backend.holds_state() {
-            BackendKind::Cuda
-        } else {
-            BackendKind::Cpu
-        }
+        self.backend.kind()
     }
 
     /// The device the backend runs on (`None` for the host's CPUs).

@@ -91,6 +91,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         "cpu"
     }
 
+    fn kind(&self) -> super::BackendKind {
+        super::BackendKind::Cpu
+    }
+
     fn heap_bytes(&self) -> usize {
         CpuBackend::heap_bytes(self)
     }
@@ -191,17 +195,11 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let kernel = params.smoothing();
         let grid = &self.grid;
         let f = fields;
-        // The correction moves particles by pressure alone: no viscous terms, its own pressures.
-        let (params, pressure) = match source {
-            SolidForceSource::Forces => (*params, &f.pressure),
-            SolidForceSource::Correction => (
-                StepParams {
-                    mu: 0.0,
-                    alpha: 0.0,
-                    ..*params
-                },
-                &self.delta_p,
-            ),
+        // The correction moves particles by pressure alone: its own pressures, no viscous terms.
+        let params = source.params(params);
+        let pressure = match source {
+            SolidForceSource::Forces => &f.pressure,
+            SolidForceSource::Correction => &self.delta_p,
         };
         if pressure.len() != f.len() {
             return vec![[0.0; 3]; solids];

@@ -234,11 +234,6 @@ impl<const D: usize> CudaBackend<D> {
         Ok(backend)
     }
 
-    /// The GPU's name, for reports.
-    pub fn device_name(&self) -> &str {
-        &self.device_name
-    }
-
     /// Builds (or keeps) the dense grid for cells of size `h`.
     fn ensure_grid(&mut self, h: Real) -> Result<(), BackendError> {
         if self.grid.as_ref().is_some_and(|g| g.cell_size == h) {
@@ -402,6 +397,10 @@ macro_rules! launch {
 impl<const D: usize> Backend<D> for CudaBackend<D> {
     fn name(&self) -> &'static str {
         "cuda"
+    }
+
+    fn kind(&self) -> crate::backend::BackendKind {
+        crate::backend::BackendKind::Cuda
     }
 
     fn heap_bytes(&self) -> usize {
@@ -713,16 +712,10 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         if record(&mut self.error, "clearing the solid forces", r).is_none() {
             return zero;
         }
-        let (p, pressure) = match source {
-            SolidForceSource::Forces => (*params, &self.f.pressure),
-            SolidForceSource::Correction => (
-                StepParams {
-                    mu: 0.0,
-                    alpha: 0.0,
-                    ..*params
-                },
-                &self.delta_p,
-            ),
+        let p = source.params(params);
+        let pressure = match source {
+            SolidForceSource::Forces => &self.f.pressure,
+            SolidForceSource::Correction => &self.delta_p,
         };
         let n = self.n as u32;
         // About 8 particles per thread (grid-stride loop in kernels/solid_forces.cu).
