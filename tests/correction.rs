@@ -403,6 +403,8 @@ fn check_case<const D: usize>(case: &Case, wall_tolerance: Option<(f64, f64)>) -
 }
 
 proptest! {
+    // Random cases each run: failures found so far are kept as named, ignored tests
+    // (`block_against_walls_in_3d_found_by_ci`, `large_step_with_gravity_in_2d_found_by_seed`).
     #![proptest_config(ProptestConfig { cases: 192, ..ProptestConfig::default() })]
 
     #[test]
@@ -418,6 +420,27 @@ proptest! {
     fn corrected_steps_leave_no_compression_and_balance_momentum_in_3d(case in cases(3)) {
         check_case::<3>(&case, Some((1e-3, 1e-5)))?;
     }
+}
+
+/// Found by the 3D property test (random seed) in a CI run on 2026-11-27: a 7 x 8 x 6 block at
+/// up to 0.5 m/s in a closed box; at step 2 a fluid particle passes the innermost wall layer by
+/// 8 µm (0.0016 dx). The same defect as the 3D jet of `tests/hard_cases.rs`.
+#[test]
+#[ignore = "defect: in 3D a fluid particle reaches 0.0016 dx past the innermost wall layer"]
+fn block_against_walls_in_3d_found_by_ci() {
+    let case = Case {
+        dx: 0.005,
+        block: [7, 8, 6],
+        speed: 0.5,
+        dt: 0.000_215_564_455_589_222_9,
+        gravity: false,
+        walls: true,
+        delta: 1e-4,
+        steps: 3,
+        integrator: Integrator::Rk3,
+        seed: 3_074_884_354_973_246_187,
+    };
+    expect_ok(check_case::<3>(&case, Some((1e-3, 1e-5))));
 }
 
 /// Turns a failed property into a panic, for the deterministic tests.
@@ -606,4 +629,26 @@ fn thrown_block_momentum_balances_gravity_and_wall_impulse() {
 #[test]
 fn splash_along_a_3d_wall_stays_off_the_wall_layer() {
     check_thrown_block::<3>(8, 2e-3, 30, Integrator::Rk3, true);
+}
+
+/// Found by the 2D property test (with the fixed seed 0x5eed0002, tried on 2026-11-27): a free
+/// 14 x 10 block under gravity at up to 0.69 m/s with a 23.6 ms step; the third stage of step 2
+/// does not converge in 2,000 sweeps (3.5e-4 left). The start-up defect of
+/// `tests/hard_cases.rs` (`rest_3d_corrected`): a large step with pressure still building.
+#[test]
+#[ignore = "defect: a large step's stage does not converge in 2000 sweeps (3.5e-4 left)"]
+fn large_step_with_gravity_in_2d_found_by_seed() {
+    let case = Case {
+        dx: 0.047_345_166_746_955_03,
+        block: [14, 10, 10],
+        speed: 0.689_462_242_855_428,
+        dt: 0.023_573_152_726_866_206,
+        gravity: true,
+        walls: false,
+        delta: 1e-4,
+        steps: 3,
+        integrator: Integrator::Rk3,
+        seed: 500_988_943_488_858_139,
+    };
+    expect_ok(check_case::<2>(&case, Some((1e-3, 1e-5))));
 }
