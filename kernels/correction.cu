@@ -131,7 +131,8 @@ SPH_KERNEL(correction_displacement)(u32 n, StepParams p, GridGeometry g,
 }
 
 /// Eq. (23) applied, fluid only: `dx = displacement * scale`, `x += dx`, `u += dx / tau`
-/// (PAPER.md note 7); `scale` (<= 1) is one factor for all particles, chosen on the host from
+/// (PAPER.md note 7; `tau` is the CPU's `kick_tau`, infinite for the start-up settle, which adds
+/// no velocity); `scale` (<= 1) is one factor for all particles, chosen on the host from
 /// `largest` as `CpuBackend::correct_positions` does (`extremes::sweep`).
 SPH_KERNEL(apply_displacement)(u32 n, float scale, float tau, const u32* __restrict__ kind,
                                const float* __restrict__ displacement, float* __restrict__ pos,

@@ -1,5 +1,5 @@
 //! The force, integration and correction kernels of `kernels/` (`forces.cu`, `solid_forces.cu`,
-//! `state_extremes.cu`, `integrate.cu`, `correction.cu`), run on the CPU through the host shim
+//! `state_extremes.cu`, `integrate.cu`, `correction.cu`, `keep_out.cu`), run on the CPU through the host shim
 //! (`backend::cuda::shim`), against the rayon stage each mirrors, per particle `id`, in 2D and
 //! 3D. These run everywhere, GPU or not.
 //!
@@ -18,6 +18,7 @@ use sph::backend::cuda::grid::GridGeometry;
 use sph::backend::cuda::shim;
 use sph::backend::params::StepParams;
 use sph::backend::{Backend, ForceTerms, SolidForceSource};
+use sph::boundary::keep_out::KeepOutBox;
 use sph::boundary::solid_force::force_on_solid;
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
@@ -582,7 +583,7 @@ fn check_correct_positions<const D: usize>(seed: u64) {
     let unscaled = extremes::max_from_bits(largest);
     let max_step = (0.25 * unscaled) as f32;
     let sweep = extremes::sweep(largest, max_step);
-    let cpu_sweep = cpu.correct_positions(&mut cf, &p, tau, max_step);
+    let cpu_sweep = cpu.correct_positions(&mut cf, &p, tau, tau, max_step);
     assert!(sweep.scale < 0.3, "the scaling is exercised: {sweep:?}");
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
     assert!(
@@ -1099,4 +1100,92 @@ fn integration_kernels_equal_the_cpu_stages_bitwise_2d() {
 #[test]
 fn integration_kernels_equal_the_cpu_stages_bitwise_3d() {
     check_integration::<3>(0x1357_9bdf_2468_ace0);
+}
+
+/// `keep_out` is per-particle f32 comparisons and assignments in the CPU's order: positions and
+/// velocities bitwise equal; the per-solid sums of `m Δu` (f64, in another order) to 1e-12.
+/// The boxes: the floor and the left wall as one container's slabs (solid 0) cutting into the
+/// fluid by a spacing, a moving plate (solid 1) in the middle of the block, so particles are
+/// pushed out through every face and the velocity rule sees moving and fixed walls.
+fn check_keep_out<const D: usize>(seed: u64) {
+    let (f, _) = scene::<D>(seed);
+    let n_fluid = fluid_counts::<D>();
+    let mut top = Vector::<D>::zeros();
+    for k in 0..D {
+        top[k] = n_fluid[k] as f32 * DX;
+    }
+    let mut boxes = KeepOutBox::<D>::container(Vector::<D>::repeat(DX), top, 2.0 * DX, true, 0);
+    let mut plate = KeepOutBox::<D>::fixed(top * 0.4, top * 0.6, 1);
+    plate.velocity[0] = 0.7;
+    boxes.push(plate);
+    let flat_boxes: Vec<f32> = boxes
+        .iter()
+        .flat_map(|b| {
+            let mut v: Vec<f32> = b
+                .min
+                .iter()
+                .chain(b.max.iter())
+                .chain(b.velocity.iter())
+                .copied()
+                .collect();
+            v.push(b.solid as f32);
+            v
+        })
+        .collect();
+    let margin = 1e-5f32;
+    let n = f.len() as u32;
+    let flat = |v: &[Vector<D>]| -> Vec<f32> { v.iter().flat_map(|x| x.iter().copied()).collect() };
+    let bits = |v: &[f32]| -> Vec<u32> { v.iter().map(|x| x.to_bits()).collect() };
+    let mut cpu = CpuBackend::<D>::new();
+    let mut cf = f.clone();
+    let report = cpu.keep_out(&mut cf, &boxes, 2, margin);
+    let (mut pos, mut vel) = (flat(&f.position), flat(&f.velocity));
+    let mut out = vec![0.0f64; 8];
+    launch!(
+        D,
+        sph_shim_keep_out_2,
+        sph_shim_keep_out_3,
+        n,
+        boxes.len() as u32,
+        flat_boxes.as_ptr(),
+        margin,
+        f.kind.as_ptr(),
+        f.mass.as_ptr(),
+        pos.as_mut_ptr(),
+        vel.as_mut_ptr(),
+        out.as_mut_ptr(),
+    );
+    assert!(report.pushes > 20, "{D}D: only {} pushes", report.pushes);
+    assert_eq!(bits(&pos), bits(&flat(&cf.position)), "{D}D keep_out: position");
+    assert_eq!(bits(&vel), bits(&flat(&cf.velocity)), "{D}D keep_out: velocity");
+    assert_eq!((out[0] + out[4]) as u64, report.pushes, "{D}D keep_out: pushes");
+    for s in 0..2 {
+        for k in 0..3 {
+            let (gpu, cpu) = (out[4 * s + 1 + k], report.impulse[s][k]);
+            assert!(
+                (gpu - cpu).abs() <= 1e-12 * cpu.abs().max(1e-9),
+                "{D}D keep_out: solid {s} axis {k}: {gpu} vs {cpu}"
+            );
+        }
+    }
+    // Nothing left inside any box.
+    for i in (0..cf.len()).filter(|&i| cf.kind[i] == FLUID) {
+        for b in &boxes {
+            let x = cf.position[i];
+            assert!(
+                !(0..D).all(|k| x[k] > b.min[k] && x[k] < b.max[k]),
+                "{D}D: particle {i} still inside"
+            );
+        }
+    }
+}
+
+#[test]
+fn keep_out_equals_the_cpu_stage_bitwise_2d() {
+    check_keep_out::<2>(0x0bad_cafe_1234_5678);
+}
+
+#[test]
+fn keep_out_equals_the_cpu_stage_bitwise_3d() {
+    check_keep_out::<3>(0x5678_1234_cafe_0bad);
 }

@@ -5,6 +5,7 @@
 pub mod cpu;
 pub mod params;
 
+use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::fields::Fields;
 use crate::grid::GridError;
 use params::StepParams;
@@ -164,14 +165,28 @@ pub trait Backend<const D: usize> {
     /// ([A12] without gravity); added to `pressure`.
     fn correction_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32);
     /// Eq. (23): `Δx = τ² a^press(δp)` for fluid, scaled down uniformly (so momentum stays
-    /// conserved) when the largest exceeds `max_step` [m]; `x += Δx`, `u += Δx/τ`.
+    /// conserved) when the largest exceeds `max_step` [m]; `x += Δx`, `u += Δx/τ_u` with
+    /// `τ_u = kick_tau` [s]: `τ` inside a stage, infinite for the start-up settle, which moves
+    /// particles without giving them velocity (`Simulation::step`).
     fn correct_positions(
         &mut self,
         fields: &mut Fields<D>,
         params: &StepParams<D>,
         tau: f32,
+        kick_tau: f32,
         max_step: f32,
     ) -> Sweep;
+    /// The no-penetration guard (`boundary::keep_out`): every fluid particle inside one of
+    /// `boxes` is put `margin` [m] outside its nearest face and loses the velocity that points
+    /// into it, box after box in order. Returns the pushes and each of the `solids` solids'
+    /// momentum change of the fluid [kg m/s].
+    fn keep_out(
+        &mut self,
+        fields: &mut Fields<D>,
+        boxes: &[KeepOutBox<D>],
+        solids: usize,
+        margin: f32,
+    ) -> KeepOutReport;
 }
 
 pub mod cuda;

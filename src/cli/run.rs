@@ -168,6 +168,17 @@ pub fn run(
                 .unwrap_or(f64::NAN)
         );
     }
+    if let Some(pushes) = summary
+        .extra
+        .get("keep_out_pushes")
+        .and_then(|v| v.as_u64())
+        .filter(|&p| p > 0)
+    {
+        println!(
+            "no-penetration guard: {pushes} times a fluid particle was put back out of a solid \
+             (keep_out_pushes in summary.json)"
+        );
+    }
     if let Some(serde_json::Value::Object(errors)) = summary.extra.get("probe_errors") {
         for (name, e) in errors {
             let num = |k: &str| e.get(k).and_then(|v| v.as_f64()).unwrap_or(f64::NAN);

@@ -159,6 +159,9 @@ impl<const D: usize> Simulation<D> {
         let kind = self.backend_kind();
         self.fields = checkpoint.fields;
         self.clock = checkpoint.header.clock;
+        // A checkpoint after the first step holds the settled state (a settle at step 0 that
+        // was checkpointed before stepping runs again: it finds nothing left to move).
+        self.settled = self.clock.step > 0;
         self.stats = checkpoint.header.stats;
         self.solid_force = checkpoint.header.solid_force;
         self.fields_stale = false;

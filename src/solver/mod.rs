@@ -12,6 +12,7 @@ pub mod timestep;
 use crate::backend::cpu::CpuBackend;
 use crate::backend::params::StepParams;
 use crate::backend::{Backend, BackendError, BackendKind};
+use crate::boundary::keep_out::KeepOutBox;
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::physics::gravity::gravity_at;
@@ -237,6 +238,10 @@ pub struct RunStats {
     pub sum_mean_compression: f64,
     /// Position-correction statistics (`corrected` solver; zero otherwise).
     pub correction: CorrectionStats,
+    /// Fluid particles the no-penetration guard put back out of a solid
+    /// (`boundary::keep_out`): how often the guard, not the particle boundary, held the fluid.
+    #[serde(default)]
+    pub keep_out_pushes: u64,
 }
 
 /// What the position correction did over a run.
@@ -295,6 +300,10 @@ pub struct Simulation<const D: usize> {
     grid_fresh: bool,
     /// The density field matches the positions.
     density_fresh: bool,
+    /// The start-up settle ran ([`Simulation::settle`]).
+    settled: bool,
+    /// The solids' volumes for the no-penetration guard (`boundary::keep_out`); empty: no guard.
+    keep_out: Vec<KeepOutBox<D>>,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -373,6 +382,8 @@ impl<const D: usize> Simulation<D> {
             correction_stiffness: stiffness,
             grid_fresh: false,
             density_fresh: false,
+            settled: false,
+            keep_out: Vec::new(),
             config,
         })
     }
@@ -435,6 +446,34 @@ impl<const D: usize> Simulation<D> {
         } else {
             self.heap_bytes()
         }
+    }
+
+    /// Gives the solids' volumes to the no-penetration guard (`boundary::keep_out`), which then
+    /// runs after every move; each box's `solid` indexes the solids given to [`Simulation::new`].
+    /// Without it (the default) only the particle boundary keeps fluid out of solids.
+    ///
+    /// # Errors
+    /// [`SetupError::Invalid`] when a box names a solid that does not exist or is not a box.
+    pub fn set_keep_out(&mut self, boxes: Vec<KeepOutBox<D>>) -> Result<(), SetupError> {
+        for b in &boxes {
+            let finite = b
+                .min
+                .iter()
+                .chain(b.max.iter())
+                .chain(b.velocity.iter())
+                .all(|c| c.is_finite());
+            if b.solid as usize >= self.solid_names.len() || !finite || (0..D).any(|k| b.min[k] > b.max[k]) {
+                return Err(SetupError::Invalid {
+                    key: "solid",
+                    reason: format!(
+                        "a solid volume {b:?} is not a finite box of one of the {} solids",
+                        self.solid_names.len()
+                    ),
+                });
+            }
+        }
+        self.keep_out = boxes;
+        Ok(())
     }
 
     /// Runs the stages on `kind` from now on (the CPU backend is the default). The CUDA backend

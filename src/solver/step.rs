@@ -21,9 +21,19 @@ use super::stage::Stage;
 use super::timestep::{self, TimeStepInputs, TimeStepLimit};
 use super::{Correction, Simulation, StepError, StepReport};
 use crate::backend::{SolidForceSource, StateExtremes};
+use crate::boundary::keep_out::KeepOutReport;
 
 /// Largest displacement of one correction sweep, in units of the particle spacing.
 pub const MAX_SWEEP_STEP: f64 = 0.1;
+
+/// Distance outside a solid's face, in units of the spacing, where the no-penetration guard
+/// puts a particle it finds inside (`boundary::keep_out`): on the face itself f32 rounding
+/// could leave it inside.
+pub const KEEP_OUT_MARGIN: f64 = 1e-3;
+
+/// `τ` [s] of the start-up settle. Any value gives the same sweeps: the stiffness scales with
+/// `1/τ²` and the displacement with `τ²` (`physics::lattice::correction_stiffness`).
+pub const SETTLE_TAU: f64 = 1.0;
 
 /// Summed displacement since the last sort, in units of `h`, that triggers a re-sort.
 pub const RESORT_DRIFT: f64 = 0.005;
@@ -40,6 +50,7 @@ impl<const D: usize> Simulation<D> {
             extremes: StateExtremes::default(),
         };
         let solids = self.solid_names.len();
+        self.settle()?;
         let mut solid_force = vec![[0.0f64; 3]; solids];
         let add_force = |total: &mut Vec<[f64; 3]>, part: &[[f64; 3]], weight: f64| {
             for (t, p) in total.iter_mut().zip(part) {
@@ -83,6 +94,12 @@ impl<const D: usize> Simulation<D> {
                     Stage::Integrate => {
                         bk.integrate(f, report.dt as f32); // eq. (15), symplectic Euler
                         self.moved();
+                        let guard = self.keep_out();
+                        add_force(
+                            &mut solid_force,
+                            &guard.impulse,
+                            -integrator.correction_weights()[k] / report.dt.max(f64::MIN_POSITIVE),
+                        );
                     }
                     Stage::RkStage => {
                         if k == 0 {
@@ -90,10 +107,17 @@ impl<const D: usize> Simulation<D> {
                         }
                         bk.rk_stage(f, report.dt as f32, a, b); // PAPER.md note 8
                         self.moved();
+                        // The guard's momentum change, weighted as the stage's own changes.
+                        let guard = self.keep_out();
+                        add_force(
+                            &mut solid_force,
+                            &guard.impulse,
+                            -integrator.correction_weights()[k] / report.dt.max(f64::MIN_POSITIVE),
+                        );
                     }
                     Stage::Correction => {
                         let tau = tau_frac * report.dt;
-                        let impulse_force = self.correct(k, tau, &params)?;
+                        let impulse_force = self.correct(k, tau, tau, &params)?;
                         // Impulse τ F, weighted by how much of this stage reaches y^{n+1}.
                         let w = integrator.correction_weights()[k] * tau / report.dt.max(f64::MIN_POSITIVE);
                         add_force(&mut solid_force, &impulse_force, w);
@@ -131,6 +155,42 @@ impl<const D: usize> Simulation<D> {
         // `corrected` solver pays one sort and one density pass per step for it (of ~200 sweeps).
         self.moved();
         Ok(report)
+    }
+
+    /// The `corrected` solver's start-up settle, run by the first [`Simulation::step`] if not
+    /// called before (a no-op for `wcsph` and once done): the correction (23)–(24) removes the
+    /// initial compression (a lattice cut by walls, a jittered or compressed start) by moving
+    /// particles without giving them velocity. Why: corrected inside the first stage, the same
+    /// overlap becomes velocity `Δx/τ` (note 7); measured, a block jittered by 0.3 dx (12%
+    /// compression) left its first step at 20 m/s instead of 0.5 m/s and drove particles into
+    /// the walls. Counted in the correction statistics as one stage.
+    pub fn settle(&mut self) -> Result<(), StepError> {
+        if self.settled || self.config.correction.is_none() {
+            return Ok(());
+        }
+        let params = self.params_at(self.clock.time);
+        self.correct(0, SETTLE_TAU, f64::INFINITY, &params)?;
+        self.settled = true;
+        self.fields_stale = self.backend.holds_state();
+        Ok(())
+    }
+
+    /// The no-penetration guard after a move (`boundary::keep_out`): each solid's momentum
+    /// change of the fluid [kg m/s] and the pushes, which it also counts.
+    fn keep_out(&mut self) -> KeepOutReport {
+        let solids = self.solid_names.len();
+        if self.keep_out.is_empty() {
+            return KeepOutReport {
+                pushes: 0,
+                impulse: vec![[0.0; 3]; solids],
+            };
+        }
+        let margin = (KEEP_OUT_MARGIN * self.config.spacing) as f32;
+        let report = self
+            .backend
+            .keep_out(&mut self.fields, &self.keep_out, solids, margin);
+        self.stats.keep_out_pushes += report.pushes;
+        report
     }
 
     /// Positions changed: the grid and the density are stale.
@@ -203,11 +263,13 @@ impl<const D: usize> Simulation<D> {
     /// Eqs. (23)–(24) for integrator stage `stage` (0-based), whose state lies `tau` [s] after
     /// the step's start: density, pressure increments, displacement, until the residual
     /// (compression, and the expansion of particles that carry pressure) is below `δ` or the cap
-    /// is hit. Returns the correction's force on each solid over the stage [N].
+    /// is hit. Velocities change by `Δx / kick_tau` (`kick_tau = tau` in a stage, infinite for
+    /// the start-up settle). Returns the correction's force on each solid over the stage [N].
     fn correct(
         &mut self,
         stage: usize,
         tau: f64,
+        kick_tau: f64,
         params: &crate::backend::params::StepParams<D>,
     ) -> Result<Vec<[f64; 3]>, StepError> {
         let Correction {
@@ -246,7 +308,7 @@ impl<const D: usize> Simulation<D> {
             } else {
                 Vec::new()
             };
-            let sweep = bk.correct_positions(f, params, tau as f32, max_step); // eq. (23)
+            let sweep = bk.correct_positions(f, params, tau as f32, kick_tau as f32, max_step); // eq. (23)
             for (total, p) in solid_force.iter_mut().zip(&part) {
                 for c in 0..3 {
                     total[c] += sweep.scale * p[c];
@@ -254,6 +316,17 @@ impl<const D: usize> Simulation<D> {
             }
             drift += sweep.largest;
             iterations += 1;
+            // The guard's momentum change as a force over the stage (the caller multiplies by τ);
+            // a particle it moved may have left its cell, so the grid is rebuilt.
+            let guard = self.keep_out();
+            if guard.pushes > 0 {
+                drift = f64::INFINITY;
+            }
+            for (total, j) in solid_force.iter_mut().zip(&guard.impulse) {
+                for c in 0..3 {
+                    total[c] -= j[c] / tau;
+                }
+            }
         };
         self.grid_fresh = drift <= RESORT_DRIFT * h;
         self.density_fresh = true;

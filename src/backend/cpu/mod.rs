@@ -5,6 +5,7 @@
 
 use super::params::StepParams;
 use super::{Backend, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel};
+use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::{solid_force::force_on_solid, wall_pressure::WallPressureSums};
 use crate::fields::{FLUID, Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
@@ -409,6 +410,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         fields: &mut Fields<D>,
         params: &StepParams<D>,
         tau: f32,
+        kick_tau: f32,
         max_step: f32,
     ) -> Sweep {
         let kernel = params.smoothing();
@@ -450,13 +452,59 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 if kind[i] == FLUID {
                     let dx = displacement[i] * scale;
                     *x += dx;
-                    *u += dx / tau; // PAPER.md note 7: the projection's velocity change
+                    *u += dx / kick_tau; // PAPER.md note 7: the projection's velocity change
                 }
             });
         Sweep {
             largest: largest * f64::from(scale),
             scale: f64::from(scale),
         }
+    }
+
+    fn keep_out(
+        &mut self,
+        fields: &mut Fields<D>,
+        boxes: &[KeepOutBox<D>],
+        solids: usize,
+        margin: f32,
+    ) -> KeepOutReport {
+        let mut report = KeepOutReport {
+            pushes: 0,
+            impulse: vec![[0.0; 3]; solids],
+        };
+        if boxes.is_empty() {
+            return report;
+        }
+        let (kind, mass) = (&fields.kind, &fields.mass);
+        // Each particle's pushes (solid, axis, m Δu), gathered in index order and summed in that
+        // order, so the result does not depend on the thread count.
+        let pushes: Vec<Vec<(u32, usize, f64)>> = fields
+            .position
+            .par_iter_mut()
+            .zip(fields.velocity.par_iter_mut())
+            .enumerate()
+            .filter_map(|(i, (x, u))| {
+                if kind[i] != FLUID {
+                    return None;
+                }
+                let mut mine = Vec::new();
+                for b in boxes {
+                    let before = *u;
+                    if let Some(axis) = b.push_out(x, u, margin) {
+                        let du = f64::from(u[axis]) - f64::from(before[axis]);
+                        mine.push((b.solid, axis, f64::from(mass[i]) * du));
+                    }
+                }
+                (!mine.is_empty()).then_some(mine)
+            })
+            .collect();
+        for (solid, axis, dp) in pushes.into_iter().flatten() {
+            report.pushes += 1;
+            if let Some(slot) = report.impulse.get_mut(solid as usize) {
+                slot[axis] += dp;
+            }
+        }
+        report
     }
 }
 

@@ -11,6 +11,7 @@ use crate::backend::params::StepParams;
 use crate::backend::{
     Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel,
 };
+use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
@@ -116,6 +117,11 @@ pub struct CudaBackend<const D: usize> {
     reduce_i32: CudaSlice<i32>,
     extremes: CudaSlice<DeviceExtremes>,
     solid_out: CudaSlice<f64>,
+    /// The guard's boxes as last uploaded (`kernels/keep_out.cu` layout) and on the device.
+    keep_out_host: Vec<f32>,
+    keep_out_boxes: CudaSlice<f32>,
+    /// The guard's per-solid counts and momentum changes, 4 doubles per solid.
+    keep_out_out: CudaSlice<f64>,
     error: Option<BackendError>,
     device_name: String,
 }
@@ -227,6 +233,9 @@ impl<const D: usize> CudaBackend<D> {
                 .clone_htod(&[DeviceExtremes::initial()])
                 .map_err(|e| up("allocating", e))?,
             solid_out: stream.alloc_zeros::<f64>(3).map_err(|e| up("allocating", e))?,
+            keep_out_host: Vec::new(),
+            keep_out_boxes: stream.alloc_zeros::<f32>(1).map_err(|e| up("allocating", e))?,
+            keep_out_out: stream.alloc_zeros::<f64>(4).map_err(|e| up("allocating", e))?,
             error: None,
             device_name,
             stream,
@@ -428,7 +437,9 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             + self.scratch_u32.num_bytes()
             + self.reduce_i32.num_bytes()
             + self.extremes.num_bytes()
-            + self.solid_out.num_bytes();
+            + self.solid_out.num_bytes()
+            + self.keep_out_boxes.num_bytes()
+            + self.keep_out_out.num_bytes();
         if let Some(g) = &self.grid {
             bytes += [
                 &g.key,
@@ -844,6 +855,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         _fields: &mut Fields<D>,
         params: &StepParams<D>,
         tau: f32,
+        kick_tau: f32,
         max_step: f32,
     ) -> Sweep {
         let none = Sweep {
@@ -871,9 +883,69 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let sweep = sweep(out[0], max_step);
         let scale = sweep.scale as Real;
         launch!(self, "moving particles", "apply_displacement", self.n;
-            &n, &scale, &tau, &self.f.kind, &self.displacement, &mut self.f.position,
+            &n, &scale, &kick_tau, &self.f.kind, &self.displacement, &mut self.f.position,
             &mut self.f.velocity);
         sweep
+    }
+
+    fn keep_out(
+        &mut self,
+        _fields: &mut Fields<D>,
+        boxes: &[KeepOutBox<D>],
+        solids: usize,
+        margin: f32,
+    ) -> KeepOutReport {
+        let mut report = KeepOutReport {
+            pushes: 0,
+            impulse: vec![[0.0; 3]; solids],
+        };
+        if boxes.is_empty() || solids == 0 || self.error.is_some() {
+            return report;
+        }
+        // Upload the boxes only when they changed (moving solids): min, max, velocity, solid.
+        let host: Vec<f32> = boxes
+            .iter()
+            .flat_map(|b| {
+                b.min
+                    .iter()
+                    .chain(b.max.iter())
+                    .chain(b.velocity.iter())
+                    .copied()
+                    .chain(std::iter::once(b.solid as f32))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        if host != self.keep_out_host {
+            let r = self.stream.clone_htod(&host);
+            match record(&mut self.error, "uploading the solid volumes", r) {
+                Some(b) => self.keep_out_boxes = b,
+                None => return report,
+            }
+            self.keep_out_host = host;
+        }
+        if self.keep_out_out.len() < 4 * solids {
+            let r = self.stream.alloc_zeros::<f64>(4 * solids);
+            match record(&mut self.error, "allocating the guard's sums", r) {
+                Some(b) => self.keep_out_out = b,
+                None => return report,
+            }
+        }
+        let r = self.stream.memset_zeros(&mut self.keep_out_out);
+        if record(&mut self.error, "clearing the guard's sums", r).is_none() {
+            return report;
+        }
+        let (n, count) = (self.n as u32, boxes.len() as u32);
+        launch!(self, "keeping fluid out of solids", "keep_out", self.n;
+            &n, &count, &self.keep_out_boxes, &margin, &self.f.kind, &self.f.mass,
+            &mut self.f.position, &mut self.f.velocity, &mut self.keep_out_out);
+        let out = self.stream.clone_dtoh(&self.keep_out_out);
+        if let Some(v) = record(&mut self.error, "copying the guard's sums", out) {
+            for (s, slot) in report.impulse.iter_mut().enumerate() {
+                report.pushes += v[4 * s] as u64;
+                slot.copy_from_slice(&v[4 * s + 1..4 * s + 4]);
+            }
+        }
+        report
     }
 }
 
@@ -929,4 +1001,5 @@ const KERNEL_NAMES: &[&str] = &[
     "correction_pressure_apply",
     "correction_displacement",
     "apply_displacement",
+    "keep_out",
 ];

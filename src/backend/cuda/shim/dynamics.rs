@@ -2,7 +2,7 @@
 //! `forces_p`, `forces_pv`, `forces_pa`, `forces_pva`, `solid_forces`, `state_extremes`,
 //! `integrate`, `store_step_start`, `rk_stage`, `correction_error`, `correction_pressure_fluid`,
 //! `correction_pressure_wall`, `correction_pressure_apply`, `correction_displacement`,
-//! `apply_displacement`. Same arguments as the kernels, `StepParams` and `GridGeometry` by pointer.
+//! `apply_displacement`, `keep_out`. Same arguments as the kernels, `StepParams` and `GridGeometry` by pointer.
 #![allow(missing_docs)]
 
 use crate::backend::cuda::extremes::DeviceExtremes;
@@ -180,6 +180,17 @@ unsafe extern "C" {
         pos: *mut f32,
         vel: *mut f32,
     );
+    pub fn sph_shim_keep_out_2(
+        n: u32,
+        boxes: u32,
+        boxes_data: *const f32,
+        margin: f32,
+        kind: *const u32,
+        mass: *const f32,
+        pos: *mut f32,
+        vel: *mut f32,
+        out: *mut f64,
+    );
     /// `sizeof(Extremes)`, then each field's offset (11 values).
     pub fn sph_shim_extremes_layout_2(out: *mut u32);
 }
@@ -354,6 +365,17 @@ unsafe extern "C" {
         displacement: *const f32,
         pos: *mut f32,
         vel: *mut f32,
+    );
+    pub fn sph_shim_keep_out_3(
+        n: u32,
+        boxes: u32,
+        boxes_data: *const f32,
+        margin: f32,
+        kind: *const u32,
+        mass: *const f32,
+        pos: *mut f32,
+        vel: *mut f32,
+        out: *mut f64,
     );
     /// `sizeof(Extremes)`, then each field's offset (11 values).
     pub fn sph_shim_extremes_layout_3(out: *mut u32);

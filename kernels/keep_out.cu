@@ -1,0 +1,54 @@
+// The no-penetration guard (`boundary::keep_out`): twin of `KeepOutBox::push_out` as
+// `CpuBackend::keep_out` applies it, box after box in order, to every fluid particle.
+#include "sph.cuh"
+
+/// Floats per box in `boxes`: min[D], max[D], velocity[D], solid index.
+#define SPH_KEEP_OUT_STRIDE (3 * D + 1)
+
+/// Fluid inside a box is put `margin` [m] outside the box's nearest face (ties: lower axis, lower
+/// side) and loses the velocity component, relative to the box, that points into it. Per push,
+/// `out[4 s]` counts one and `out[4 s + 1 + k]` adds the fluid's momentum change `m du_k`
+/// [kg m/s] for the box's solid `s` (the host zeroes `out`, 4 doubles per solid).
+SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float margin,
+                     const u32* __restrict__ kind, const float* __restrict__ mass,
+                     float* __restrict__ pos, float* __restrict__ vel, double* __restrict__ out) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    vec_t x = vload(pos, i);
+    vec_t u = vload(vel, i);
+    bool moved = false;
+    for (u32 b = 0; b < boxes; ++b) {
+        const float* lo = box + b * SPH_KEEP_OUT_STRIDE;
+        const float* hi = lo + D;
+        const float* wall = hi + D;
+        bool inside = true;
+        for (int k = 0; k < D; ++k) inside = inside && x.c[k] > lo[k] && x.c[k] < hi[k];
+        if (!inside) continue;
+        int axis = 0;
+        bool upper = false;
+        float depth = 3.402823466e38f;  // FLT_MAX: every depth of a finite x is below it
+        for (int k = 0; k < D; ++k) {
+            const float below = x.c[k] - lo[k];
+            const float above = hi[k] - x.c[k];
+            if (below < depth) { axis = k; upper = false; depth = below; }
+            if (above < depth) { axis = k; upper = true; depth = above; }
+        }
+        const float relative = u.c[axis] - wall[axis];
+        const float before = u.c[axis];
+        if (upper) {
+            x.c[axis] = hi[axis] + margin;
+            if (relative < 0.0f) u.c[axis] = wall[axis];
+        } else {
+            x.c[axis] = lo[axis] - margin;
+            if (relative > 0.0f) u.c[axis] = wall[axis];
+        }
+        double* slot = out + 4 * (size_t)wall[D];
+        atomicAdd(slot, 1.0);
+        atomicAdd(slot + 1 + axis, (double)mass[i] * ((double)u.c[axis] - (double)before));
+        moved = true;
+    }
+    if (moved) {
+        vstore(pos, i, x);
+        vstore(vel, i, u);
+    }
+}
