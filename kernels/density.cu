@@ -16,7 +16,10 @@ SPH_KERNEL(density)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         vec_t d = vsub(xi, vload(pos, j));
         float r2 = vdot(d, d);
-        if (r2 < s.h2) sum += mass[j] * w_poly6(s, r2);
+        if (r2 < s.h2) {
+            d = pair_offset(d, &r2, i, j, s.h);
+            sum += mass[j] * w_poly6(s, r2);
+        }
     });
     density[i] = sum;
 }

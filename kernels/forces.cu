@@ -33,9 +33,10 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
     for (int k = 0; k < D; ++k) a.c[k] = p.gravity[k];  // eq. (6)
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         if (j == i) continue;
-        const vec_t d = vsub(x_i, vload(pos, j));
-        const float r2 = vdot(d, d);
+        vec_t d = vsub(x_i, vload(pos, j));
+        float r2 = vdot(d, d);
         if (!(r2 < s.h2)) continue;
+        d = pair_offset(d, &r2, i, j, s.h);
         const float r = sqrtf(r2);
         const float m_j = mass[j];
         const float rho_j = density[j];

@@ -32,9 +32,10 @@ SPH_KERNEL(solid_forces)(u32 n, StepParams p, GridGeometry g, const u32* __restr
         u32 fluid_neighbours = 0;
         SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
             if (kind[j] != SPH_FLUID) continue;
-            const vec_t d = vsub(x_s, vload(pos, j));
-            const float r2 = vdot(d, d);
+            vec_t d = vsub(x_s, vload(pos, j));
+            float r2 = vdot(d, d);
             if (!(r2 < s.h2)) continue;
+            d = pair_offset(d, &r2, i, j, s.h);
             const float r = sqrtf(r2);
             const vec_t grad = vscale(grad_w_spiky(s, d, r), p.pressure_gradient_scale);
             force = vadd(force, force_on_solid(p, m_s, p_s, rho_s, mass[j], pressure[j], density[j], d,

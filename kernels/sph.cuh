@@ -145,8 +145,25 @@ __device__ __forceinline__ Smoothing smoothing(float h) {
     return s;
 }
 
-/// `smoothing::R_MIN_FRACTION`: below this fraction of h the spiky gradient is zero.
+/// `smoothing::R_MIN_FRACTION`: below this fraction of h the spiky gradient keeps the magnitude
+/// it has there.
 #define SPH_R_MIN_FRACTION 1.0e-3f
+
+/// `smoothing::COINCIDENT_FRACTION`: pairs closer than this fraction of h are coincident.
+#define SPH_COINCIDENT_FRACTION 1.0e-6f
+
+/// Twin of `smoothing::pair_offset`: the offset x_i - x_j [m] a pair loop uses for particles i, j
+/// (indices in the current order) at `d`, with `*r2` = |d|^2 updated. A pair i != j closer than
+/// SPH_COINCIDENT_FRACTION h gets the offset of that length along axis (i + j) mod D with the sign
+/// of i - j: antisymmetric, so coincident particles push each other apart (note 4).
+__device__ __forceinline__ vec_t pair_offset(vec_t d, float* r2, u32 i, u32 j, float h) {
+    const float e = SPH_COINCIDENT_FRACTION * h;
+    if (i == j || *r2 >= e * e) return d;
+    vec_t o = vzero();
+    o.c[(unsigned)(((unsigned long long)i + (unsigned long long)j) % D)] = i > j ? e : -e;
+    *r2 = e * e;
+    return o;
+}
 
 /// Poly6 kernel W(r^2) [1/m^D].
 __device__ __forceinline__ float w_poly6(const Smoothing& s, float r2) {
@@ -155,10 +172,11 @@ __device__ __forceinline__ float w_poly6(const Smoothing& s, float r2) {
     return s.poly6 * q * q * q;
 }
 
-/// Gradient of the spiky kernel at offset x, |x| = r [1/m^(D+1)].
+/// Gradient of the spiky kernel at offset x, |x| = r [1/m^(D+1)]; the magnitude is taken at r no
+/// smaller than SPH_R_MIN_FRACTION h, zero at r = 0. Twin of `Smoothing::grad_w_spiky`.
 __device__ __forceinline__ vec_t grad_w_spiky(const Smoothing& s, vec_t x, float r) {
-    if (r >= s.h || r <= SPH_R_MIN_FRACTION * s.h) return vzero();
-    float q = s.h - r;
+    if (r >= s.h || r <= 0.0f) return vzero();
+    float q = s.h - fmaxf(r, SPH_R_MIN_FRACTION * s.h);
     return vscale(x, -3.0f * s.spiky * q * q / r);
 }
 

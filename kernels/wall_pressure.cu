@@ -25,6 +25,7 @@ SPH_KERNEL(wall_pressure)(u32 n, StepParams p, GridGeometry g, const u32* __rest
         vec_t d = vsub(xw, vload(pos, j));
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
+            d = pair_offset(d, &r2, w, j, s.h);
             float wj = w_poly6(s, r2);
             summed_density += mass[j] * wj;
             if (kind[j] == SPH_FLUID) {

@@ -13,6 +13,7 @@
 //! neighbourhood.
 
 use crate::math::{Real, Vector};
+use crate::smoothing::pair_offset;
 use rayon::prelude::*;
 use std::ops::Range;
 
@@ -248,7 +249,9 @@ impl<const D: usize> Grid<D> {
     }
 
     /// Calls `f(j, x_i − x_j, |x_i − x_j|²)` for every particle `j` (including `i` itself) with
-    /// `|x_i − x_j| < h`, where `h` is the cell size. `position` must be in sorted order.
+    /// `|x_i − x_j| < h`, where `h` is the cell size. `position` must be in sorted order. A pair
+    /// `j ≠ i` closer than `COINCIDENT_FRACTION·h` gets the offset of
+    /// [`crate::smoothing::pair_offset`] (a fixed antisymmetric direction, note 4).
     #[inline]
     pub fn for_each_neighbour<F>(&self, position: &[Vector<D>], i: usize, mut f: F)
     where
@@ -261,7 +264,9 @@ impl<const D: usize> Grid<D> {
                 let d = xi - xj;
                 let r2 = d.norm_squared();
                 if r2 < h2 {
-                    f(range.start + j, d, r2);
+                    let j = range.start + j;
+                    let (d, r2) = pair_offset(d, r2, i, j, self.cell_size);
+                    f(j, d, r2);
                 }
             }
         }

@@ -19,9 +19,12 @@
 //! `45/(π h⁶)` exactly; in 2D it gives `40/(π h⁵)`.
 //!
 //! Deviation (PAPER.md note 2): (22) is used with Müller's sign, `−r³/(2h³)`.
-//! Deviation (PAPER.md note 4): at `r = 0` the spiky gradient has no direction and returns zero;
-//! the singular viscosity kernel, its gradient and the spiky Laplacian evaluate `r` no smaller
-//! than [`R_MIN_FRACTION`]`·h`, so coincident particles never produce NaN or infinity.
+//! Deviation (PAPER.md note 4): the spiky gradient's magnitude, the singular viscosity kernel, its
+//! gradient and the spiky Laplacian evaluate `r` no smaller than [`R_MIN_FRACTION`]`·h`, so
+//! coincident particles never produce NaN or infinity; at `r = 0` the spiky gradient has no
+//! direction and returns zero. The pair loops never pass it a coincident pair: [`pair_offset`]
+//! gives a pair closer than [`COINCIDENT_FRACTION`]`·h` a fixed antisymmetric direction, so two
+//! particles started at the same spot (or driven onto it) push each other apart.
 //!
 //! References: [P] seed paper, eqs. (14), (20)–(22); [M03] M. Müller, D. Charypar, M. Gross,
 //! "Particle-based fluid simulation for interactive applications", SCA 2003.
@@ -31,6 +34,33 @@ use std::f64::consts::PI;
 
 /// Smallest distance, as a fraction of `h`, at which the singular kernels are evaluated (note 4).
 pub const R_MIN_FRACTION: Real = 1.0e-3;
+
+/// Pairs closer than this fraction of `h` count as coincident and get [`pair_offset`]'s
+/// direction. Far below any distance the flow produces (1e-3 of `dx` at `h = 2dx` would already
+/// mean a particle on top of another), far above f32 underflow of `r²`.
+pub const COINCIDENT_FRACTION: Real = 1.0e-6;
+
+/// The offset `x_i − x_j` [m] and its squared length [m²] that a pair loop uses for particles
+/// `i ≠ j` (indices in the current particle order) at `d = x_i − x_j`, `r2 = |d|²`: `(d, r2)`
+/// itself, or, when `r2 < (ε h)²` with `ε =` [`COINCIDENT_FRACTION`], the offset of length `ε h`
+/// along axis `(i + j) mod D` with the sign of `i − j`.
+///
+/// Why: coincident particles have no direction, so the spiky gradient gives them no pressure
+/// force, and two particles at the same spot feel the same forces from everyone else: they would
+/// never separate and the corrected solver could not bring their density to `ρ0`. The rule is
+/// antisymmetric under `i ↔ j` (same axis, opposite sign), so every pair force stays
+/// antisymmetric and momentum is conserved; it is deterministic, and the CUDA kernels use its twin
+/// `pair_offset` (`kernels/sph.cuh`) with their own particle order.
+#[inline(always)]
+pub fn pair_offset<const D: usize>(d: Vector<D>, r2: Real, i: usize, j: usize, h: Real) -> (Vector<D>, Real) {
+    let e = COINCIDENT_FRACTION * h;
+    if i == j || r2 >= e * e {
+        return (d, r2);
+    }
+    let mut offset = Vector::<D>::zeros();
+    offset[(i + j) % D] = if i > j { e } else { -e };
+    (offset, e * e)
+}
 
 /// The three kernels of the paper for one support radius `h` and dimension `D`, with their
 /// normalisation constants precomputed. Construct with [`Smoothing::new`].
@@ -123,13 +153,15 @@ impl<const D: usize> Smoothing<D> {
     }
 
     /// Gradient of eq. (21), used by the pressure force (16): `∇W = −3K (h − r)² x/r`,
-    /// `x = x_i − x_j` [m], `r = |x|`; zero at `r = 0` (note 4) and outside the support.
+    /// `x = x_i − x_j` [m], `r = |x|`; the magnitude is taken at `r` no smaller than
+    /// `R_MIN_FRACTION·h` (note 4: closer pairs keep the near-peak repulsion along `x/r` instead
+    /// of losing it), zero at `r = 0` (no direction) and outside the support.
     #[inline(always)]
     pub fn grad_w_spiky(&self, x: &Vector<D>, r: Real) -> Vector<D> {
-        if r >= self.h || r <= R_MIN_FRACTION * self.h {
+        if r >= self.h || r <= 0.0 {
             return Vector::zeros();
         }
-        let q = self.h - r;
+        let q = self.h - r.max(R_MIN_FRACTION * self.h);
         x * (-3.0 * self.spiky * q * q / r)
     }
 
@@ -199,5 +231,24 @@ mod tests {
         assert!(k.grad_w_viscosity(&z, 0.0).iter().all(|c| c.is_finite()));
         assert!(k.laplacian_w_spiky(0.0).is_finite());
         assert!(k.laplacian_w_viscosity(0.0).is_finite());
+    }
+
+    #[test]
+    fn coincident_pairs_get_an_antisymmetric_direction() {
+        let h = 0.02;
+        let k = Smoothing::<3>::new(h).expect("3D");
+        let z = Vector::<3>::zeros();
+        let (d_ij, r2) = pair_offset(z, 0.0, 7, 4, h);
+        let (d_ji, _) = pair_offset(z, 0.0, 4, 7, h);
+        assert_eq!(d_ij, -d_ji);
+        assert_eq!(d_ij, Vector::<3>::new(0.0, 0.0, COINCIDENT_FRACTION * h));
+        let g = k.grad_w_spiky(&d_ij, r2.sqrt());
+        // The repulsion of a pair at R_MIN_FRACTION·h, pushing i (the larger index) along +z.
+        let peak = 3.0 * k.spiky * (h - R_MIN_FRACTION * h).powi(2);
+        assert!((g[2] + peak).abs() <= 1e-5 * peak, "{g:?} vs {peak}");
+        // A particle with itself and a pair further apart are left alone.
+        assert_eq!(pair_offset(z, 0.0, 3, 3, h), (z, 0.0));
+        let d = Vector::<3>::new(1e-6, 0.0, 0.0);
+        assert_eq!(pair_offset(d, 1e-12, 1, 2, h), (d, 1e-12));
     }
 }

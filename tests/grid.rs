@@ -39,11 +39,10 @@ fn assert_neighbours_match<const D: usize>(
     for i in 0..n {
         let mut visited = Vec::new();
         grid.for_each_neighbour(&positions, i, |j, d, r2| {
-            assert_eq!(
-                d,
-                positions[i] - positions[j],
-                "offset passed for pair ({i}, {j})"
-            );
+            // Coincident pairs get `pair_offset`'s fixed direction (note 4).
+            let raw = positions[i] - positions[j];
+            let expected = sph::smoothing::pair_offset(raw, raw.norm_squared(), i, j, h);
+            assert_eq!(d, expected.0, "offset passed for pair ({i}, {j})");
             assert_eq!(r2, d.norm_squared(), "r² passed for pair ({i}, {j})");
             visited.push(j);
         });

@@ -10,11 +10,15 @@
 //! every axis, keeping the points outside the inside index range on at least
 //! one axis; an open top drops `i_{D-1} >= n_{D-1}` (last axis = vertical).
 //! [`count_particles`] gives the exact counts by arithmetic alone.
+//!
+//! A fluid box with `compression = c` uses the finer spacing `dx / (1 + c)^(1/D)` for its own
+//! lattice; one with `coincident = f` adds a twin, at the same position, right after each of
+//! `floor(n f)` evenly spread lattice particles (see [`FluidBox`]).
 
 use nalgebra::SVector;
 
 use super::validate::RawProblem;
-use super::{Aabb, KeyPath, Location, Problem, Scene, SceneError, Solid, SolidShape};
+use super::{Aabb, FluidBox, KeyPath, Location, Problem, Scene, SceneError, Solid, SolidShape};
 
 /// Largest supported dimension for counting.
 const MAX_DIM: usize = 3;
@@ -140,6 +144,14 @@ pub(crate) fn box_count(min: &[f64], max: &[f64], dx: f64, path: &KeyPath) -> Re
     product(dims.axes().iter().map(|&n| Some(n))).ok_or_else(|| overflow(path))
 }
 
+/// Particles of a fluid box: its lattice at [`FluidBox::lattice_spacing`] plus its coincident
+/// twins ([`FluidBox::twins`]).
+pub(crate) fn fluid_box_count(fb: &FluidBox, dx: f64, path: &KeyPath) -> Result<u64, RawProblem> {
+    let (min, max) = (&fb.region.min, &fb.region.max);
+    let n = box_count(min, max, fb.lattice_spacing(dx, min.len()), path)?;
+    n.checked_add(fb.twins(n)).ok_or_else(|| overflow(path))
+}
+
 /// Particles of one solid (box or container with `layers` wall layers).
 pub(crate) fn solid_count(solid: &Solid, dx: f64, layers: u64, path: &KeyPath) -> Result<u64, RawProblem> {
     let (min, max) = (&solid.region.min, &solid.region.max);
@@ -174,7 +186,7 @@ pub(crate) fn count_raw(scene: &Scene) -> Result<ParticleCounts, RawProblem> {
     let mut fluid = 0u64;
     for (i, fb) in scene.fluid_boxes.iter().enumerate() {
         let path = KeyPath::key("fluid_box").i(i);
-        let n = box_count(&fb.region.min, &fb.region.max, dx, &path)?;
+        let n = fluid_box_count(fb, dx, &path)?;
         fluid = fluid.checked_add(n).ok_or_else(|| overflow(&path))?;
     }
     let mut total = fluid;
@@ -294,10 +306,19 @@ pub fn generate<const D: usize>(scene: &Scene) -> Result<Layout<D>, SceneError> 
         let min = corner::<D>(&fb.region.min, &path.k("min"))?;
         let vel = corner::<D>(&fb.velocity, &path.k("velocity"))?;
         let v = SVector::<f32, D>::from_fn(|k, _| vel[k] as f32);
-        let dims = lattice_dims(&fb.region.min, &fb.region.max, dx, &path).map_err(generate_error)?;
+        let spacing = fb.lattice_spacing(dx, D);
+        let dims = lattice_dims(&fb.region.min, &fb.region.max, spacing, &path).map_err(generate_error)?;
+        let mut k = 0u64;
         for_each_index([0; D], dims_i64::<D>(&dims), |idx| {
-            layout.fluid_position.push(lattice_point(&min, idx, dx));
+            let x = lattice_point(&min, idx, spacing);
+            layout.fluid_position.push(x);
             layout.fluid_velocity.push(v);
+            if fb.has_twin(k) {
+                // The twin right after its original: the same f32 position, bit for bit.
+                layout.fluid_position.push(x);
+                layout.fluid_velocity.push(v);
+            }
+            k += 1;
         });
     }
     for (i, (s, (_, n))) in scene.solids.iter().zip(&counts.solid).enumerate() {

@@ -195,6 +195,38 @@ pub struct FluidBox {
     pub region: Aabb,
     /// Initial velocity \[m/s\] (zero unless given).
     pub velocity: Vec<f64>,
+    /// Initial over-compression c in [0, 1) (0 unless given): the box is filled on a lattice of
+    /// spacing [`FluidBox::lattice_spacing`], so the fluid starts near `(1 + c) rho0`.
+    pub compression: f64,
+    /// Fraction in [0, 1] of the box's particles that get a coincident twin (0 unless given);
+    /// see [`FluidBox::has_twin`].
+    pub coincident: f64,
+}
+
+impl FluidBox {
+    /// Lattice spacing \[m\] of the box for scene spacing `dx` \[m\] in `dim` dimensions:
+    /// `dx / (1 + c)^(1/dim)`, so a volume holds `1 + c` times the particles of the `dx`
+    /// lattice (exactly `dx` when `c = 0`).
+    pub fn lattice_spacing(&self, dx: f64, dim: usize) -> f64 {
+        if self.compression == 0.0 {
+            dx
+        } else {
+            dx / (1.0 + self.compression).powf(1.0 / dim as f64)
+        }
+    }
+
+    /// Whether lattice particle `k` of the box (axis 0 fastest) gets a coincident twin:
+    /// `floor((k + 1) f) > floor(k f)`, which spreads `floor(n f)` twins evenly over `n`
+    /// particles (every particle when `f = 1`, none when `f = 0`).
+    pub fn has_twin(&self, k: u64) -> bool {
+        let f = self.coincident;
+        ((k + 1) as f64 * f).floor() > (k as f64 * f).floor()
+    }
+
+    /// Number of twins among `n` lattice particles: `floor(n f)`.
+    pub fn twins(&self, n: u64) -> u64 {
+        (n as f64 * self.coincident).floor() as u64
+    }
 }
 
 /// A solid body made of boundary particles.

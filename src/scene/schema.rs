@@ -184,6 +184,18 @@ pub struct FluidBoxFile {
     pub max: Vec<f64>,
     /// Initial velocity \[m/s\]; default zero.
     pub velocity: Option<Vec<f64>>,
+    /// Initial over-compression c (dimensionless), in [0, 1); default 0. The box is filled on a
+    /// lattice of spacing `dx / (1 + c)^(1/D)`, so it holds about `1 + c` times the particles,
+    /// each with the mass of an uncompressed one: the fluid starts near `(1 + c) rho0` and the
+    /// released pressure tests the solver's start. Below 1 because a doubled density is far
+    /// beyond any compression a solver should meet.
+    pub compression: Option<f64>,
+    /// Fraction f in [0, 1] of the box's particles that get a twin at exactly the same position
+    /// with the same velocity and mass; default 0. Particle k of the box (lattice order, x
+    /// fastest) gets one iff `floor((k + 1) f) > floor(k f)`, so `floor(n f)` twins spread evenly
+    /// over the box. Coincident particles have no pair direction: a test of the solvers' guard
+    /// at `r = 0` (`grid::coincident_offset`).
+    pub coincident: Option<f64>,
 }
 
 /// `[[solid]]`: a rigid boundary body made of particles.

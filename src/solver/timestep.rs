@@ -7,6 +7,13 @@
 //! - viscosity:     `dt ≤ 0.125 · ĥ² ρ0 / μ`         (Morris, Fox & Zhu 1997)
 //!
 //! and never past the end time.
+//!
+//! A fixed step (`solver.dt`) is taken as given unless it is above a stability limit: then the
+//! force and viscous limits above and the acoustic limit at CFL number 1, `h / (C + |u|max)`,
+//! cut it, and the step records the limit that did. Validation already refuses a `wcsph` step
+//! above `h / C`; the flow speed can only add to `C` at run time. This holds for `wcsph` only:
+//! the corrected solver (passed here without a sound speed) keeps its fixed step, whose largest
+//! stable value is a property of the correction (issue 4 treats it separately).
 
 /// Which criterion limited a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -50,7 +57,25 @@ pub struct TimeStepInputs {
 /// The step [s] and the criterion that limited it.
 pub fn choose(inputs: &TimeStepInputs) -> (f64, TimeStepLimit) {
     let (mut dt, mut limit) = match inputs.fixed {
-        Some(dt) => (dt, TimeStepLimit::Fixed),
+        // The corrected solver (no sound speed here) keeps its fixed step: its largest stable
+        // step is a question of the correction, not of these explicit limits.
+        Some(dt) if inputs.sound_speed <= 0.0 => (dt, TimeStepLimit::Fixed),
+        Some(dt) => {
+            let mut best = (dt, TimeStepLimit::Fixed);
+            for (limit, kind) in [
+                (
+                    inputs.h / (inputs.sound_speed + inputs.max_speed),
+                    TimeStepLimit::SoundSpeed,
+                ),
+                (force_limit(inputs), TimeStepLimit::Force),
+                (viscous_limit(inputs), TimeStepLimit::Viscosity),
+            ] {
+                if limit < best.0 {
+                    best = (limit, kind);
+                }
+            }
+            best
+        }
         None => {
             // Without a sound speed (the corrected solver) the CFL number applies to the flow.
             let speed = inputs.sound_speed + inputs.max_speed;
@@ -66,17 +91,13 @@ pub fn choose(inputs: &TimeStepInputs) -> (f64, TimeStepLimit) {
             } else {
                 (f64::INFINITY, TimeStepLimit::FlowSpeed)
             };
-            if inputs.max_acceleration > 0.0 {
-                let f = 0.25 * (inputs.h / inputs.max_acceleration).sqrt();
-                if f < best.0 {
-                    best = (f, TimeStepLimit::Force);
-                }
+            let f = force_limit(inputs);
+            if f < best.0 {
+                best = (f, TimeStepLimit::Force);
             }
-            if inputs.kinematic_viscosity > 0.0 {
-                let v = 0.125 * (0.5 * inputs.h).powi(2) / inputs.kinematic_viscosity;
-                if v < best.0 {
-                    best = (v, TimeStepLimit::Viscosity);
-                }
+            let v = viscous_limit(inputs);
+            if v < best.0 {
+                best = (v, TimeStepLimit::Viscosity);
             }
             best
         }
@@ -86,6 +107,24 @@ pub fn choose(inputs: &TimeStepInputs) -> (f64, TimeStepLimit) {
         limit = TimeStepLimit::EndTime;
     }
     (dt, limit)
+}
+
+/// Force limit `0.25 sqrt(h / |a|max)` [s]; infinite without acceleration.
+fn force_limit(inputs: &TimeStepInputs) -> f64 {
+    if inputs.max_acceleration > 0.0 {
+        0.25 * (inputs.h / inputs.max_acceleration).sqrt()
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Viscous limit `0.125 ĥ² / ν` [s] with `ĥ = h/2`; infinite without viscosity.
+fn viscous_limit(inputs: &TimeStepInputs) -> f64 {
+    if inputs.kinematic_viscosity > 0.0 {
+        0.125 * (0.5 * inputs.h).powi(2) / inputs.kinematic_viscosity
+    } else {
+        f64::INFINITY
+    }
 }
 
 #[cfg(test)]
@@ -130,5 +169,47 @@ mod tests {
             ..inputs()
         });
         assert_eq!((dt, limit), (1e-4, TimeStepLimit::EndTime));
+    }
+
+    #[test]
+    fn a_fixed_step_is_cut_to_the_stability_limits() {
+        // Within every limit: taken as given.
+        let (dt, limit) = choose(&TimeStepInputs {
+            fixed: Some(1e-4),
+            ..inputs()
+        });
+        assert_eq!((dt, limit), (1e-4, TimeStepLimit::Fixed));
+        // wcsph: the acoustic limit at CFL 1, h / (C + |u|) = 0.02 / 40 = 5e-4 s.
+        let (dt, limit) = choose(&TimeStepInputs {
+            fixed: Some(1e-3),
+            max_speed: 20.0,
+            ..inputs()
+        });
+        assert_eq!(limit, TimeStepLimit::SoundSpeed);
+        assert!((dt - 5e-4).abs() < 1e-15);
+        // Force: 0.25 sqrt(0.02 / 1e4) = 3.54e-4 s < the fixed 5e-4 s.
+        let (dt, limit) = choose(&TimeStepInputs {
+            fixed: Some(5e-4),
+            max_acceleration: 1e4,
+            ..inputs()
+        });
+        assert_eq!(limit, TimeStepLimit::Force);
+        assert!((dt - 0.25 * (0.02f64 / 1e4).sqrt()).abs() < 1e-15);
+        // Viscosity: 0.125 (0.01)^2 / 0.1 = 1.25e-4 s.
+        let (dt, limit) = choose(&TimeStepInputs {
+            fixed: Some(5e-4),
+            kinematic_viscosity: 0.1,
+            ..inputs()
+        });
+        assert_eq!(limit, TimeStepLimit::Viscosity);
+        assert!((dt - 1.25e-4).abs() < 1e-15);
+        // The corrected solver (no sound speed) keeps its fixed step.
+        let (dt, limit) = choose(&TimeStepInputs {
+            fixed: Some(5e-3),
+            sound_speed: 0.0,
+            kinematic_viscosity: 0.1,
+            ..inputs()
+        });
+        assert_eq!((dt, limit), (5e-3, TimeStepLimit::Fixed));
     }
 }
