@@ -68,9 +68,10 @@ SPH_KERNEL(correction_pressure_wall)(u32 n, StepParams p, GridGeometry g,
     float pressure_sum = 0.0f;
     vec_t density_offset = vzero();
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
-        const vec_t d = vsub(x_w, vload(pos, j));
-        const float r2 = vdot(d, d);
+        vec_t d = vsub(x_w, vload(pos, j));
+        float r2 = vdot(d, d);
         if (!(r2 < s.h2) || kind[j] != SPH_FLUID) continue;
+        d = pair_offset(d, &r2, i, j, s.h);
         const float w = w_poly6(s, r2);
         weight += w;
         pressure_sum += delta_p[j] * w;
@@ -118,9 +119,10 @@ SPH_KERNEL(correction_displacement)(u32 n, StepParams p, GridGeometry g,
     vec_t a = vzero();
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         if (j == i) continue;
-        const vec_t d = vsub(x_i, vload(pos, j));
-        const float r2 = vdot(d, d);
+        vec_t d = vsub(x_i, vload(pos, j));
+        float r2 = vdot(d, d);
         if (!(r2 < s.h2)) continue;
+        d = pair_offset(d, &r2, i, j, s.h);
         const vec_t grad = vscale(grad_w_spiky(s, d, sqrtf(r2)), p.pressure_gradient_scale);
         a = vadd(a, pressure_acceleration(dp_i, rho_i, delta_p[j], density[j], mass[j], grad));
     });

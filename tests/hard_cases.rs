@@ -10,7 +10,9 @@
 use sph::fields::FLUID;
 use sph::run::AnySimulation;
 use sph::scene::{Scene, SolidShape, load_scene};
+use sph::smoothing::Smoothing;
 use sph::solver::Simulation;
+use sph::solver::timestep::TimeStepLimit;
 use std::path::Path;
 
 /// Whether `x` lies more than `margin` inside solid `k` of the scene.
@@ -55,77 +57,9 @@ fn energy<const D: usize>(sim: &Simulation<D>, g: &[f64]) -> f64 {
         .sum()
 }
 
-fn run_case<const D: usize>(scene: &Scene, mut sim: Simulation<D>) {
-    let name = scene.name.clone().unwrap_or_default();
-    let g = scene.gravity.clone().unwrap_or_else(|| vec![0.0; D]);
-    let mass = sim.fluid_mass();
-    // The corrected solver's start-up settle moves particles out of the walls' reach and so
-    // changes the potential energy once; the bound starts from the settled state.
-    sim.settle()
-        .unwrap_or_else(|e| panic!("{name} ({}): settle: {e}", scene.solver.kind.name()));
-    sim.sync_fields().expect("fields");
-    let e0 = energy(&sim, &g);
-    // No fluid particle strictly inside a solid's volume (its surface, half a spacing outside
-    // the centres of its outermost particle layer).
-    let margin = 0.0;
-    let mut steps = 0u64;
-    while sim.clock().time < scene.end_time {
-        sim.step(scene.end_time)
-            .unwrap_or_else(|e| panic!("{name} ({}): {e}", scene.solver.kind.name()));
-        steps += 1;
-        let f = &sim.fields;
-        for i in 0..f.len() {
-            if f.kind[i] != FLUID {
-                continue;
-            }
-            let x: Vec<f64> = f.position[i].iter().map(|c| f64::from(*c)).collect();
-            if let Some(solid) = inside_solid(scene, &x, margin) {
-                panic!(
-                    "{name}: step {steps}: fluid particle {} inside solid {solid} at {x:?}",
-                    f.id[i]
-                );
-            }
-        }
-        assert_eq!(
-            sim.fluid_mass().to_bits(),
-            mass.to_bits(),
-            "{name}: fluid mass changed"
-        );
-        let e = energy(&sim, &g);
-        assert!(
-            e <= e0 + 1e-3 * e0.abs().max(1e-12),
-            "{name} ({}): step {steps}: energy {e} above the start's {e0}",
-            scene.solver.kind.name()
-        );
-    }
-    // The guard is a last resort: report how often it acted (README "Hard cases").
-    eprintln!(
-        "{name} ({}): {steps} steps, {} no-penetration pushes",
-        scene.solver.kind.name(),
-        sim.stats().keep_out_pushes
-    );
-    if let Some(c) = sim.config().correction {
-        let s = sim.stats().correction;
-        assert_eq!(s.unconverged_stages, 0, "{name}: stages at the iteration cap");
-        assert!(
-            s.max_compression_after < c.delta,
-            "{name}: compression {} left",
-            s.max_compression_after
-        );
-    }
-}
-
+/// Runs `file` with `solver` under every invariant, energy bounded by the start (module doc).
 fn case(file: &str, solver: &str) {
-    let path = format!("{}/scenes/hard/{file}", env!("CARGO_MANIFEST_DIR"));
-    let mut sets = vec![format!("solver.kind={solver}")];
-    if solver == "corrected" {
-        sets.push("solver.max_iterations=1000".into());
-    }
-    let scene = load_scene(Path::new(&path), &sets).expect("hard scene");
-    match AnySimulation::from_scene(&scene).expect("builds") {
-        AnySimulation::D2(sim) => run_case(&scene, sim),
-        AnySimulation::D3(sim) => run_case(&scene, sim),
-    }
+    case_with(file, solver, &[], EnergyBound::Start);
 }
 
 #[test]
@@ -178,19 +112,14 @@ fn jet_3d_corrected() {
 
 // ---------------------------------------------------------------------------------------------
 // Issue 4, the remaining cases: compressed and coincident starts, thin sheets, isolated
-// particles, viscosity extremes, a step too large for wcsph. Where a case needs another energy
-// bound than `run_case`'s, or measurements after the run, it goes through `case_with` /
-// `run_with` below, which check the same invariants (finite state and fluid in the domain by the
-// solver's guards, no fluid inside a solid, mass bit for bit, `corrected` at δ with no stage at
-// the cap) with the energy bound given per case.
-
-use sph::smoothing::Smoothing;
-use sph::solver::timestep::TimeStepLimit;
+// particles, viscosity extremes, a step too large for wcsph. Every case goes through
+// `case_with` / `run_with`, which check the invariants of the module doc with the energy bound
+// given per case (`case` uses `EnergyBound::Start`).
 
 /// How `run_with` bounds the fluid's kinetic plus potential energy after every step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum EnergyBound {
-    /// As `run_case`: never above the start by more than 1e-3 of its magnitude (closed scenes
+    /// Never above the start by more than 1e-3 of its magnitude (closed scenes
     /// whose walls are fixed and whose every term dissipates or conserves).
     Start,
     /// `wcsph` from a start above `ρ0`: never above the start plus the elastic energy of the
@@ -277,12 +206,19 @@ fn elastic_energy<const D: usize>(scene: &Scene, sim: &Simulation<D>) -> f64 {
         .sum()
 }
 
-/// `run_case` with the energy bound `bound`, recording a `Trace`.
+/// Runs `scene` checking the invariants of the module doc with the energy bound `bound`,
+/// recording a `Trace`.
 fn run_with<const D: usize>(scene: &Scene, mut sim: Simulation<D>, bound: EnergyBound) -> Trace {
     let name = scene.name.clone().unwrap_or_default();
     let solver = scene.solver.kind.name();
     let g = scene.gravity.clone().unwrap_or_else(|| vec![0.0; D]);
     let mass = sim.fluid_mass();
+    let start = fluid_positions(&sim);
+    // The corrected solver's start-up settle moves particles out of the walls' reach and so
+    // changes the potential energy once; the bound starts from the settled state.
+    sim.settle()
+        .unwrap_or_else(|e| panic!("{name} ({solver}): settle: {e}"));
+    sim.sync_fields().expect("fields");
     let e0 = energy(&sim, &g);
     let allowed = match bound {
         EnergyBound::Start => Some(e0 + 1e-3 * e0.abs().max(1e-12)),
@@ -303,9 +239,11 @@ fn run_with<const D: usize>(scene: &Scene, mut sim: Simulation<D>, bound: Energy
         min_density: f64::INFINITY,
         self_density,
         positions: Vec::new(),
-        start: fluid_positions(&sim),
+        start,
     };
-    let margin = 0.5 * scene.spacing;
+    // No fluid particle strictly inside a solid's volume (its surface, half a spacing outside
+    // the centres of its outermost particle layer).
+    let margin = 0.0;
     while sim.clock().time < scene.end_time {
         let report = sim
             .step(scene.end_time)
@@ -340,6 +278,12 @@ fn run_with<const D: usize>(scene: &Scene, mut sim: Simulation<D>, bound: Energy
         }
         trace.energy.push(e);
     }
+    // The guard is a last resort: report how often it acted (README "Hard cases").
+    eprintln!(
+        "{name} ({solver}): {} steps, {} no-penetration pushes",
+        trace.steps.len(),
+        sim.stats().keep_out_pushes
+    );
     if let Some(c) = sim.config().correction {
         let s = sim.stats().correction;
         assert_eq!(s.unconverged_stages, 0, "{name}: stages at the iteration cap");
@@ -393,18 +337,12 @@ fn compressed_2d_corrected() {
     compressed("compressed_2d.toml", "corrected");
 }
 
-/// Fails today: at step 125 a fluid particle is 0.06 mm (0.003 dx) past the centres of the
-/// side wall's innermost layer (y = -0.0101 m), as in `jet_3d_wcsph`.
 #[test]
-#[ignore = "known failure: fluid reaches 0.003 dx past the innermost wall layer in 3D at step 125"]
 fn compressed_3d_wcsph() {
     compressed("compressed_3d.toml", "wcsph");
 }
 
-/// Fails today: at step 13 a fluid particle is 0.08 mm (0.004 dx) past the centres of the
-/// floor's innermost layer (z = -0.01008 m), as in `jet_3d_corrected`.
 #[test]
-#[ignore = "known failure: fluid reaches 0.004 dx past the floor's innermost layer in 3D at step 13"]
 fn compressed_3d_corrected() {
     compressed("compressed_3d.toml", "corrected");
 }
@@ -420,46 +358,27 @@ fn coincident(file: &str, solver: &str) {
     twins_apart(file, &trace);
 }
 
-/// Fails today: the twins' start (39 % above ρ0 where they sit, C = 20 m/s) throws fluid
-/// against the lid: at step 130 a particle is 0.4 mm (0.04 dx) past its innermost layer
-/// (y = 0.30548 m). `coincident_2d_wcsph_twins_separate` checks the first 10 ms.
 #[test]
-#[ignore = "known failure: fluid reaches 0.04 dx past the lid's innermost layer at step 130"]
 fn coincident_2d_wcsph() {
     coincident("coincident_2d.toml", "wcsph");
 }
 
-/// Fails today: the first stage leaves 2.2e-3 compression after 1,000 sweeps (the twins start
-/// at 39 % density error, pressure built from zero at a 10 ms step, as in `rest_3d_corrected`);
-/// every later stage converges (57 sweeps on average, `sph run` on the scene with
-/// `--set solver.kind=corrected --set solver.max_iterations=1000`).
 #[test]
-#[ignore = "known failure: the first stage leaves 2.2e-3 compression after 1000 sweeps"]
 fn coincident_2d_corrected() {
     coincident("coincident_2d.toml", "corrected");
 }
 
-/// Fails today: as in 2D, at step 45 a particle is 0.8 mm (0.04 dx) past the side wall's
-/// innermost layer (y = -0.0108 m). `coincident_3d_wcsph_twins_separate` checks the first 10 ms.
 #[test]
-#[ignore = "known failure: fluid reaches 0.04 dx past the side wall's innermost layer at step 45"]
 fn coincident_3d_wcsph() {
     coincident("coincident_3d.toml", "wcsph");
 }
 
-/// Fails today: at step 27 a fluid particle is 0.2 mm (0.01 dx) past the centres of the lid's
-/// innermost layer (z = 0.2102 m), as in `jet_3d_corrected`.
 #[test]
-#[ignore = "known failure: fluid reaches 0.01 dx past the lid's innermost layer in 3D at step 27"]
 fn coincident_3d_corrected() {
     coincident("coincident_3d.toml", "corrected");
 }
 
-/// Fails today: kinetic plus potential energy reaches 8.233 J/m at step 957 (the sheet on the
-/// floor), 0.9 % above the start's 8.159 J/m: wcsph adds energy at the impact of a sheet two
-/// particles thick (the 3D sheet and `corrected` stay below the bound).
 #[test]
-#[ignore = "known failure: energy 0.9 % above the start at step 957 (impact of the sheet)"]
 fn thin_sheet_2d_wcsph() {
     case("thin_sheet_2d.toml", "wcsph");
 }
@@ -507,10 +426,7 @@ fn isolated_3d_wcsph() {
     isolated("isolated_3d.toml", "wcsph");
 }
 
-/// Fails today: at step 41 a fluid particle is 0.12 mm (0.006 dx) past the centres of the
-/// floor's innermost layer (z = -0.01012 m), as in `jet_3d_corrected`.
 #[test]
-#[ignore = "known failure: fluid reaches 0.006 dx past the floor's innermost layer in 3D at step 41"]
 fn isolated_3d_corrected() {
     isolated("isolated_3d.toml", "corrected");
 }
