@@ -35,12 +35,11 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
     let config = sim_config::<D>(scene);
     let solids: Vec<(String, Vec<Vector<D>>)> =
         layout.solids.into_iter().map(|s| (s.name, s.position)).collect();
-    Ok(Simulation::new(
-        config,
-        &layout.fluid_position,
-        &layout.fluid_velocity,
-        &solids,
-    )?)
+    let motions = scene.solids.iter().map(|s| s.motion.clone()).collect();
+    Ok(
+        Simulation::new(config, &layout.fluid_position, &layout.fluid_velocity, &solids)?
+            .with_solid_motion(motions)?,
+    )
 }
 
 /// The solver settings of a validated scene (`scene.dimension` must be `D`).

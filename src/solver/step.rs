@@ -17,7 +17,7 @@
 //!   the last sort exceeds `RESORT_DRIFT · h`, so a pair within `h` can only be missed when the
 //!   kernels there are below `(4 · RESORT_DRIFT)³ ≈ 1e-5` of their peak.
 
-use super::stage::Stage;
+use super::stage::{SolidsAt, Stage};
 use super::timestep::{self, TimeStepInputs, TimeStepLimit};
 use super::{Correction, Simulation, StepError, StepReport};
 use crate::backend::{SolidForceSource, StateExtremes};
@@ -55,6 +55,16 @@ impl<const D: usize> Simulation<D> {
                 let started = self.stage_seconds.is_some().then(std::time::Instant::now);
                 let (bk, f) = (&mut self.backend, &mut self.fields);
                 match stage {
+                    Stage::MoveSolids(at) => {
+                        // boundary::motion: x0 + d(t), d'(t) at the stage's start or result.
+                        let t = match at {
+                            SolidsAt::StageStart => time + t_frac * report.dt,
+                            SolidsAt::StageResult => time + tau_frac * report.dt,
+                        };
+                        if self.place_solids(t) {
+                            self.moved();
+                        }
+                    }
                     Stage::SortByCell => {
                         if !self.grid_fresh {
                             bk.sort_by_cell(f, params.h)
@@ -69,8 +79,10 @@ impl<const D: usize> Simulation<D> {
                         }
                     }
                     Stage::EquationOfState => bk.equation_of_state(f, &params), // eq. (19)
-                    Stage::WallPressure(model) => bk.wall_pressure(f, &params, model), // [A12] eq. (27)
-                    Stage::Forces(terms) => bk.forces(f, &params, terms),       // eqs. (15)-(17), (6)
+                    Stage::WallPressure(model) => {
+                        bk.wall_pressure(f, &params, model, &self.wall_acceleration); // [A12] eq. (27)
+                    }
+                    Stage::Forces(terms) => bk.forces(f, &params, terms), // eqs. (15)-(17), (6)
                     Stage::SolidForces => {
                         let part = bk.solid_forces(f, &params, solids, SolidForceSource::Forces); // Fig. 4
                         add_force(&mut solid_force, &part, integrator.force_weights()[k]);
@@ -181,7 +193,8 @@ impl<const D: usize> Simulation<D> {
                 c.sound_speed
             },
             cfl: c.cfl,
-            max_speed: e.max_speed,
+            // A moving wall sweeps through the fluid like a flow of its speed.
+            max_speed: e.max_speed.max(self.wall_speed),
             max_acceleration: e.max_acceleration,
             kinematic_viscosity: c.viscosity.unwrap_or(0.0) / c.rho0
                 + crate::physics::artificial_viscosity::equivalent_viscosity(
