@@ -25,6 +25,7 @@ SPH_KERNEL(solid_forces)(u32 n, StepParams p, GridGeometry g, const u32* __restr
     for (u32 i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += stride) {
         if (kind[i] == SPH_FLUID) continue;
         const vec_t x_s = vload(pos, i);
+        const vec_t u_s = vload(vel, i);
         const float m_s = mass[i];
         const float p_s = pressure[i];
         const float rho_s = density[i];
@@ -39,7 +40,8 @@ SPH_KERNEL(solid_forces)(u32 n, StepParams p, GridGeometry g, const u32* __restr
             const float r = sqrtf(r2);
             const vec_t grad = vscale(grad_w_spiky(s, d, r), p.pressure_gradient_scale);
             force = vadd(force, force_on_solid(p, m_s, p_s, rho_s, mass[j], pressure[j], density[j], d,
-                                               r2, vload(vel, j), grad, laplacian_w_viscosity(s, r)));
+                                               r2, u_s, vload(vel, j), grad,
+                                               laplacian_w_viscosity(s, r)));
             ++fluid_neighbours;
         });
         // A solid particle away from the fluid adds nothing.

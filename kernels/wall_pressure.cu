@@ -1,18 +1,21 @@
 // Stage `wall_pressure`: pressure and density of solid particles, [A12] (Adami et al. 2012)
-// eq. (27) for a wall at rest, extrapolated from the fluid neighbours with gravity. Twin of
+// eq. (27), extrapolated from the fluid neighbours with the body acceleration `g - a_w` in the
+// wall's frame (`wall_acc`: D floats per solid, the solid's acceleration [m/s^2]; zeros for walls
+// at rest, where `g - 0` is `g` bit for bit). Twin of
 // `CpuBackend::wall_pressure` and `boundary::wall_pressure::WallPressureSums`; fluid entries are
 // left as they are. Writing in place is safe: a solid reads only its fluid neighbours' pressure
 // and density, which this kernel never writes.
 #include "sph.cuh"
 
-/// [A12] eq. (27): p_w = max((sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf, 0)
+/// [A12] eq. (27): p_w = max((sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf, 0)
 /// over fluid neighbours f (0 without any); with `extrapolated_or_summed` != 0
 /// (`WallModel::ExtrapolatedOrSummed`) the max with eq. (19) of the solid's own summed density
 /// (18) over all neighbours; then rho_w = rho0 + p_w / C^2. Pressure [Pa], density [kg/m^3].
 SPH_KERNEL(wall_pressure)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,
                           const u32* __restrict__ cell_key, const float* __restrict__ pos,
                           const float* __restrict__ mass, const u32* __restrict__ kind,
-                          int extrapolated_or_summed, float* pressure, float* density) {
+                          const float* __restrict__ wall_acc, int extrapolated_or_summed,
+                          float* pressure, float* density) {
     u32 w = blockIdx.x * blockDim.x + threadIdx.x;
     if (w >= n || kind[w] == SPH_FLUID) return;
     const Smoothing s = smoothing(p.h);
@@ -37,9 +40,10 @@ SPH_KERNEL(wall_pressure)(u32 n, StepParams p, GridGeometry g, const u32* __rest
     });
     float pw = 0.0f;
     if (!(weight <= 0.0f)) {  // as `WallPressureSums::pressure`: a NaN weight falls through
-        vec_t gravity;
-        for (int k = 0; k < D; ++k) gravity.c[k] = p.gravity[k];
-        pw = fmaxf((pressure_sum + vdot(gravity, density_offset)) / weight, 0.0f);
+        const vec_t a_w = vload(wall_acc, kind[w] - 1u);
+        vec_t body;
+        for (int k = 0; k < D; ++k) body.c[k] = p.gravity[k] - a_w.c[k];
+        pw = fmaxf((pressure_sum + vdot(body, density_offset)) / weight, 0.0f);
     }
     if (extrapolated_or_summed) pw = fmaxf(pw, fmaxf(p.c2 * (summed_density - p.rho0), 0.0f));
     pressure[w] = pw;

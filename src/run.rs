@@ -36,7 +36,9 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
     let config = sim_config::<D>(scene);
     let solids: Vec<(String, Vec<Vector<D>>)> =
         layout.solids.into_iter().map(|s| (s.name, s.position)).collect();
-    let mut sim = Simulation::new(config, &layout.fluid_position, &layout.fluid_velocity, &solids)?;
+    let motions = scene.solids.iter().map(|s| s.motion.clone()).collect();
+    let mut sim = Simulation::new(config, &layout.fluid_position, &layout.fluid_velocity, &solids)?
+        .with_solid_motion(motions)?;
     sim.set_keep_out(keep_out_boxes::<D>(scene, &solids))?;
     Ok(sim)
 }

@@ -196,3 +196,26 @@ fn corrected_column_scene_matches_the_cpu() {
         5,
     );
 }
+
+/// Moving walls (`move_solids`, the wall pressure with `g − a_w`, the force on moving solids):
+/// the sloshing tanks of `scenes/hard/`, started without the ramp so that the walls move at
+/// full speed from the first step, with both solvers.
+#[test]
+fn sloshing_tanks_match_the_cpu() {
+    if !gpu_available() {
+        return;
+    }
+    for file in ["sloshing_2d.toml", "sloshing_3d.toml"] {
+        for solver in ["wcsph", "corrected"] {
+            let steps = if solver == "corrected" { 5 } else { STEPS };
+            check(
+                &format!("{ROOT}/scenes/hard/{file}"),
+                &[
+                    format!("solver.kind={solver}"),
+                    "solid.0.motion.ramp=0".to_string(),
+                ],
+                steps,
+            );
+        }
+    }
+}

@@ -114,6 +114,7 @@ struct Kernels<const D: usize> {
         *const f32,
         *const f32,
         *const u32,
+        *const f32,
         i32,
         *mut f32,
         *mut f32,
@@ -295,8 +296,16 @@ impl<const D: usize> Kernels<D> {
         }
     }
 
-    /// Stage `wall_pressure` through the shim on sorted fields.
-    fn wall_pressure(&self, f: &mut Fields<D>, p: &StepParams<D>, grid: &DeviceGrid<D>, model: WallModel) {
+    /// Stage `wall_pressure` through the shim on sorted fields; `wall_acc` holds each solid's
+    /// acceleration (the device's buffer: zeros for walls at rest).
+    fn wall_pressure(
+        &self,
+        f: &mut Fields<D>,
+        p: &StepParams<D>,
+        grid: &DeviceGrid<D>,
+        model: WallModel,
+        wall_acc: &[Vector<D>],
+    ) {
         let flag = i32::from(model == WallModel::ExtrapolatedOrSummed);
         // SAFETY: as in `density`.
         unsafe {
@@ -309,6 +318,7 @@ impl<const D: usize> Kernels<D> {
                 flat(&f.position),
                 f.mass.as_ptr(),
                 f.kind.as_ptr(),
+                flat(wall_acc),
                 flag,
                 f.pressure.as_mut_ptr(),
                 f.density.as_mut_ptr(),
@@ -637,10 +647,27 @@ fn density_on_the_shim_matches_the_cpu_stage() {
 /// values. That bounds the extrapolated pressure's difference by 1e-5 (p_max + ρ_max |g| h) (the
 /// weighted means of |p_f| and ρ_f |x_w − x_f| over the same weights), and eq. (19) of the
 /// summed density by 1e-5 C² ρ_max; the density ρ0 + p / C² adds one rounding of ρ0.
+/// Accelerations [m/s²] of the setup's two solids (floor, side wall) for the moving-wall case of
+/// `wall_pressure` ([A12] eq. 27 with `g − a_w`); several g, so that the term moves the pressure
+/// of pressed walls well beyond the tolerance (which the `C² ρ` term of the summed model sets).
+fn wall_accelerations<const D: usize>() -> Vec<Vector<D>> {
+    let mut floor = Vector::<D>::zeros();
+    let mut side = Vector::<D>::zeros();
+    floor[0] = 30.0;
+    floor[1] = -60.0;
+    side[0] = -80.0;
+    side[1] = 25.0;
+    vec![floor, side]
+}
+
 fn wall_tolerance<const D: usize>(s: &Setup<D>) -> (f32, f32) {
     let p_max = s.fields.pressure.iter().copied().fold(0.0, f32::max);
     let rho_max = 1.1 * s.params.rho0; // summed densities near the walls stay below
-    let g = s.params.gravity.norm();
+    // The largest body acceleration |g − a_w| of either case.
+    let g = wall_accelerations::<D>()
+        .iter()
+        .map(|a| (s.params.gravity - a).norm())
+        .fold(s.params.gravity.norm(), f32::max);
     let p = 1.0e-5 * (p_max + rho_max * g * s.params.h + s.params.c2 * rho_max);
     (p, p / s.params.c2 + s.params.rho0 * f32::EPSILON)
 }
@@ -655,15 +682,28 @@ fn check_wall_pressure<const D: usize>(k: &Kernels<D>, seed: u64) {
     );
     let solid = |id: usize| kind[id] != FLUID;
     let mut results = Vec::new();
-    for model in [WallModel::ExtrapolatedOrSummed, WallModel::Extrapolated] {
+    let mut moving_results = Vec::new();
+    let cases = [
+        (WallModel::ExtrapolatedOrSummed, false),
+        (WallModel::Extrapolated, false),
+        (WallModel::ExtrapolatedOrSummed, true),
+        (WallModel::Extrapolated, true),
+    ];
+    for (model, moving) in cases {
+        // At rest the CPU gets no accelerations and the device its buffer of zeros.
+        let (cpu_acc, shim_acc) = if moving {
+            (wall_accelerations::<D>(), wall_accelerations::<D>())
+        } else {
+            (Vec::new(), vec![Vector::<D>::zeros(); 2])
+        };
         let mut cpu_fields = s.fields.clone();
         let mut cpu = CpuBackend::<D>::new();
         cpu.sort_by_cell(&mut cpu_fields, s.params.h)
             .expect("finite positions");
-        cpu.wall_pressure(&mut cpu_fields, &s.params, model);
+        cpu.wall_pressure(&mut cpu_fields, &s.params, model, &cpu_acc);
         let mut f = s.fields.clone();
         let grid = k.sort_on_shim(&mut f, s.geometry);
-        k.wall_pressure(&mut f, &s.params, &grid, model);
+        k.wall_pressure(&mut f, &s.params, &grid, model, &shim_acc);
         let cpu_p = by_id(&cpu_fields, &cpu_fields.pressure);
         let (p, rho) = (by_id(&f, &f.pressure), by_id(&f, &f.density));
         let cpu_rho = by_id(&cpu_fields, &cpu_fields.density);
@@ -690,14 +730,27 @@ fn check_wall_pressure<const D: usize>(k: &Kernels<D>, seed: u64) {
             }
         }
         eprintln!(
-            "wall_pressure D={D} {model:?}: max |dp| {:.2e} Pa (tolerance {p_abs:.2e}), \
+            "wall_pressure D={D} {model:?} moving={moving}: max |dp| {:.2e} Pa (tolerance {p_abs:.2e}), \
              max |drho| {:.2e} kg/m3, max relative dp {:.2e}",
             max_abs[0],
             max_abs[1],
             max_rel_diff(&p, &cpu_p, solid)
         );
-        results.push(p);
+        if moving {
+            moving_results.push(p);
+        } else {
+            results.push(p);
+        }
     }
+    // The wall acceleration is in the kernel: walls next to the fluid change by far more than
+    // the tolerance.
+    let changed = (0..results[1].len())
+        .filter(|&id| solid(id) && (moving_results[1][id] - results[1][id]).abs() > 10.0 * p_abs)
+        .count();
+    assert!(
+        changed > 10,
+        "accelerating walls changed only {changed} wall pressures"
+    );
     // Not a trivial state: walls under the fluid are pressed, isolated solids are not, and the
     // summed density raises some walls above the extrapolation.
     let (summed, extrapolated) = (&results[0], &results[1]);

@@ -1,5 +1,5 @@
 //! The force, integration and correction kernels of `kernels/` (`forces.cu`, `solid_forces.cu`,
-//! `state_extremes.cu`, `integrate.cu`, `correction.cu`, `keep_out.cu`), run on the CPU through the host shim
+//! `state_extremes.cu`, `integrate.cu`, `correction.cu`, `keep_out.cu`, `move_solids.cu`), run on the CPU through the host shim
 //! (`backend::cuda::shim`), against the rayon stage each mirrors, per particle `id`, in 2D and
 //! 3D. These run everywhere, GPU or not.
 //!
@@ -19,6 +19,7 @@ use sph::backend::cuda::shim;
 use sph::backend::params::StepParams;
 use sph::backend::{Backend, ForceTerms, SolidForceSource};
 use sph::boundary::keep_out::KeepOutBox;
+use sph::boundary::motion::{SolidKinematics, SolidReference};
 use sph::boundary::solid_force::force_on_solid;
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
@@ -60,7 +61,7 @@ fn fluid_counts<const D: usize>() -> [i32; 3] {
 }
 
 /// A jittered fluid block on a floor (solid 1, two layers) beside a left wall (solid 2, two
-/// layers): random velocities, densities within 1 % of ρ0, pressures up to 2 kPa (a quarter of
+/// layers), each wall moving rigidly: random fluid velocities, densities within 1 % of ρ0, pressures up to 2 kPa (a quarter of
 /// the fluid at zero, for the residual's two branches). Strong viscosity and artificial viscosity,
 /// gravity and a gradient scale ≠ 1, so that every term is visible above the tolerance.
 fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
@@ -92,6 +93,10 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
             if kind == FLUID {
                 x[k] += rng.sym(0.15 * DX);
                 u[k] = rng.sym(1.0);
+            } else {
+                // Moving walls: one rigid velocity per solid, so the viscous terms of the forces
+                // and of the force on solids see the wall's velocity (`boundary::motion`).
+                u[k] = [0.4, -0.25, 0.1][k] * if kind == 1 { 1.0 } else { -0.7 };
             }
         }
         let rho = RHO0 * (1.0 + rng.sym(0.01));
@@ -740,7 +745,7 @@ fn check_solid_forces<const D: usize>(seed: u64) {
                     [f.mass[s], pressure_by_id[s], f.density[s]],
                     [f.mass[j], pressure_by_id[j], f.density[j]],
                     &d,
-                    &f.velocity[j],
+                    [&f.velocity[s], &f.velocity[j]],
                     &grad,
                     kernel.laplacian_w_viscosity(r),
                 ));
@@ -1188,4 +1193,118 @@ fn keep_out_equals_the_cpu_stage_bitwise_2d() {
 #[test]
 fn keep_out_equals_the_cpu_stage_bitwise_3d() {
     check_keep_out::<3>(0x5678_1234_cafe_0bad);
+}
+
+/// Stage `move_solids` (kernels/move_solids.cu) against `CpuBackend::move_solids`: the scene's
+/// particles renumbered so the solids' ids follow the fluid's (as `Simulation` appends them),
+/// stored in a shuffled order (as after sorts), reference positions off the current ones, one
+/// displacement and velocity per solid. The kernel does the CPU's one f32 addition per
+/// component, so positions and velocities are bitwise equal, solids land exactly on
+/// `x0 + d`, and fluid particles are untouched.
+fn check_move_solids<const D: usize>(seed: u64) {
+    let (f0, _) = scene::<D>(seed);
+    let mut rng = Rng(seed ^ 0x5eed);
+    // Fluid first, then solids, as Simulation::new lays them out; then a shuffled storage order.
+    let mut order: Vec<usize> = (0..f0.len()).filter(|&i| f0.kind[i] == FLUID).collect();
+    let first_id = order.len() as u32;
+    order.extend((0..f0.len()).filter(|&i| f0.kind[i] != FLUID));
+    let mut f = Fields::<D>::default();
+    for &i in &order {
+        f.push(
+            f0.position[i],
+            f0.velocity[i],
+            f0.mass[i],
+            f0.density[i],
+            f0.kind[i],
+        );
+    }
+    let n = f.len();
+    let mut perm: Vec<usize> = (0..n).collect();
+    for i in (1..n).rev() {
+        perm.swap(i, (rng.next() * (i + 1) as f32) as usize % (i + 1));
+    }
+    let mut shuffled = Fields::<D>::default();
+    for &i in &perm {
+        shuffled.push(f.position[i], f.velocity[i], f.mass[i], f.density[i], f.kind[i]);
+        *shuffled.id.last_mut().expect("pushed") = f.id[i];
+    }
+    let f = shuffled;
+    let mut reference = SolidReference::<D> {
+        first_id,
+        position: vec![Vector::zeros(); n - first_id as usize],
+    };
+    for i in (0..n).filter(|&i| f.kind[i] != FLUID) {
+        let jitter = Vector::<D>::from_fn(|_, _| rng.sym(0.3 * DX));
+        reference.position[(f.id[i] - first_id) as usize] = f.position[i] + jitter;
+    }
+    let kinematics: Vec<SolidKinematics<D>> = (0..SOLIDS)
+        .map(|_| SolidKinematics {
+            displacement: Vector::from_fn(|_, _| rng.sym(0.05)),
+            velocity: Vector::from_fn(|_, _| rng.sym(0.8)),
+            acceleration: Vector::from_fn(|_, _| rng.sym(9.0)),
+        })
+        .collect();
+    let mut cf = f.clone();
+    CpuBackend::<D>::new().move_solids(&mut cf, &reference, &kinematics);
+    let flat = |v: &[Vector<D>]| -> Vec<f32> { v.iter().flat_map(|x| x.iter().copied()).collect() };
+    let bits = |v: &[f32]| -> Vec<u32> { v.iter().map(|x| x.to_bits()).collect() };
+    let (mut pos, mut vel) = (flat(&f.position), flat(&f.velocity));
+    let x0 = flat(&reference.position);
+    let motion: Vec<f32> = kinematics
+        .iter()
+        .flat_map(|k| {
+            k.displacement
+                .iter()
+                .chain(k.velocity.iter())
+                .copied()
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    launch!(
+        D,
+        sph_shim_move_solids_2,
+        sph_shim_move_solids_3,
+        n as u32,
+        f.kind.as_ptr(),
+        f.id.as_ptr(),
+        first_id,
+        x0.as_ptr(),
+        motion.as_ptr(),
+        pos.as_mut_ptr(),
+        vel.as_mut_ptr(),
+    );
+    assert_eq!(
+        bits(&pos),
+        bits(&flat(&cf.position)),
+        "{D}D move_solids: position"
+    );
+    assert_eq!(
+        bits(&vel),
+        bits(&flat(&cf.velocity)),
+        "{D}D move_solids: velocity"
+    );
+    let mut moved = 0;
+    for i in 0..n {
+        if f.kind[i] == FLUID {
+            assert_eq!(cf.position[i], f.position[i], "fluid {i} stays");
+            assert_eq!(cf.velocity[i], f.velocity[i], "fluid {i} keeps its velocity");
+        } else {
+            let k = &kinematics[f.kind[i] as usize - 1];
+            let x0 = reference.position[(f.id[i] - first_id) as usize];
+            assert_eq!(cf.position[i], x0 + k.displacement, "solid {i} at x0 + d");
+            assert_eq!(cf.velocity[i], k.velocity, "solid {i} moves with d'");
+            moved += usize::from(cf.position[i] != f.position[i]);
+        }
+    }
+    assert!(moved > 0, "the solids were moved");
+}
+
+#[test]
+fn move_solids_kernel_equals_the_cpu_stage_bitwise_2d() {
+    check_move_solids::<2>(0x0dd_ba11_cafe_f00d);
+}
+
+#[test]
+fn move_solids_kernel_equals_the_cpu_stage_bitwise_3d() {
+    check_move_solids::<3>(0xfee1_600d_dead_beef);
 }

@@ -813,3 +813,112 @@ fn missing_top_level_key_has_unknown_location() {
     let shown = parse(&text).unwrap_err().to_string();
     assert_eq!(shown, "test.toml: domain: missing field `domain`");
 }
+
+/// `VALID_2D` with a motion table on its tank (the line right after the tank's `max`).
+fn with_motion(motion: &str) -> String {
+    edit(
+        VALID_2D,
+        "max = [1.6, 0.8]\n",
+        &format!("max = [1.6, 0.8]\nmotion = {motion}\n"),
+    )
+}
+
+#[test]
+fn solid_motion_resolves_to_a_sway() {
+    let text = with_motion("{ amplitude = [0.02, 0.0], period = 1.5, ramp = 0.5 }");
+    let scene = parse(&text).expect("valid motion");
+    let sway = scene.solids[0].motion.clone().expect("the tank moves");
+    assert_eq!(sway.amplitude, vec![0.02, 0.0]);
+    assert_eq!((sway.period, sway.ramp), (1.5, 0.5));
+    let no_ramp = parse(&with_motion("{ amplitude = [0.02, 0.01], period = 2.0 }")).expect("valid");
+    assert_eq!(no_ramp.solids[0].motion.as_ref().map(|m| m.ramp), Some(0.0));
+    assert_eq!(
+        parse(VALID_2D).expect("valid").solids[0].motion,
+        None,
+        "fixed by default"
+    );
+}
+
+#[test]
+fn bad_solid_motion_names_the_key_and_line() {
+    let cases = [
+        (
+            "{ amplitude = [0.02, 0.0], period = 0.0 }",
+            "solid[0].motion.period",
+            "must be > 0",
+        ),
+        (
+            "{ amplitude = [0.02, 0.0], period = -1.0 }",
+            "solid[0].motion.period",
+            "must be > 0",
+        ),
+        (
+            "{ amplitude = [0.0, 0.0], period = 1.0 }",
+            "solid[0].motion.amplitude",
+            "all entries are 0",
+        ),
+        (
+            "{ amplitude = [0.02], period = 1.0 }",
+            "solid[0].motion.amplitude",
+            "expected 2 entries",
+        ),
+        (
+            "{ amplitude = [0.02, nan], period = 1.0 }",
+            "solid[0].motion.amplitude[1]",
+            "finite",
+        ),
+        (
+            "{ amplitude = [0.02, 0.0], period = 1.0, ramp = -0.1 }",
+            "solid[0].motion.ramp",
+            "must be >= 0",
+        ),
+        (
+            "{ amplitude = [0.02, 0.0], period = inf }",
+            "solid[0].motion.period",
+            "finite",
+        ),
+    ];
+    for (motion, key, why) in cases {
+        let text = with_motion(motion);
+        let ps = problems(parse(&text));
+        let p = with_key(&ps, key);
+        assert_eq!(line(p), line_of(&text, "motion = ", 0), "{motion}: {p:?}");
+        assert!(p.reason.contains(why), "{motion}: {}", p.reason);
+        assert!(
+            !p.render("test.toml").contains('\n'),
+            "one line: {}",
+            p.render("test.toml")
+        );
+    }
+}
+
+#[test]
+fn unknown_or_missing_motion_key_is_named() {
+    let text = with_motion("{ amplitude = [0.02, 0.0], frequency = 1.0 }");
+    let ps = problems(parse(&text));
+    assert_eq!(ps.len(), 1, "{ps:#?}");
+    assert!(ps[0].key.starts_with("solid[0].motion"), "{ps:#?}");
+    assert_eq!(line(&ps[0]), line_of(&text, "motion = ", 0));
+    assert!(ps[0].reason.contains("frequency"), "{}", ps[0].reason);
+}
+
+#[test]
+fn moving_solid_must_stay_inside_the_domain() {
+    // The walls reach x = -0.02 and 1.62; swaying by 0.02 m keeps them inside [-0.05, 1.65],
+    // by 0.04 m they would reach -0.06 and 1.66.
+    assert!(parse(&with_motion("{ amplitude = [0.02, 0.0], period = 1.0 }")).is_ok());
+    let text = with_motion("{ amplitude = [-0.04, 0.0], period = 1.0 }");
+    let ps = problems(parse(&text));
+    assert_eq!(ps.len(), 1, "{ps:#?}");
+    let p = with_key(&ps, "solid[0].motion.amplitude");
+    assert_eq!(line(p), line_of(&text, "motion = ", 0));
+    assert!(
+        p.reason.contains("sweeps") && p.reason.contains("axis x"),
+        "{}",
+        p.reason
+    );
+    // Vertically the lid-less tank's walls reach 0.8; the domain ends at 1.0.
+    let text = with_motion("{ amplitude = [0.0, 0.3], period = 1.0 }");
+    let p = with_key(&problems(parse(&text)), "solid[0].motion.amplitude").clone();
+    assert!(p.reason.contains("axis y"), "{}", p.reason);
+}

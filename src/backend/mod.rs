@@ -6,8 +6,10 @@ pub mod cpu;
 pub mod params;
 
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
+use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::Fields;
 use crate::grid::GridError;
+use crate::math::Vector;
 use params::StepParams;
 
 /// Which terms the force stage computes; a term a scene does not ask for is compiled out
@@ -134,8 +136,26 @@ pub trait Backend<const D: usize> {
     fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Eq. (19): pressure of fluid particles.
     fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
-    /// Boundary: pressure and density of solid particles ([A12] eq. 27).
-    fn wall_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, model: WallModel);
+    /// Moving solids (`boundary::motion`): every solid particle of id `reference.first_id + k`
+    /// and kind `1 + s` moves to `reference.position[k] + kinematics[s].displacement` [m] and
+    /// takes the velocity `kinematics[s].velocity` [m/s] (fixed solids in the same scene get
+    /// zero kinematics and stay where they are). Fluid particles are untouched.
+    fn move_solids(
+        &mut self,
+        fields: &mut Fields<D>,
+        reference: &SolidReference<D>,
+        kinematics: &[SolidKinematics<D>],
+    );
+    /// Boundary: pressure and density of solid particles ([A12] eq. 27). `wall_acceleration`
+    /// holds each solid's acceleration [m/s²] (index `kind − 1`), which enters as `g − a_w`;
+    /// empty when no solid moves.
+    fn wall_pressure(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        model: WallModel,
+        wall_acceleration: &[Vector<D>],
+    );
     /// Eqs. (15)–(17) and (6): acceleration of fluid particles.
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms);
     /// Fig. 4: total force [N] (per unit depth in 2D) of the fluid on each of `solids` solids.

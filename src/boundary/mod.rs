@@ -14,7 +14,9 @@
 //!   no pressure and the particle walks through it; [C07] makes the wall push back as soon as
 //!   any fluid comes within `h`.
 //!
-//! Their velocity is zero (no-slip, fixed walls).
+//! Their velocity is zero for fixed walls; a solid with a prescribed motion ([`motion`]) has all
+//! its particles placed at `x0 + d(t)` with velocity `d'(t)` before each integrator stage, and its
+//! wall pressure uses `g − d''(t)` ([A12] eq. 27 with the wall's acceleration).
 //!
 //! Where the particles let fluid through anyway (a lone splash particle is barely compressed by
 //! the walls it meets), the no-penetration guard [`keep_out`] puts it back out of the solid's
@@ -26,5 +28,6 @@
 //! dynamic particles in SPH methods", CMC 5(3), 173–184 (2007).
 
 pub mod keep_out;
+pub mod motion;
 pub mod solid_force;
 pub mod wall_pressure;

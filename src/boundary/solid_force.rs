@@ -12,27 +12,30 @@ use crate::physics::{
 /// evaluated from the solid's side. This is exactly minus the force that `s` exerts on `f`
 /// (every pair term is antisymmetric), so the fluid's momentum change equals the walls' impulse.
 ///
-/// `solid` and `fluid` are `[m, p, ρ]` ([kg], [Pa], [kg/m³]); `offset = x_s − x_f` [m]; `u_f` the
-/// fluid velocity [m/s] (solids are at rest); `grad_w` the (scaled) spiky gradient at `offset`;
-/// `laplacian_w` the viscosity-kernel Laplacian.
+/// `solid` and `fluid` are `[m, p, ρ]` ([kg], [Pa], [kg/m³]); `offset = x_s − x_f` [m];
+/// `velocity = [u_s, u_f]` the solid's and the fluid's velocities [m/s] (`u_s` is zero for a
+/// fixed solid and `d'(t)` for a moving one, `boundary::motion`: the viscous terms see the
+/// relative velocity, as the fluid's own force stage does); `grad_w` the (scaled) spiky gradient
+/// at `offset`; `laplacian_w` the viscosity-kernel Laplacian.
 #[inline(always)]
 pub fn force_on_solid<const D: usize>(
     params: &StepParams<D>,
     solid: [Real; 3],
     fluid: [Real; 3],
     offset: &Vector<D>,
-    u_f: &Vector<D>,
+    velocity: [&Vector<D>; 2],
     grad_w: &Vector<D>,
     laplacian_w: Real,
 ) -> Vector<D> {
     let [m_s, p_s, rho_s] = solid;
     let [m_f, p_f, rho_f] = fluid;
+    let [u_s, u_f] = velocity;
     let mut a = pressure_acceleration(p_s, rho_s, p_f, rho_f, m_f, grad_w);
     if params.mu > 0.0 {
-        a += viscous_acceleration(params.mu, &Vector::zeros(), u_f, rho_s, rho_f, m_f, laplacian_w);
+        a += viscous_acceleration(params.mu, u_s, u_f, rho_s, rho_f, m_f, laplacian_w);
     }
     if params.alpha > 0.0 {
-        let u_sf = -u_f;
+        let u_sf = u_s - u_f;
         a += artificial_viscous_acceleration(
             params.alpha,
             params.c,

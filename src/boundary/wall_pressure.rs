@@ -33,13 +33,16 @@ impl<const D: usize> WallPressureSums<D> {
         self.density_offset += offset * (rho_f * w);
     }
 
-    /// [A12] eq. (27) for a wall at rest: `p_w = (Σ p_f W + g·Σ ρ_f (x_w − x_f) W) / Σ W` [Pa],
-    /// clamped at zero as the fluid's own pressure (19) is; zero without fluid neighbours.
+    /// [A12] eq. (27): `p_w = (Σ p_f W + (g − a_w)·Σ ρ_f (x_w − x_f) W) / Σ W` [Pa], clamped at
+    /// zero as the fluid's own pressure (19) is; zero without fluid neighbours. `body` is the
+    /// body acceleration `g − a_w` [m/s²]: gravity for a wall at rest, minus the wall's own
+    /// acceleration `a_w = d''(t)` for a moving one (`boundary::motion`): in the wall's frame the
+    /// fluid feels `g − a_w`, and that is what holds the fluid's pressure gradient against it.
     #[inline(always)]
-    pub fn pressure(&self, gravity: &Vector<D>) -> Real {
+    pub fn pressure(&self, body: &Vector<D>) -> Real {
         if self.weight <= 0.0 {
             return 0.0;
         }
-        ((self.pressure + gravity.dot(&self.density_offset)) / self.weight).max(0.0)
+        ((self.pressure + body.dot(&self.density_offset)) / self.weight).max(0.0)
     }
 }

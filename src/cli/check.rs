@@ -54,6 +54,7 @@ pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
         viscosity,
         artificial_viscosity: scene.artificial_viscosity.is_some(),
         solids: !scene.solids.is_empty(),
+        moving_solids: scene.solids.iter().any(|s| s.motion.is_some()),
         integrator: crate::run::integrator(&scene),
         corrected: crate::run::correction(&scene).is_some(),
     });

@@ -17,6 +17,8 @@ use std::path::{Path, PathBuf};
 
 use toml::de::{DeTable, DeValue};
 
+pub use crate::boundary::motion::Sway;
+
 pub mod generate;
 pub mod overrides;
 pub mod schema;
@@ -240,6 +242,8 @@ pub struct Solid {
     pub region: Aabb,
     /// Container without lid (always `false` for [`SolidShape::Box`]).
     pub open_top: bool,
+    /// Prescribed rigid translation (`motion = {...}`); `None` for a fixed solid.
+    pub motion: Option<Sway>,
 }
 
 /// Where a [`Problem`] is.

@@ -212,6 +212,27 @@ pub struct SolidFile {
     pub max: Vec<f64>,
     /// Container only: no lid when true (default true). An error for `box`.
     pub open_top: Option<bool>,
+    /// Prescribed rigid translation; absent means the solid is fixed (and costs nothing).
+    pub motion: Option<MotionFile>,
+}
+
+/// `[[solid]] motion = { amplitude = [A_x, A_y(, A_z)], period = T, ramp = t_r }`: the solid
+/// translates by `d(t) = A r(t) sin(2π t / T)` \[m\], `t` the simulated time \[s\]. Without `ramp`
+/// (or `ramp = 0`) `r = 1`; with it the amplitude grows from 0 to `A` over the first `t_r`
+/// seconds as `r = s(t/t_r)`, `s(x) = 10x³ − 15x⁴ + 6x⁵`, whose first two derivatives vanish at
+/// both ends, so the start is not impulsive (`boundary::motion` gives the exact derivatives
+/// used for the wall velocity and acceleration). Rules: `amplitude` has `dimension` finite
+/// entries, not all zero; `period` > 0; `ramp` >= 0; the solid swept over `±|A|` per axis stays
+/// inside the domain.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionFile {
+    /// Amplitude `A` \[m\], `dimension` entries.
+    pub amplitude: Vec<f64>,
+    /// Period `T` \[s\], > 0.
+    pub period: f64,
+    /// Ramp time `t_r` \[s\], >= 0; default 0 (no ramp).
+    pub ramp: Option<f64>,
 }
 
 /// `[solver]`: time integration.

@@ -12,10 +12,12 @@
 use std::path::PathBuf;
 
 use super::generate::{self, axis_name, fmt_box, intersection, outside_axis, solid_extent};
-use super::schema::{BoxFile, Effect, ProbeFile, ProbeKind, SceneFile, SolidShape, SolverFile, SolverKind};
+use super::schema::{
+    BoxFile, Effect, MotionFile, ProbeFile, ProbeKind, SceneFile, SolidShape, SolverFile, SolverKind,
+};
 use super::{
     Aabb, FluidBox, KeyPath, Location, Probe, ProbeReference, Problem, Scene, SceneError, Solid,
-    SolverSettings,
+    SolverSettings, Sway,
 };
 
 /// A problem with a structured key path (turned into a [`Problem`] later).
@@ -383,12 +385,17 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             (SolidShape::Box, None) => false,
             (SolidShape::Container, o) => o.unwrap_or(true),
         };
-        match c.aabb(&path, &s.min, &s.max, dim) {
-            Some(region) if ok => solids.push(Solid {
+        let motion = match &s.motion {
+            None => Some(None),
+            Some(m) => check_motion(&mut c, &path.k("motion"), m, dim).map(Some),
+        };
+        match (c.aabb(&path, &s.min, &s.max, dim), motion) {
+            (Some(region), Some(motion)) if ok => solids.push(Solid {
                 name: s.name.clone(),
                 shape: s.shape,
                 region,
                 open_top,
+                motion,
             }),
             _ => boxes_ok = false,
         }
@@ -517,6 +524,29 @@ fn check_name(c: &mut Checker, path: KeyPath, name: &str, earlier: &[&str], what
         return true;
     }
     false
+}
+
+/// A solid's `motion` table (`schema::MotionFile`): finite amplitudes, not all zero, a positive
+/// period, a non-negative ramp. The swept box is checked with the geometry.
+fn check_motion(c: &mut Checker, path: &KeyPath, m: &MotionFile, dim: Option<usize>) -> Option<Sway> {
+    let amplitude = c.vector(path.k("amplitude"), &m.amplitude, dim);
+    if amplitude.as_ref().is_some_and(|a| a.iter().all(|&x| x == 0.0)) {
+        c.err(
+            path.k("amplitude"),
+            "all entries are 0, so the solid would not move (remove `motion` for a fixed solid)".into(),
+        );
+        return None;
+    }
+    let period = c.positive(path.k("period"), m.period);
+    let ramp = match m.ramp {
+        Some(r) => c.non_negative(path.k("ramp"), r),
+        None => Some(0.0),
+    };
+    Some(Sway {
+        amplitude: amplitude?,
+        period: period?,
+        ramp: ramp?,
+    })
 }
 
 /// The `[solver]` scheme settings; `corrected`-only keys are an error with `wcsph`.
@@ -757,6 +787,37 @@ fn check_geometry(c: &mut Checker, scene: &Scene) {
     }
     let extents: Vec<Aabb> = scene.solids.iter().map(|s| solid_extent(s, dx, layers)).collect();
     for (i, (s, ext)) in scene.solids.iter().zip(&extents).enumerate() {
+        if let Some(m) = &s.motion {
+            // The box the moving solid sweeps: |d_k(t)| <= |A_k| since |r sin| <= 1.
+            let swept = Aabb {
+                min: ext
+                    .min
+                    .iter()
+                    .zip(&m.amplitude)
+                    .map(|(x, a)| x - a.abs())
+                    .collect(),
+                max: ext
+                    .max
+                    .iter()
+                    .zip(&m.amplitude)
+                    .map(|(x, a)| x + a.abs())
+                    .collect(),
+            };
+            if let Some(k) = outside_axis(&swept, domain, tol) {
+                c.err(
+                    KeyPath::key("solid").i(i).k("motion").k("amplitude"),
+                    format!(
+                        "solid \"{}\" sweeps {} while moving by ±{} m on axis {}, outside the domain {}",
+                        s.name,
+                        fmt_box(&swept),
+                        num(m.amplitude[k].abs()),
+                        axis_name(k),
+                        fmt_box(domain)
+                    ),
+                );
+                continue;
+            }
+        }
         if let Some(k) = outside_axis(ext, domain, tol) {
             let walls = match s.shape {
                 SolidShape::Box => String::new(),

@@ -165,6 +165,8 @@ impl<const D: usize> Simulation<D> {
         self.stats = checkpoint.header.stats;
         self.solid_force = checkpoint.header.solid_force;
         self.fields_stale = false;
+        // The solids stand where the checkpoint has them; the next stage places them again.
+        self.solids_placed_at = None;
         self.use_backend(kind)?;
         Ok(())
     }

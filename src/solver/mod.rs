@@ -13,6 +13,7 @@ use crate::backend::cpu::CpuBackend;
 use crate::backend::params::StepParams;
 use crate::backend::{Backend, BackendError, BackendKind};
 use crate::boundary::keep_out::KeepOutBox;
+use crate::boundary::motion::{SolidKinematics, SolidReference, Sway};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::physics::gravity::gravity_at;
@@ -205,6 +206,18 @@ pub enum SetupError {
     },
 }
 
+/// The plan's inputs from the settings, whether there are solids and whether some move.
+fn plan_inputs<const D: usize>(config: &SimConfig<D>, solids: bool, moving_solids: bool) -> plan::PlanInputs {
+    plan::PlanInputs {
+        viscosity: config.viscosity.is_some(),
+        artificial_viscosity: config.artificial_viscosity.is_some(),
+        solids,
+        moving_solids,
+        integrator: config.integrator,
+        corrected: config.correction.is_some(),
+    }
+}
+
 /// Simulated time and step count.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Clock {
@@ -304,6 +317,19 @@ pub struct Simulation<const D: usize> {
     settled: bool,
     /// The solids' volumes for the no-penetration guard (`boundary::keep_out`); empty: no guard.
     keep_out: Vec<KeepOutBox<D>>,
+    /// Prescribed motion of each solid (`None`: fixed), in scene order.
+    motions: Vec<Option<Sway>>,
+    /// `x0` of the solid particles by id; empty unless a solid moves.
+    solid_reference: SolidReference<D>,
+    /// Kinematics of each solid at its last placement; empty unless a solid moves.
+    solid_kinematics: Vec<SolidKinematics<D>>,
+    /// Each solid's acceleration at its last placement [m/s²]; empty unless a solid moves.
+    wall_acceleration: Vec<Vector<D>>,
+    /// Time [s] the moving solids were last placed at, if they were since the fields were set.
+    solids_placed_at: Option<f64>,
+    /// Bound of the moving solids' speed [m/s] (`Sway::max_speed`), a flow speed for the time
+    /// step; 0 when nothing moves.
+    wall_speed: f64,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -360,13 +386,7 @@ impl<const D: usize> Simulation<D> {
                 fields.push(*x, Vector::zeros(), mass, rho0, k as u32 + 1);
             }
         }
-        let plan = plan::plan(plan::PlanInputs {
-            viscosity: config.viscosity.is_some(),
-            artificial_viscosity: config.artificial_viscosity.is_some(),
-            solids: !solids.is_empty(),
-            integrator: config.integrator,
-            corrected: config.correction.is_some(),
-        });
+        let plan = plan::plan(plan_inputs(&config, !solids.is_empty(), false));
         Ok(Self {
             fields,
             backend: Box::new(CpuBackend::new()),
@@ -384,8 +404,116 @@ impl<const D: usize> Simulation<D> {
             density_fresh: false,
             settled: false,
             keep_out: Vec::new(),
+            motions: vec![None; solids.len()],
+            solid_reference: SolidReference::default(),
+            solid_kinematics: Vec::new(),
+            wall_acceleration: Vec::new(),
+            solids_placed_at: None,
+            wall_speed: 0.0,
             config,
         })
+    }
+
+    /// Gives the solids their prescribed motions (`motions[k]` for solid `k`, `None`: fixed), as
+    /// the scene's `[[solid]] motion` does. Call before the first step. When some solid moves,
+    /// the plan gains the `move_solids` stage and the solid particles' current positions become
+    /// their reference positions `x0`; when none does, nothing changes (no stage, no cost).
+    ///
+    /// # Errors
+    /// [`SetupError::Invalid`] when `motions` does not have one entry per solid, a motion is not
+    /// finite (period ≤ 0, negative ramp, non-finite or missing amplitude), or steps were taken.
+    pub fn with_solid_motion(mut self, motions: Vec<Option<Sway>>) -> Result<Self, SetupError> {
+        let invalid = |reason: String| SetupError::Invalid {
+            key: "solid.motion",
+            reason,
+        };
+        if motions.len() != self.solid_names.len() {
+            return Err(invalid(format!(
+                "{} motions for {} solids",
+                motions.len(),
+                self.solid_names.len()
+            )));
+        }
+        if self.clock.step != 0 {
+            return Err(invalid("motions must be given before the first step".into()));
+        }
+        for m in motions.iter().flatten() {
+            let ok = m.period.is_finite()
+                && m.period > 0.0
+                && m.ramp.is_finite()
+                && m.ramp >= 0.0
+                && m.amplitude.len() == D
+                && m.amplitude.iter().all(|a| a.is_finite());
+            if !ok {
+                return Err(invalid(format!("not a valid sway: {m:?}")));
+            }
+        }
+        let moving = motions.iter().any(Option::is_some);
+        self.plan = plan::plan(plan_inputs(&self.config, !self.solid_names.is_empty(), moving));
+        self.wall_speed = motions.iter().flatten().map(Sway::max_speed).fold(0.0, f64::max);
+        self.motions = motions;
+        self.solids_placed_at = None;
+        if !moving {
+            self.solid_reference = SolidReference::default();
+            self.solid_kinematics.clear();
+            self.wall_acceleration.clear();
+            return Ok(self);
+        }
+        // Solids are appended after the fluid: ids fluid_count.. in any current order.
+        let f = &self.fields;
+        let first_id = self.fluid_count as u32;
+        let mut position = vec![Vector::zeros(); f.len() - self.fluid_count];
+        for i in 0..f.len() {
+            if f.kind[i] != FLUID {
+                position[(f.id[i] - first_id) as usize] = f.position[i];
+            }
+        }
+        self.solid_reference = SolidReference { first_id, position };
+        self.solid_kinematics = vec![SolidKinematics::rest(); self.solid_names.len()];
+        self.wall_acceleration = vec![Vector::zeros(); self.solid_names.len()];
+        Ok(self)
+    }
+
+    /// The prescribed motion of each solid (`None`: fixed), in scene order.
+    pub fn solid_motions(&self) -> &[Option<Sway>] {
+        &self.motions
+    }
+
+    /// The reference positions `x0` of the solid particles, by id (empty unless a solid moves).
+    pub fn solid_reference(&self) -> &SolidReference<D> {
+        &self.solid_reference
+    }
+
+    /// Displacement `d`, velocity `d'` and acceleration `d''` of each solid (scene order) at the
+    /// time it was last placed (`Stage::MoveSolids`; [`Simulation::solids_placed_at`]); empty
+    /// unless a solid moves. A fixed solid in a scene with moving ones has zero kinematics.
+    pub fn solid_kinematics(&self) -> &[SolidKinematics<D>] {
+        &self.solid_kinematics
+    }
+
+    /// The time [s] the moving solids were last placed at (`None` before the first placement and
+    /// after a restore, or when nothing moves).
+    pub fn solids_placed_at(&self) -> Option<f64> {
+        self.solids_placed_at
+    }
+
+    /// Places every moving solid at time `time` [s] (stage `move_solids`): kinematics from the
+    /// motions, then the backend moves the particles. Returns whether anything was done (not
+    /// when the solids already stand at `time`).
+    fn place_solids(&mut self, time: f64) -> bool {
+        if self.solids_placed_at == Some(time) {
+            return false;
+        }
+        for (k, m) in self.motions.iter().enumerate() {
+            self.solid_kinematics[k] = m
+                .as_ref()
+                .map_or_else(SolidKinematics::rest, |m| m.kinematics::<D>(time));
+            self.wall_acceleration[k] = self.solid_kinematics[k].acceleration;
+        }
+        self.backend
+            .move_solids(&mut self.fields, &self.solid_reference, &self.solid_kinematics);
+        self.solids_placed_at = Some(time);
+        true
     }
 
     /// The plan each step walks.

@@ -3,7 +3,7 @@
 //! compiled out of the force loop), so it costs nothing.
 
 use super::Integrator;
-use super::stage::Stage;
+use super::stage::{SolidsAt, Stage};
 use crate::backend::{ForceTerms, WallModel};
 
 /// What the plan depends on.
@@ -15,6 +15,8 @@ pub struct PlanInputs {
     pub artificial_viscosity: bool,
     /// The scene has at least one solid.
     pub solids: bool,
+    /// At least one solid has a prescribed motion.
+    pub moving_solids: bool,
     /// The time integrator.
     pub integrator: Integrator,
     /// The `corrected` solver: eqs. (23)–(24) after every integrator stage.
@@ -26,8 +28,15 @@ pub struct PlanInputs {
 /// With the correction, pressure is not the equation of state of the density (19) with the
 /// scene's `C` but the pressure the correction found (`solver::step`), so the plan has no
 /// `EquationOfState` stage and walls take the extrapolated pressure only.
+///
+/// Moving solids are placed first, at the stage's start time, and (`corrected`) again at the
+/// time of the stage's result before its correction (`SolidsAt`).
 pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
-    let mut plan = vec![Stage::SortByCell, Stage::Density];
+    let mut plan = Vec::new();
+    if inputs.moving_solids {
+        plan.push(Stage::MoveSolids(SolidsAt::StageStart));
+    }
+    plan.extend([Stage::SortByCell, Stage::Density]);
     if !inputs.corrected {
         plan.push(Stage::EquationOfState);
     }
@@ -51,6 +60,9 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         Integrator::Rk3 => Stage::RkStage,
     });
     if inputs.corrected {
+        if inputs.moving_solids {
+            plan.push(Stage::MoveSolids(SolidsAt::StageResult));
+        }
         plan.push(Stage::Correction);
     }
     plan
@@ -65,6 +77,7 @@ mod tests {
             viscosity: false,
             artificial_viscosity: false,
             solids: false,
+            moving_solids: false,
             integrator: Integrator::SymplecticEuler,
             corrected: false,
         }
@@ -76,6 +89,7 @@ mod tests {
         assert!(!bare.iter().any(|s| matches!(s, Stage::WallPressure(_))));
         assert!(!bare.contains(&Stage::SolidForces));
         assert!(!bare.contains(&Stage::Correction));
+        assert!(!bare.iter().any(|s| matches!(s, Stage::MoveSolids(_))));
         assert!(bare.contains(&Stage::Forces(ForceTerms {
             viscosity: false,
             artificial_viscosity: false
@@ -100,5 +114,39 @@ mod tests {
         assert!(!p.contains(&Stage::EquationOfState));
         assert!(p.contains(&Stage::WallPressure(WallModel::Extrapolated)));
         assert_eq!(&p[p.len() - 2..], &[Stage::RkStage, Stage::Correction]);
+        assert!(
+            !p.iter().any(|s| matches!(s, Stage::MoveSolids(_))),
+            "fixed solids cost nothing"
+        );
+    }
+
+    #[test]
+    fn moving_solids_are_placed_before_the_forces_and_before_each_correction() {
+        let wcsph = plan(PlanInputs {
+            solids: true,
+            moving_solids: true,
+            ..inputs()
+        });
+        assert_eq!(wcsph[0], Stage::MoveSolids(SolidsAt::StageStart));
+        assert_eq!(
+            wcsph.iter().filter(|s| matches!(s, Stage::MoveSolids(_))).count(),
+            1
+        );
+        let corrected = plan(PlanInputs {
+            solids: true,
+            moving_solids: true,
+            integrator: Integrator::Rk3,
+            corrected: true,
+            ..inputs()
+        });
+        assert_eq!(corrected[0], Stage::MoveSolids(SolidsAt::StageStart));
+        assert_eq!(
+            &corrected[corrected.len() - 3..],
+            &[
+                Stage::RkStage,
+                Stage::MoveSolids(SolidsAt::StageResult),
+                Stage::Correction
+            ]
+        );
     }
 }

@@ -3,9 +3,24 @@
 
 use crate::backend::{ForceTerms, WallModel};
 
+/// When in an integrator stage [`Stage::MoveSolids`] places the moving solids.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SolidsAt {
+    /// At the time the stage's forces are evaluated, `t^n + c_k dt` (the integrator's `t/dt`).
+    StageStart,
+    /// At the time of the stage's result, `t^n + τ_k`, before the position correction of that
+    /// result: the correction then keeps the fluid out of the walls where they are at that time,
+    /// which is also the next stage's start (SSP-RK3: `τ = dt, dt/2, dt` and `c = 0, 1, 1/2`), so
+    /// the walls do not jump between a correction and the next force evaluation.
+    StageResult,
+}
+
 /// One stage of the solver's plan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
+    /// Prescribed motion (`boundary::motion`): solid particles to `x0 + d(t)`, velocity `d'(t)`.
+    /// Only in scenes where some solid moves.
+    MoveSolids(SolidsAt),
     /// Section 3: cell keys, radix sort, reorder, cell ranges.
     SortByCell,
     /// Eq. (18): density by summation.
@@ -32,6 +47,7 @@ impl Stage {
     /// The stage's snake_case name (as the backend method).
     pub fn name(&self) -> &'static str {
         match self {
+            Stage::MoveSolids(_) => "move_solids",
             Stage::SortByCell => "sort_by_cell",
             Stage::Density => "density",
             Stage::EquationOfState => "equation_of_state",

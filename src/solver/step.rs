@@ -17,11 +17,11 @@
 //!   the last sort exceeds `RESORT_DRIFT · h`, so a pair within `h` can only be missed when the
 //!   kernels there are below `(4 · RESORT_DRIFT)³ ≈ 1e-5` of their peak.
 
-use super::stage::Stage;
+use super::stage::{SolidsAt, Stage};
 use super::timestep::{self, TimeStepInputs, TimeStepLimit};
 use super::{Correction, Simulation, StepError, StepReport};
 use crate::backend::{SolidForceSource, StateExtremes};
-use crate::boundary::keep_out::KeepOutReport;
+use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 
 /// Largest displacement of one correction sweep, in units of the particle spacing.
 pub const MAX_SWEEP_STEP: f64 = 0.1;
@@ -66,6 +66,16 @@ impl<const D: usize> Simulation<D> {
                 let started = self.stage_seconds.is_some().then(std::time::Instant::now);
                 let (bk, f) = (&mut self.backend, &mut self.fields);
                 match stage {
+                    Stage::MoveSolids(at) => {
+                        // boundary::motion: x0 + d(t), d'(t) at the stage's start or result.
+                        let t = match at {
+                            SolidsAt::StageStart => time + t_frac * report.dt,
+                            SolidsAt::StageResult => time + tau_frac * report.dt,
+                        };
+                        if self.place_solids(t) {
+                            self.moved();
+                        }
+                    }
                     Stage::SortByCell => {
                         if !self.grid_fresh {
                             bk.sort_by_cell(f, params.h)
@@ -80,8 +90,10 @@ impl<const D: usize> Simulation<D> {
                         }
                     }
                     Stage::EquationOfState => bk.equation_of_state(f, &params), // eq. (19)
-                    Stage::WallPressure(model) => bk.wall_pressure(f, &params, model), // [A12] eq. (27)
-                    Stage::Forces(terms) => bk.forces(f, &params, terms),       // eqs. (15)-(17), (6)
+                    Stage::WallPressure(model) => {
+                        bk.wall_pressure(f, &params, model, &self.wall_acceleration); // [A12] eq. (27)
+                    }
+                    Stage::Forces(terms) => bk.forces(f, &params, terms), // eqs. (15)-(17), (6)
                     Stage::SolidForces => {
                         let part = bk.solid_forces(f, &params, solids, SolidForceSource::Forces); // Fig. 4
                         add_force(&mut solid_force, &part, integrator.force_weights()[k]);
@@ -186,9 +198,27 @@ impl<const D: usize> Simulation<D> {
             };
         }
         let margin = (KEEP_OUT_MARGIN * self.config.spacing) as f32;
-        let report = self
-            .backend
-            .keep_out(&mut self.fields, &self.keep_out, solids, margin);
+        // Moving solids: their volumes where the solids were last placed, at their velocity.
+        let moved: Vec<KeepOutBox<D>>;
+        let boxes = if self.solid_kinematics.is_empty() {
+            &self.keep_out
+        } else {
+            moved = self
+                .keep_out
+                .iter()
+                .map(|b| {
+                    let k = &self.solid_kinematics[b.solid as usize];
+                    KeepOutBox {
+                        min: b.min + k.displacement,
+                        max: b.max + k.displacement,
+                        velocity: k.velocity,
+                        solid: b.solid,
+                    }
+                })
+                .collect();
+            &moved
+        };
+        let report = self.backend.keep_out(&mut self.fields, boxes, solids, margin);
         self.stats.keep_out_pushes += report.pushes;
         report
     }
@@ -241,7 +271,8 @@ impl<const D: usize> Simulation<D> {
                 c.sound_speed
             },
             cfl: c.cfl,
-            max_speed: e.max_speed,
+            // A moving wall sweeps through the fluid like a flow of its speed.
+            max_speed: e.max_speed.max(self.wall_speed),
             max_acceleration: e.max_acceleration,
             kinematic_viscosity: c.viscosity.unwrap_or(0.0) / c.rho0
                 + crate::physics::artificial_viscosity::equivalent_viscosity(

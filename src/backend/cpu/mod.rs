@@ -6,6 +6,7 @@
 use super::params::StepParams;
 use super::{Backend, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel};
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
+use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::boundary::{solid_force::force_on_solid, wall_pressure::WallPressureSums};
 use crate::fields::{FLUID, Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
@@ -132,7 +133,34 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         });
     }
 
-    fn wall_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, model: WallModel) {
+    fn move_solids(
+        &mut self,
+        fields: &mut Fields<D>,
+        reference: &SolidReference<D>,
+        kinematics: &[SolidKinematics<D>],
+    ) {
+        let (kind, id) = (&fields.kind, &fields.id);
+        fields
+            .position
+            .par_iter_mut()
+            .zip(fields.velocity.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (x, u))| {
+                if kind[i] != FLUID {
+                    let k = &kinematics[kind[i] as usize - 1];
+                    *x = reference.position[(id[i] - reference.first_id) as usize] + k.displacement;
+                    *u = k.velocity;
+                }
+            });
+    }
+
+    fn wall_pressure(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        model: WallModel,
+        wall_acceleration: &[Vector<D>],
+    ) {
         let kernel = params.smoothing();
         let grid = &self.grid;
         let f = &*fields;
@@ -150,7 +178,12 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     sums.add(f.pressure[j], f.density[j], &d, weight);
                 }
             });
-            let mut p = sums.pressure(&params.gravity);
+            // [A12] eq. (27): the body acceleration in the wall's frame, `g − a_w`.
+            let body = match wall_acceleration.get(f.kind[w] as usize - 1) {
+                Some(a) => params.gravity - a,
+                None => params.gravity,
+            };
+            let mut p = sums.pressure(&body);
             if model == WallModel::ExtrapolatedOrSummed {
                 p = p.max(eos::pressure(summed_density, params.rho0, params.c2));
             }
@@ -221,7 +254,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     [f.mass[s], pressure[s], f.density[s]],
                     [f.mass[j], pressure[j], f.density[j]],
                     &d,
-                    &f.velocity[j],
+                    [&f.velocity[s], &f.velocity[j]],
                     &(kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale),
                     kernel.laplacian_w_viscosity(r),
                 );

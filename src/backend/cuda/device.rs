@@ -12,6 +12,7 @@ use crate::backend::{
     Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel,
 };
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
+use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
@@ -122,6 +123,14 @@ pub struct CudaBackend<const D: usize> {
     keep_out_boxes: CudaSlice<f32>,
     /// The guard's per-solid counts and momentum changes, 4 doubles per solid.
     keep_out_out: CudaSlice<f64>,
+    /// Moving solids: `x0` by id (`D` floats per solid particle), uploaded at the first
+    /// `move_solids`; `None` until then (and in scenes where nothing moves).
+    solid_reference: Option<CudaSlice<f32>>,
+    /// Per solid `[d, d']` (`2 D` floats) of the last `move_solids`.
+    solid_motion: CudaSlice<f32>,
+    /// Per solid acceleration `d''` (`D` floats), uploaded by `wall_pressure`; zeros while
+    /// nothing moves.
+    wall_acc: CudaSlice<f32>,
     error: Option<BackendError>,
     device_name: String,
 }
@@ -214,7 +223,12 @@ impl<const D: usize> CudaBackend<D> {
                 .alloc_zeros::<f32>(len.max(1))
                 .map_err(|e| up("allocating", e))
         };
+        // Solid k has kind k + 1; the per-solid buffers hold one entry per kind above fluid.
+        let solids = fields.kind.iter().copied().max().unwrap_or(0) as usize;
         let backend = Self {
+            solid_reference: None,
+            solid_motion: zeros_f32(2 * D * solids)?,
+            wall_acc: zeros_f32(D * solids)?,
             kernels,
             n,
             domain: (params.domain_min, params.domain_max),
@@ -428,6 +442,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             &self.delta_p,
             &self.delta_p_previous,
             &self.displacement,
+            &self.solid_motion,
+            &self.wall_acc,
         ]
         .iter()
         .map(|b| b.num_bytes())
@@ -439,7 +455,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             + self.extremes.num_bytes()
             + self.solid_out.num_bytes()
             + self.keep_out_boxes.num_bytes()
-            + self.keep_out_out.num_bytes();
+            + self.keep_out_out.num_bytes()
+            + self.solid_reference.as_ref().map_or(0, |b| b.num_bytes());
         if let Some(g) = &self.grid {
             bytes += [
                 &g.key,
@@ -663,13 +680,70 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             &n, params, &self.f.density, &self.f.kind, &mut self.f.pressure);
     }
 
-    fn wall_pressure(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, model: WallModel) {
+    fn move_solids(
+        &mut self,
+        _fields: &mut Fields<D>,
+        reference: &SolidReference<D>,
+        kinematics: &[SolidKinematics<D>],
+    ) {
+        if self.error.is_some() {
+            return;
+        }
+        if self.solid_reference.is_none() {
+            let r = self.stream.clone_htod(floats(&reference.position));
+            self.solid_reference = record(&mut self.error, "uploading the solids' reference positions", r);
+        }
+        let motion: Vec<Vector<D>> = kinematics
+            .iter()
+            .flat_map(|k| [k.displacement, k.velocity])
+            .collect();
+        if motion.len() * D > self.solid_motion.len() {
+            self.error = Some(device_error(
+                "moving solids",
+                format!("{} solids, buffers for fewer", kinematics.len()),
+            ));
+            return;
+        }
+        let r = self.stream.memcpy_htod(floats(&motion), &mut self.solid_motion);
+        record(&mut self.error, "uploading the solids' motion", r);
+        let Some(x0) = self.solid_reference.as_ref() else {
+            return;
+        };
+        let n = self.n as u32;
+        let first_id = reference.first_id;
+        launch!(self, "moving solids", "move_solids", self.n;
+            &n, &self.f.kind, &self.f.id, &first_id, x0, &self.solid_motion, &mut self.f.position,
+            &mut self.f.velocity);
+    }
+
+    fn wall_pressure(
+        &mut self,
+        _fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        model: WallModel,
+        wall_acceleration: &[Vector<D>],
+    ) {
+        // Moving walls: their accelerations go up with each call (a few floats); while nothing
+        // moves the buffer keeps its zeros and nothing is copied.
+        if !wall_acceleration.is_empty() && self.error.is_none() {
+            if wall_acceleration.len() * D > self.wall_acc.len() {
+                self.error = Some(device_error(
+                    "extrapolating the wall pressure",
+                    format!("{} wall accelerations, buffer for fewer", wall_acceleration.len()),
+                ));
+                return;
+            }
+            let r = self
+                .stream
+                .memcpy_htod(floats(wall_acceleration), &mut self.wall_acc);
+            record(&mut self.error, "uploading the walls' accelerations", r);
+        }
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
         let summed = i32::from(model == WallModel::ExtrapolatedOrSummed);
         launch!(self, "extrapolating the wall pressure", "wall_pressure", self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            &self.f.kind, &summed, &mut self.f.pressure, &mut self.f.density);
+            &self.f.kind, &self.wall_acc, &summed, &mut self.f.pressure, &mut self.f.density);
     }
 
     fn forces(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
@@ -986,6 +1060,7 @@ const KERNEL_NAMES: &[&str] = &[
     "density",
     "equation_of_state",
     "wall_pressure",
+    "move_solids",
     "forces_p",
     "forces_pv",
     "forces_pa",

@@ -2,7 +2,8 @@
 //! `forces_p`, `forces_pv`, `forces_pa`, `forces_pva`, `solid_forces`, `state_extremes`,
 //! `integrate`, `store_step_start`, `rk_stage`, `correction_error`, `correction_pressure_fluid`,
 //! `correction_pressure_wall`, `correction_pressure_apply`, `correction_displacement`,
-//! `apply_displacement`, `keep_out`. Same arguments as the kernels, `StepParams` and `GridGeometry` by pointer.
+//! `apply_displacement`, `keep_out`, `move_solids`. Same arguments as the kernels, `StepParams` and
+//! `GridGeometry` by pointer.
 #![allow(missing_docs)]
 
 use crate::backend::cuda::extremes::DeviceExtremes;
@@ -80,6 +81,16 @@ unsafe extern "C" {
         pressure: *const f32,
         kind: *const u32,
         out: *mut f64,
+    );
+    pub fn sph_shim_move_solids_2(
+        n: u32,
+        kind: *const u32,
+        id: *const u32,
+        first_id: u32,
+        reference: *const f32,
+        motion: *const f32,
+        pos: *mut f32,
+        vel: *mut f32,
     );
     pub fn sph_shim_state_extremes_2(
         n: u32,
@@ -266,6 +277,16 @@ unsafe extern "C" {
         pressure: *const f32,
         kind: *const u32,
         out: *mut f64,
+    );
+    pub fn sph_shim_move_solids_3(
+        n: u32,
+        kind: *const u32,
+        id: *const u32,
+        first_id: u32,
+        reference: *const f32,
+        motion: *const f32,
+        pos: *mut f32,
+        vel: *mut f32,
     );
     pub fn sph_shim_state_extremes_3(
         n: u32,

@@ -1,0 +1,235 @@
+//! Prescribed rigid motion of a solid (scene `[[solid]] motion = { ... }`): a sway, the forcing
+//! of a sloshing tank.
+//!
+//! The solid translates as a whole by `d(t) = A f(t)` [m], with the amplitude vector `A` [m] and
+//! the scalar profile
+//!
+//! ```text
+//! f(t) = r(t) sin(ω t),   ω = 2π / T,
+//! r(t) = s(t / t_r) for t < t_r, 1 after,   s(x) = 10 x³ − 15 x⁴ + 6 x⁵   (t_r > 0)
+//! r(t) = 1                                                                  (t_r = 0)
+//! ```
+//!
+//! `s` is the quintic "smootherstep": `s(0) = 0`, `s(1) = 1` and its first and second derivatives
+//! vanish at both ends, so the ramped displacement, velocity and acceleration are continuous at
+//! `t = 0` and `t = t_r`: the tank starts from rest without an impulse, and the wall acceleration
+//! that enters the wall pressure ([A12] eq. 27, `boundary::wall_pressure`) has no jump. The
+//! velocity and acceleration are the exact derivatives (product rule):
+//!
+//! ```text
+//! f'  = r' sin(ωt) + r ω cos(ωt)
+//! f'' = r'' sin(ωt) + 2 r' ω cos(ωt) − r ω² sin(ωt)
+//! r'  = s'(x)/t_r,  r'' = s''(x)/t_r²,  s'(x) = 30 x² (1 − x)²,  s''(x) = 60 x (1 − x)(1 − 2x)
+//! ```
+//!
+//! Without a ramp this is `d = A sin(ωt)`, `d' = A ω cos(ωt)`, `d'' = −A ω² sin(ωt)`. Times are
+//! simulated time [s] from the start of the run. Evaluated in f64 and rounded to f32 once, so
+//! both backends place the particles from the same numbers.
+
+use crate::math::{Real, Vector};
+
+/// A rigid sway `d(t) = A r(t) sin(2π t / T)` (module doc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sway {
+    /// Amplitude `A` [m], one entry per axis (the scene's dimension).
+    pub amplitude: Vec<f64>,
+    /// Period `T` [s], > 0.
+    pub period: f64,
+    /// Ramp time `t_r` [s], >= 0 (0: no ramp).
+    pub ramp: f64,
+}
+
+/// The scalar profile `f` of a [`Sway`] and its first two time derivatives at one time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Profile {
+    /// `f(t)` (dimensionless).
+    pub value: f64,
+    /// `f'(t)` [1/s].
+    pub rate: f64,
+    /// `f''(t)` [1/s²].
+    pub curvature: f64,
+}
+
+/// Displacement, velocity and acceleration of one solid at one time, as the stages use them
+/// (f32, `D` components).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolidKinematics<const D: usize> {
+    /// `d(t)` [m]: the solid's particles sit at their reference position plus this.
+    pub displacement: Vector<D>,
+    /// `d'(t)` [m/s]: the velocity of every particle of the solid (no-slip and viscous terms).
+    pub velocity: Vector<D>,
+    /// `d''(t)` [m/s²]: enters the wall pressure as `g − d''` ([A12] eq. 27).
+    pub acceleration: Vector<D>,
+}
+
+impl<const D: usize> SolidKinematics<D> {
+    /// A solid at rest at its reference position.
+    pub fn rest() -> Self {
+        Self {
+            displacement: Vector::zeros(),
+            velocity: Vector::zeros(),
+            acceleration: Vector::zeros(),
+        }
+    }
+}
+
+/// The reference positions `x0` of the solid particles, indexed by particle id.
+///
+/// The solid particles are the ids `first_id..first_id + position.len()` (the simulation appends
+/// them after the fluid). Indexed by id, not by the cell-sorted order of `Fields`, so a sort
+/// never permutes it; it is built from the scene, so a checkpoint does not store it and a
+/// restart rebuilds the same values bit for bit.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SolidReference<const D: usize> {
+    /// Id of the first solid particle.
+    pub first_id: u32,
+    /// `x0` [m] of solid particle `first_id + k` at index `k`.
+    pub position: Vec<Vector<D>>,
+}
+
+/// `s(x) = 10x³ − 15x⁴ + 6x⁵` and its first two derivatives, for `x` in [0, 1].
+fn smootherstep(x: f64) -> (f64, f64, f64) {
+    let y = 1.0 - x;
+    (
+        x * x * x * (10.0 - 15.0 * x + 6.0 * x * x),
+        30.0 * x * x * y * y,
+        60.0 * x * y * (1.0 - 2.0 * x),
+    )
+}
+
+impl Sway {
+    /// Angular frequency `ω = 2π/T` [rad/s].
+    pub fn omega(&self) -> f64 {
+        std::f64::consts::TAU / self.period
+    }
+
+    /// The profile `f`, `f'`, `f''` at time `t` [s] (module doc).
+    pub fn profile(&self, t: f64) -> Profile {
+        let w = self.omega();
+        let (sin, cos) = (w * t).sin_cos();
+        let (r, r1, r2) = if self.ramp > 0.0 && t < self.ramp {
+            let (s, s1, s2) = smootherstep(t.max(0.0) / self.ramp);
+            (s, s1 / self.ramp, s2 / (self.ramp * self.ramp))
+        } else {
+            (1.0, 0.0, 0.0)
+        };
+        Profile {
+            value: r * sin,
+            rate: r1 * sin + r * w * cos,
+            curvature: r2 * sin + 2.0 * r1 * w * cos - r * w * w * sin,
+        }
+    }
+
+    /// Displacement, velocity and acceleration at time `t` [s], rounded to f32.
+    pub fn kinematics<const D: usize>(&self, t: f64) -> SolidKinematics<D> {
+        let f = self.profile(t);
+        let scaled =
+            |c: f64| Vector::<D>::from_fn(|k, _| (self.amplitude.get(k).copied().unwrap_or(0.0) * c) as Real);
+        SolidKinematics {
+            displacement: scaled(f.value),
+            velocity: scaled(f.rate),
+            acceleration: scaled(f.curvature),
+        }
+    }
+
+    /// An upper bound of the speed `|d'(t)|` [m/s] over all times: `|A| (ω + max s'/t_r)`, with
+    /// `max s' = 15/8` at `x = 1/2`. The time step treats it as a flow speed, so a wall never
+    /// moves more than the CFL fraction of `h` in one step.
+    pub fn max_speed(&self) -> f64 {
+        let a = self.amplitude.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let ramp = if self.ramp > 0.0 { 1.875 / self.ramp } else { 0.0 };
+        a * (self.omega() + ramp)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Central differences of `f` and `f'` agree with `f'` and `f''` to O(ε²): with ε = 1e-5 s
+    /// and |f'''| ≲ (ω + 30/t_r)³, the error is below 1e-6 relative to the scale `ω²` here.
+    #[test]
+    fn derivatives_match_finite_differences_with_and_without_ramp() {
+        for ramp in [0.0, 0.7] {
+            let sway = Sway {
+                amplitude: vec![0.05, 0.0],
+                period: 1.3,
+                ramp,
+            };
+            let w = sway.omega();
+            let eps = 1e-5;
+            for i in 0..400 {
+                let t = 0.005 + i as f64 * 0.01;
+                let (lo, mid, hi) = (sway.profile(t - eps), sway.profile(t), sway.profile(t + eps));
+                let rate = (hi.value - lo.value) / (2.0 * eps);
+                let curvature = (hi.rate - lo.rate) / (2.0 * eps);
+                assert!(
+                    (rate - mid.rate).abs() < 1e-6 * w,
+                    "f' at t = {t}, ramp {ramp}: {rate} vs {}",
+                    mid.rate
+                );
+                assert!(
+                    (curvature - mid.curvature).abs() < 1e-6 * w * w,
+                    "f'' at t = {t}, ramp {ramp}: {curvature} vs {}",
+                    mid.curvature
+                );
+            }
+        }
+    }
+
+    /// The ramp starts from rest (f, f', f'' all zero at t = 0), joins the pure sine with
+    /// continuous f, f', f'' at t = t_r, and the speed bound holds everywhere.
+    #[test]
+    fn ramp_starts_from_rest_and_joins_the_sine_smoothly() {
+        let sway = Sway {
+            amplitude: vec![0.03, 0.04],
+            period: 0.9,
+            ramp: 0.5,
+        };
+        let start = sway.profile(0.0);
+        assert_eq!((start.value, start.rate, start.curvature), (0.0, 0.0, 0.0));
+        let (before, after) = (sway.profile(0.5 - 1e-12), sway.profile(0.5));
+        let pure = Sway {
+            ramp: 0.0,
+            ..sway.clone()
+        }
+        .profile(0.5);
+        assert_eq!(after, pure, "past the ramp the profile is the pure sine");
+        assert!((before.value - after.value).abs() < 1e-9);
+        assert!((before.rate - after.rate).abs() < 1e-8);
+        assert!((before.curvature - after.curvature).abs() < 1e-6);
+        let bound = sway.max_speed();
+        let speed = |t: f64| {
+            let v = sway.kinematics::<2>(t).velocity;
+            f64::from(v.norm())
+        };
+        let fastest = (0..2000).map(|i| speed(i as f64 * 1e-3)).fold(0.0, f64::max);
+        assert!(
+            fastest <= bound * (1.0 + 1e-6),
+            "speed {fastest} above the bound {bound}"
+        );
+        assert!(
+            fastest > 0.5 * bound,
+            "the bound {bound} is not loose by more than 2x ({fastest})"
+        );
+    }
+
+    /// Without a ramp, d = A sin(ωt) exactly at quarter periods.
+    #[test]
+    fn no_ramp_is_the_plain_sine() {
+        let sway = Sway {
+            amplitude: vec![0.1, 0.0, -0.2],
+            period: 2.0,
+            ramp: 0.0,
+        };
+        let k = sway.kinematics::<3>(0.5);
+        assert_eq!(k.displacement, Vector::<3>::new(0.1, 0.0, -0.2));
+        let w = std::f64::consts::PI;
+        let k0 = sway.kinematics::<3>(0.0);
+        assert_eq!(
+            k0.velocity,
+            Vector::<3>::new((0.1 * w) as f32, 0.0, (-0.2 * w) as f32)
+        );
+        assert!((f64::from(k.acceleration[0]) + 0.1 * w * w).abs() < 1e-6);
+    }
+}
