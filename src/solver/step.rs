@@ -103,21 +103,15 @@ impl<const D: usize> Simulation<D> {
                             report = self.choose_time_step(&params, end_time)?;
                         }
                     }
-                    Stage::Integrate => {
-                        bk.integrate(f, report.dt as f32); // eq. (15), symplectic Euler
-                        self.moved();
-                        let guard = self.keep_out();
-                        add_force(
-                            &mut solid_force,
-                            &guard.impulse,
-                            -integrator.correction_weights()[k] / report.dt.max(f64::MIN_POSITIVE),
-                        );
-                    }
-                    Stage::RkStage => {
-                        if k == 0 {
-                            bk.store_step_start(f);
+                    Stage::Integrate | Stage::RkStage => {
+                        if stage == Stage::Integrate {
+                            bk.integrate(f, report.dt as f32); // eq. (15), symplectic Euler
+                        } else {
+                            if k == 0 {
+                                bk.store_step_start(f);
+                            }
+                            bk.rk_stage(f, report.dt as f32, a, b); // PAPER.md note 8
                         }
-                        bk.rk_stage(f, report.dt as f32, a, b); // PAPER.md note 8
                         self.moved();
                         // The guard's momentum change, weighted as the stage's own changes.
                         let guard = self.keep_out();
