@@ -1,6 +1,8 @@
 //! `sph run --checkpoint-every N` and `sph run --resume RUN_DIR`: a run killed with SIGKILL
 //! leaves only complete files (checkpoint, frames, series, CSV logs), and resuming it ends with
 //! the same probes, forces, frames and statistics, bit for bit, as a run that was never stopped.
+//! And the state guards: a run that loses a particle or meets a non-finite value stops naming the
+//! step, the time, the particle and the quantity, and keeps its last good frame and checkpoint.
 
 use sph::output::{PvdSeries, read_summary, read_vtu};
 use sph::solver::checkpoint::Checkpoint;
@@ -148,4 +150,132 @@ fn resume_refuses_a_folder_without_a_checkpoint_and_extra_arguments() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--checkpoint-every"));
     std::fs::remove_dir_all(&empty).ok();
+}
+
+/// The guards of `sph run` (issue 4, item 3): a block thrown at 5 m/s out of a domain with no
+/// walls stops the run with a one-line error naming the step, the time, the particle and its
+/// position; `summary.json` says `failed` with the same message; every frame listed and the last
+/// checkpoint are whole, and the checkpoint holds a state from before the failing step, from
+/// which the run resumes (and stops again at the same step).
+#[test]
+fn a_particle_leaving_the_domain_stops_the_run_and_keeps_the_last_good_files() {
+    let dir = scratch("escape");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let scene = dir.join("escape.toml");
+    std::fs::write(
+        &scene,
+        r#"name = "escape"
+dimension = 2
+effects = []
+
+[domain]
+min = [0.0, 0.0]
+max = [1.0, 1.0]
+
+[particles]
+spacing = 0.02
+smoothing_ratio = 2.0
+
+[fluid]
+rho0 = 1000.0
+sound_speed = 50.0
+
+[[fluid_box]]
+min = [0.4, 0.4]
+max = [0.6, 0.6]
+velocity = [5.0, 0.0]
+
+[solver]
+kind = "wcsph"
+end_time = 0.5
+
+[output]
+interval = 0.02
+"#,
+    )
+    .expect("scene");
+    let out = dir.join("run");
+    let run = Command::new(BIN)
+        .args(["run"])
+        .arg(&scene)
+        .args(["--threads", "1", "--checkpoint-every", "20", "--out"])
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert!(!run.status.success(), "the run must fail");
+    let err = String::from_utf8_lossy(&run.stderr);
+    let line = err
+        .lines()
+        .find(|l| l.contains("left the domain"))
+        .unwrap_or_else(|| panic!("{err}"));
+    for part in ["step ", "t = ", "fluid particle ", " m"] {
+        assert!(line.contains(part), "{line:?} lacks {part:?}");
+    }
+    let summary = read_summary(&out.join("summary.json")).expect("summary");
+    assert!(
+        summary.status.starts_with("failed:") && summary.status.contains("left the domain"),
+        "{}",
+        summary.status
+    );
+    let series = PvdSeries::read(&out.join("particles.pvd")).expect("the series is whole");
+    assert!(series.entries().len() >= 3, "frames before the escape");
+    for (_, file) in series.entries() {
+        read_vtu(&out.join(file)).unwrap_or_else(|e| panic!("frame {file}: {e}"));
+    }
+    let state = Checkpoint::<2>::read(&out.join("checkpoint.bin")).expect("the checkpoint is whole");
+    assert!(state.header.clock.step > 0 && state.header.clock.step < summary.steps + 1);
+    // The block's front reaches x = 1 after about (1 - 0.6) / 5 = 0.08 s.
+    assert!(
+        summary.simulated_time > 0.05 && summary.simulated_time < 0.12,
+        "{}",
+        summary.simulated_time
+    );
+    let resumed = Command::new(BIN)
+        .args(["run", "--threads", "1", "--resume"])
+        .arg(&out)
+        .output()
+        .expect("resumes");
+    assert!(!resumed.status.success());
+    let again = String::from_utf8_lossy(&resumed.stderr);
+    assert!(
+        again.contains(line.trim_start_matches("error: ")),
+        "{again}\nvs\n{line}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The per-step guard on non-finite values: a NaN planted in one particle's velocity stops the
+/// next step with an error naming the step, the time, that particle's id and the quantity.
+#[test]
+fn a_non_finite_velocity_stops_the_step_naming_the_particle_and_quantity() {
+    use sph::run::AnySimulation;
+    use sph::solver::StepError;
+    let scene = sph::scene::load_scene(Path::new(SCENE), &["particles.spacing=0.02".into()]).expect("scene");
+    let AnySimulation::D2(mut sim) = AnySimulation::from_scene(&scene).expect("builds") else {
+        panic!("a 2D scene");
+    };
+    for _ in 0..3 {
+        sim.step(1.0).expect("a good step");
+    }
+    let i = 17;
+    let id = sim.fields.id[i];
+    sim.fields.velocity[i][1] = f32::NAN;
+    match sim.step(1.0) {
+        Err(
+            e @ StepError::NonFinite {
+                step: 3,
+                particle,
+                quantity,
+                ..
+            },
+        ) => {
+            assert_eq!((particle, quantity), (id, "velocity"));
+            let text = e.to_string();
+            assert!(
+                text.contains(&format!("particle {id}")) && text.contains("velocity"),
+                "{text}"
+            );
+        }
+        other => panic!("expected NonFinite at step 3, got {other:?}"),
+    }
 }
