@@ -643,3 +643,45 @@ fn coincident_2d_wcsph_twins_separate() {
 fn coincident_3d_wcsph_twins_separate() {
     twins_separate("coincident_3d.toml");
 }
+
+// ---------------------------------------------------------------------------------------------
+// The long version (`cargo test --release -- --ignored`): the same invariants over longer runs
+// and at finer spacing than CI can afford.
+
+/// Water at rest for 10 s (2D) under `wcsph`: hydrostatic stability over 5x the CI run.
+#[test]
+#[ignore = "long: about 5 minutes in release on 2 cores"]
+fn long_rest_2d_wcsph_10_s() {
+    case_with(
+        "rest_2d.toml",
+        "wcsph",
+        &["solver.end_time=10"],
+        EnergyBound::Start,
+    );
+}
+
+/// Water at rest for 10 s (2D) under `corrected`.
+#[test]
+#[ignore = "long: about 5 minutes in release on 2 cores"]
+fn long_rest_2d_corrected_10_s() {
+    case_with(
+        "rest_2d.toml",
+        "corrected",
+        &["solver.end_time=10"],
+        EnergyBound::Start,
+    );
+}
+
+/// The 10 m/s jet at half the spacing (5 mm, 4x the particles), both solvers.
+#[test]
+#[ignore = "long: about 10 minutes in release on 2 cores"]
+fn long_jet_2d_at_half_the_spacing() {
+    for solver in ["wcsph", "corrected"] {
+        case_with(
+            "jet_2d.toml",
+            solver,
+            &["particles.spacing=0.005"],
+            EnergyBound::Start,
+        );
+    }
+}
