@@ -9,6 +9,7 @@
 
 use sph::fields::FLUID;
 use sph::run::AnySimulation;
+use sph::scene::validate::corrected_step_bound;
 use sph::scene::{Scene, SolidShape, load_scene};
 use sph::smoothing::Smoothing;
 use sph::solver::Simulation;
@@ -684,4 +685,119 @@ fn long_jet_2d_at_half_the_spacing() {
             EnergyBound::Start,
         );
     }
+}
+
+/// The largest fixed step validation accepts for `corrected` on the scene `file` with `sets`
+/// (`sph::scene::validate::corrected_step_bound`), and a check that it is the largest: 1e-6
+/// above it is refused.
+fn corrected_bound(file: &str, sets: &[String]) -> f64 {
+    let path = format!("{}/scenes/hard/{file}", env!("CARGO_MANIFEST_DIR"));
+    let mut sets = sets.to_vec();
+    sets.push("solver.kind=corrected".into());
+    // A step far below any bound, in place of the scene file's own (`large_dt_*` give one).
+    let small = [sets.clone(), vec!["solver.dt=1e-6".into()]].concat();
+    let scene = load_scene(Path::new(&path), &small).expect("hard scene");
+    let bound = corrected_step_bound(
+        scene.smoothing_length,
+        scene.gravity.as_deref(),
+        &scene.fluid_boxes,
+        &scene.solids,
+    )
+    .expect("gravity or an initial speed");
+    sets.push(format!("solver.dt={}", bound * (1.0 + 1e-6)));
+    load_scene(Path::new(&path), &sets).expect_err("a step above the bound is refused");
+    bound
+}
+
+/// A fixed `corrected` step above the bound is refused by the validator in one line that names
+/// `solver.dt`, the value, the bound and its formula.
+fn corrected_large_dt_refused(file: &str, dt: &str, parts: &[&str]) {
+    let path = format!("{}/scenes/hard/{file}", env!("CARGO_MANIFEST_DIR"));
+    let sets = ["solver.kind=corrected".to_string(), format!("solver.dt={dt}")];
+    let err = load_scene(Path::new(&path), &sets).expect_err("a step above the bound is refused");
+    let msg = err.to_string();
+    assert_eq!(msg.lines().count(), 1, "{msg}");
+    for part in ["solver.dt", "corrected", "remove solver.dt"].iter().chain(parts) {
+        assert!(msg.contains(part), "{msg}: no {part:?}");
+    }
+}
+
+/// The scene file's 2 ms step: above `0.0125 sqrt(h / |g|)` = 0.564 ms (h = 0.02 m).
+#[test]
+fn large_dt_2d_corrected_is_refused_by_the_validator() {
+    corrected_large_dt_refused(
+        "large_dt_2d.toml",
+        "0.002",
+        &["0.002 s", "sqrt(h / |g|)", "0.000564"],
+    );
+}
+
+/// 1 ms on the 10 m/s jet: above `0.25 h / |u|max` = 0.5 ms, below the gravity term.
+#[test]
+fn jet_2d_corrected_large_dt_is_refused_by_the_validator() {
+    corrected_large_dt_refused(
+        "jet_2d.toml",
+        "0.001",
+        &["0.001 s", "h / |u|max", "10 m/s", "0.0005 s", "0.000564"],
+    );
+}
+
+/// `sph run --set solver.kind=corrected` on `large_dt_2d.toml` (its 2 ms step above the
+/// corrected bound) exits non-zero with one line on stderr naming `solver.dt`, and leaves no
+/// output folder.
+#[test]
+fn large_dt_2d_corrected_is_refused_by_sph_run() {
+    let scene = format!("{}/scenes/hard/large_dt_2d.toml", env!("CARGO_MANIFEST_DIR"));
+    let out = std::env::temp_dir().join(format!("sph_hard_large_dt_c_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_sph"))
+        .args(["run", &scene, "--set", "solver.kind=corrected", "--out"])
+        .arg(&out)
+        .output()
+        .expect("sph runs");
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "accepted: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("solver.dt") && err.contains("corrected"), "{err}");
+    assert!(!out.exists(), "left {}", out.display());
+}
+
+/// `corrected` at the largest fixed step validation accepts on `file` (with `sets`): every
+/// invariant of the module doc with energy never above its start, and every step at the fixed
+/// value (the corrected solver keeps it; only the end time may shorten the last).
+fn corrected_at_the_bound(file: &str, sets: &[&str]) {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let bound = corrected_bound(file, &sets);
+    let mut extra: Vec<&str> = sets.iter().map(|s| s.as_str()).collect();
+    let dt = format!("solver.dt={bound}");
+    extra.push(&dt);
+    let trace = case_with(file, "corrected", &extra, EnergyBound::Start);
+    for (n, &(step, limit)) in trace.steps.iter().enumerate() {
+        assert!(
+            (limit == TimeStepLimit::Fixed && step == bound)
+                || (limit == TimeStepLimit::EndTime && step <= bound),
+            "{file}: step {n}: dt = {step} s ({limit:?}), fixed {bound} s"
+        );
+    }
+    eprintln!("{file} (corrected): fixed dt = {bound} s");
+}
+
+/// The 2D dam break at μ = 20 Pa s, `dt = 0.0125 sqrt(h / |g|)` = 0.564 ms (h = 0.02 m).
+#[test]
+fn large_dt_2d_corrected_at_the_bound() {
+    corrected_at_the_bound("large_dt_2d.toml", &[]);
+}
+
+/// The 3D dam break at μ = 1e-6 Pa s, `dt = 0.0125 sqrt(h / |g|)` = 0.798 ms (h = 0.04 m): the
+/// scene that sets the factor (it fails the energy bound at 1 ms).
+#[test]
+fn viscous_low_3d_corrected_at_the_bound() {
+    corrected_at_the_bound("viscous_low_3d.toml", &[]);
+}
+
+/// The 10 m/s jet, `dt = 0.25 h / |u|max` = 0.5 ms, through the impact on the plate (end time
+/// 0.06 s of the scene's 0.12 s, to keep the run short).
+#[test]
+fn jet_2d_corrected_at_the_bound() {
+    corrected_at_the_bound("jet_2d.toml", &["solver.end_time=0.06"]);
 }

@@ -419,6 +419,11 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
     if let (Some(Some(dt)), Some(settings), Some(h), Some(sound)) = (dt, solver, h, sound_speed) {
         check_acoustic_step(&mut c, &sp, dt, settings.kind, h, sound);
     }
+    if let (Some(Some(dt)), Some(settings), Some(h)) = (dt, solver, h) {
+        if settings.kind == SolverKind::Corrected {
+            check_corrected_step(&mut c, &sp, dt, h, gravity.as_deref(), &fluid_boxes, &solids);
+        }
+    }
 
     // [[probe]]
     let mut probes = Vec::new();
@@ -500,6 +505,136 @@ fn check_acoustic_step(c: &mut Checker, sp: &KeyPath, dt: f64, kind: SolverKind,
             ),
         );
     }
+}
+
+/// Factor `k_g` of the gravity bound `k_g sqrt(h / |g|)` on a fixed `corrected` step. Measured
+/// (README "Hard cases") as the largest fixed step that keeps every hard-case invariant, over
+/// `sqrt(h/|g|)`: `viscous_low_3d.toml` passes at 0.85 ms and fails the energy bound at 1 ms
+/// (h = 0.04 m: 0.0133 and 0.0157); `large_dt_3d.toml` 2.5 ms (0.039), `large_dt_2d.toml`
+/// 2.5 ms (h = 0.02 m: 0.055), `rest_2d.toml` 3.5 ms (0.078), `viscous_low_2d.toml` at least
+/// 6 ms (0.13). 0.0125 stays below the smallest (`rest_3d.toml` fails at every step tried,
+/// adaptive included: a known failure).
+pub const CORRECTED_GRAVITY_FACTOR: f64 = 0.0125;
+
+/// Factor `k_u` of the flow bound `k_u h / |u|max` on a fixed `corrected` step, `|u|max` the
+/// largest initial fluid speed or moving-wall speed. Measured on `jet_2d.toml` (10 m/s, h =
+/// 0.02 m): 0.25 h / |u| = 0.5 ms keeps every invariant, 0.3 h / |u| (0.6 ms) raises the energy
+/// at the impact; `jet_3d.toml` (h = 0.04 m) passes at 0.25 and 0.3 h / |u|.
+pub const CORRECTED_FLOW_FACTOR: f64 = 0.25;
+
+/// The largest fixed `solver.dt` [s] that validation accepts for `solver.kind = "corrected"`:
+/// `min(k_g sqrt(h / |g|), k_u h / |u|max)` over the terms that apply (gravity given and
+/// non-zero; a fluid box or moving wall with a non-zero speed), `None` when neither applies.
+/// `h` is the support radius [m], `gravity` [m/s²], the speeds from the fluid boxes' initial
+/// velocities and the solids' `Sway::max_speed` [m/s]. The corrected solver has no acoustic
+/// limit (its pressure does not come from eq. (19)); these are the measured limits of its
+/// start-up and of impacts (`CORRECTED_GRAVITY_FACTOR`, `CORRECTED_FLOW_FACTOR`).
+pub fn corrected_step_bound(
+    h: f64,
+    gravity: Option<&[f64]>,
+    fluid_boxes: &[FluidBox],
+    solids: &[Solid],
+) -> Option<f64> {
+    corrected_step_terms(h, gravity, fluid_boxes, solids)
+        .map(|t| t.gravity.min(t.flow))
+        .filter(|b| b.is_finite())
+}
+
+/// The two terms of [`corrected_step_bound`] with their inputs (infinite where absent).
+struct CorrectedStepTerms {
+    g: f64,
+    gravity: f64,
+    speed: f64,
+    flow: f64,
+}
+
+fn corrected_step_terms(
+    h: f64,
+    gravity: Option<&[f64]>,
+    fluid_boxes: &[FluidBox],
+    solids: &[Solid],
+) -> Option<CorrectedStepTerms> {
+    let norm = |v: &[f64]| v.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let g = gravity.map(norm).unwrap_or(0.0);
+    let speed = fluid_boxes
+        .iter()
+        .map(|b| norm(&b.velocity))
+        .chain(
+            solids
+                .iter()
+                .filter_map(|s| s.motion.as_ref())
+                .map(Sway::max_speed),
+        )
+        .fold(0.0, f64::max);
+    if !(g.is_finite() && speed.is_finite()) {
+        return None;
+    }
+    let gravity = if g > 0.0 {
+        CORRECTED_GRAVITY_FACTOR * (h / g).sqrt()
+    } else {
+        f64::INFINITY
+    };
+    let flow = if speed > 0.0 {
+        CORRECTED_FLOW_FACTOR * h / speed
+    } else {
+        f64::INFINITY
+    };
+    Some(CorrectedStepTerms {
+        g,
+        gravity,
+        speed,
+        flow,
+    })
+}
+
+/// A fixed `solver.dt` \[s\] for `corrected` must not exceed [`corrected_step_bound`]; the
+/// error names the value, the bound, the terms it is made of and the fix.
+fn check_corrected_step(
+    c: &mut Checker,
+    sp: &KeyPath,
+    dt: f64,
+    h: f64,
+    gravity: Option<&[f64]>,
+    fluid_boxes: &[FluidBox],
+    solids: &[Solid],
+) {
+    let Some(t) = corrected_step_terms(h, gravity, fluid_boxes, solids) else {
+        return;
+    };
+    let bound = t.gravity.min(t.flow);
+    if dt <= bound {
+        return;
+    }
+    let mut terms = Vec::new();
+    if t.gravity.is_finite() {
+        terms.push(format!(
+            "{CORRECTED_GRAVITY_FACTOR} sqrt(h / |g|) = {CORRECTED_GRAVITY_FACTOR} sqrt({} m / {} m/s^2) = {} s",
+            num(h),
+            num(t.g),
+            num(t.gravity)
+        ));
+    }
+    if t.flow.is_finite() {
+        terms.push(format!(
+            "{CORRECTED_FLOW_FACTOR} h / |u|max = {CORRECTED_FLOW_FACTOR} x {} m / {} m/s = {} s (largest initial fluid or wall speed)",
+            num(h),
+            num(t.speed),
+            num(t.flow)
+        ));
+    }
+    let how = match terms.as_slice() {
+        [one] => one.clone(),
+        _ => format!("the smaller of {}", terms.join(" and ")),
+    };
+    c.err(
+        sp.k("dt"),
+        format!(
+            "{} s is above the largest fixed step of solver.kind = \"corrected\", {} (measured on the hard cases, README \"Hard cases\"); use solver.dt <= {}, or remove solver.dt for an adaptive step",
+            num(dt),
+            how,
+            num(bound)
+        ),
+    );
 }
 
 /// Checks a solid or probe name: non-empty, `[A-Za-z0-9_-]` only, not among `earlier`
