@@ -1123,20 +1123,7 @@ fn check_keep_out<const D: usize>(seed: u64) {
     let mut plate = KeepOutBox::<D>::fixed(top * 0.4, top * 0.6, 1);
     plate.velocity[0] = 0.7;
     boxes.push(plate);
-    let flat_boxes: Vec<f32> = boxes
-        .iter()
-        .flat_map(|b| {
-            let mut v: Vec<f32> = b
-                .min
-                .iter()
-                .chain(b.max.iter())
-                .chain(b.velocity.iter())
-                .copied()
-                .collect();
-            v.push(b.solid as f32);
-            v
-        })
-        .collect();
+    let flat_boxes: Vec<f32> = boxes.iter().flat_map(KeepOutBox::kernel_floats).collect();
     let margin = 1e-5f32;
     let n = f.len() as u32;
     let flat = |v: &[Vector<D>]| -> Vec<f32> { v.iter().flat_map(|x| x.iter().copied()).collect() };

@@ -72,6 +72,17 @@ impl<const D: usize> KeepOutBox<D> {
         slabs
     }
 
+    /// The box as `kernels/keep_out.cu` reads it: min, max, velocity (D floats each), then the
+    /// solid's index.
+    pub fn kernel_floats(&self) -> impl Iterator<Item = f32> + '_ {
+        self.min
+            .iter()
+            .chain(self.max.iter())
+            .chain(self.velocity.iter())
+            .copied()
+            .chain(std::iter::once(self.solid as f32))
+    }
+
     /// A fixed box.
     pub fn fixed(min: Vector<D>, max: Vector<D>, solid: u32) -> Self {
         Self {

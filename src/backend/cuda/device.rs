@@ -977,18 +977,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return report;
         }
         // Upload the boxes only when they changed (moving solids): min, max, velocity, solid.
-        let host: Vec<f32> = boxes
-            .iter()
-            .flat_map(|b| {
-                b.min
-                    .iter()
-                    .chain(b.max.iter())
-                    .chain(b.velocity.iter())
-                    .copied()
-                    .chain(std::iter::once(b.solid as f32))
-                    .collect::<Vec<_>>()
-            })
-            .collect();
+        let host: Vec<f32> = boxes.iter().flat_map(KeepOutBox::kernel_floats).collect();
         if host != self.keep_out_host {
             let r = self.stream.clone_htod(&host);
             match record(&mut self.error, "uploading the solid volumes", r) {
