@@ -605,34 +605,38 @@ fn check_corrected_step(
     if dt <= bound {
         return;
     }
+    // Six significant digits, rounded down so that the value shown is itself accepted; the
+    // whole problem stays one readable line.
+    let shown = |v: f64| {
+        let scale = 10f64.powi(5 - v.log10().floor() as i32);
+        num((v * scale).floor() / scale)
+    };
     let mut terms = Vec::new();
+    let mut inputs = vec![format!("h = {} m", num(h))];
     if t.gravity.is_finite() {
         terms.push(format!(
-            "{CORRECTED_GRAVITY_FACTOR} sqrt(h / |g|) = {CORRECTED_GRAVITY_FACTOR} sqrt({} m / {} m/s^2) = {} s",
-            num(h),
-            num(t.g),
-            num(t.gravity)
+            "{CORRECTED_GRAVITY_FACTOR} sqrt(h / |g|) = {} s",
+            shown(t.gravity)
         ));
+        inputs.push(format!("|g| = {} m/s^2", num(t.g)));
     }
     if t.flow.is_finite() {
         terms.push(format!(
-            "{CORRECTED_FLOW_FACTOR} h / |u|max = {CORRECTED_FLOW_FACTOR} x {} m / {} m/s = {} s (largest initial fluid or wall speed)",
-            num(h),
-            num(t.speed),
-            num(t.flow)
+            "{CORRECTED_FLOW_FACTOR} h / |u|max = {} s",
+            shown(t.flow)
         ));
+        inputs.push(format!("|u|max = {} m/s", num(t.speed)));
     }
     let how = match terms.as_slice() {
         [one] => one.clone(),
-        _ => format!("the smaller of {}", terms.join(" and ")),
+        _ => format!("min({})", terms.join(", ")),
     };
     c.err(
         sp.k("dt"),
         format!(
-            "{} s is above the largest fixed step of solver.kind = \"corrected\", {} (measured on the hard cases, README \"Hard cases\"); use solver.dt <= {}, or remove solver.dt for an adaptive step",
+            "{} s is above the largest fixed step of solver.kind = \"corrected\", {how} ({}); use a smaller solver.dt, or remove solver.dt for an adaptive step",
             num(dt),
-            how,
-            num(bound)
+            inputs.join(", ")
         ),
     );
 }
