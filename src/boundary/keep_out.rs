@@ -40,6 +40,16 @@ pub struct KeepOutReport {
     pub impulse: Vec<[f64; 3]>,
 }
 
+impl KeepOutReport {
+    /// No pushes, zero momentum for each of `solids` solids.
+    pub fn none(solids: usize) -> Self {
+        Self {
+            pushes: 0,
+            impulse: vec![[0.0; 3]; solids],
+        }
+    }
+}
+
 impl<const D: usize> KeepOutBox<D> {
     /// The wall slabs of a container whose inside is `[min, max]` [m] with walls `thickness` [m]
     /// thick; without a top wall (`open_top`, last axis vertical). The slabs overlap at the

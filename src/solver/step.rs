@@ -186,10 +186,7 @@ impl<const D: usize> Simulation<D> {
     fn keep_out(&mut self) -> KeepOutReport {
         let solids = self.solid_names.len();
         if self.keep_out.is_empty() {
-            return KeepOutReport {
-                pushes: 0,
-                impulse: vec![[0.0; 3]; solids],
-            };
+            return KeepOutReport::none(solids);
         }
         let margin = (KEEP_OUT_MARGIN * self.config.spacing) as f32;
         // Moving solids: their volumes where the solids were last placed, at their velocity.

@@ -969,10 +969,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         solids: usize,
         margin: f32,
     ) -> KeepOutReport {
-        let mut report = KeepOutReport {
-            pushes: 0,
-            impulse: vec![[0.0; 3]; solids],
-        };
+        let mut report = KeepOutReport::none(solids);
         if boxes.is_empty() || solids == 0 || self.error.is_some() {
             return report;
         }
