@@ -8,6 +8,11 @@
 //! `R_eq = (3 N dx³ / 4π)^(1/3)` (`(N dx² / π)^(1/2)` in 2D), and its area (perimeter).
 
 use sph::math::{Real, Vector};
+use sph::output::ply::read_ply;
+use sph::output::vtp::read_vtp;
+use sph::output::PvdSeries;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 use sph::surface::{SurfaceMesh, SurfaceParams, reconstruct};
 
 /// Particle spacing [m] of the test lattices.
@@ -80,8 +85,15 @@ fn sphere_volume_and_area_within_3_percent() {
     assert!(rel_err(a, area) < REL, "area {a} vs {area}");
 }
 
+/// Allowed relative error of the box's area at 20 across: eq. (25) is a smoothed field, and its
+/// isosurface rounds every edge of the box with a radius near 1.1 dx, losing about 0.45 dx of area
+/// per unit edge length: 12 · 20 dx · 0.45 dx / (6 · (20 dx)²) ≈ 4.5 %, plus the corners
+/// (measured: −5.1 %). No iso level removes it without moving the flat faces off the body. The
+/// loss scales as 1/size: at 40 across the box is within [`REL`] (next test).
+const BOX_AREA_REL_20: f64 = 0.06;
+
 #[test]
-fn box_volume_and_area_within_3_percent() {
+fn box_volume_within_3_percent_and_area_within_edge_rounding() {
     let particles = lattice::<3>(0.0);
     let mesh = reconstruct(&particles, &SurfaceParams::new::<3>(DX, H)).unwrap();
     let half = ACROSS as f64 * DX / 2.0;
@@ -90,7 +102,50 @@ fn box_volume_and_area_within_3_percent() {
     let (v, a) = (mesh.enclosed_measure(), mesh.boundary_measure());
     eprintln!("box: volume {:.4} %, area {:.4} %", 100.0 * (v / side.powi(3) - 1.0), 100.0 * (a / (6.0 * side * side) - 1.0));
     assert!(rel_err(v, side.powi(3)) < REL, "volume {v}");
+    assert!(rel_err(a, 6.0 * side * side) < BOX_AREA_REL_20, "area {a}");
+}
+
+#[test]
+fn box_of_40_across_has_area_within_3_percent() {
+    let n = 2 * ACROSS;
+    let particles: Vec<Vector<3>> = (0..n * n * n)
+        .map(|i| Vector::<3>::from_fn(|k, _| (((i / n.pow(k as u32)) % n) as f64 + 0.5) as Real * DX as Real))
+        .collect();
+    let mesh = reconstruct(&particles, &SurfaceParams::new::<3>(DX, H)).unwrap();
+    let side = n as f64 * DX;
+    let (v, a) = (mesh.enclosed_measure(), mesh.boundary_measure());
+    eprintln!("box 40: volume {:.4} %, area {:.4} %", 100.0 * (v / side.powi(3) - 1.0), 100.0 * (a / (6.0 * side * side) - 1.0));
+    assert_eq!(mesh.open_facets(), 0);
+    assert!(rel_err(v, side.powi(3)) < REL, "volume {v}");
     assert!(rel_err(a, 6.0 * side * side) < REL, "area {a}");
+}
+
+/// Where the iso level puts a flat surface: half a spacing outside the outer particle centres,
+/// i.e. on the faces `x = 0` and `x = 20 dx` of the union of the particles' cells. Measured on
+/// the vertices of the box's faces away from its edges (more than 3 dx from them).
+#[test]
+fn flat_surface_sits_half_a_spacing_outside_the_outer_centres() {
+    let particles = lattice::<3>(0.0);
+    let mesh = reconstruct(&particles, &SurfaceParams::new::<3>(DX, H)).unwrap();
+    let side = ACROSS as f64 * DX;
+    let mut worst: f64 = 0.0;
+    let mut count = 0;
+    for x in &mesh.positions {
+        let p = x.map(f64::from);
+        for k in 0..3 {
+            let others_inside = (0..3).filter(|&j| j != k).all(|j| p[j] > 3.0 * DX && p[j] < side - 3.0 * DX);
+            if others_inside {
+                let off_face = p[k].abs().min((p[k] - side).abs());
+                worst = worst.max(off_face);
+                count += 1;
+            }
+        }
+    }
+    eprintln!("flat faces: {count} vertices, worst {:.4} dx from the union's face", worst / DX);
+    assert!(count > 1000, "{count} face vertices");
+    // Tolerance: the lattice sum at a node differs from its continuum average by the lattice's
+    // discreteness (h = 2 dx); measured worst 0.022 dx, allowed 0.05 dx.
+    assert!(worst < 0.05 * DX, "a face vertex is {} dx off the face", worst / DX);
 }
 
 #[test]
@@ -117,4 +172,109 @@ fn square_area_and_perimeter_within_3_percent() {
     eprintln!("square: area {:.4} %, perimeter {:.4} %", 100.0 * (v / (side * side) - 1.0), 100.0 * (a / (4.0 * side) - 1.0));
     assert!(rel_err(v, side * side) < REL, "area {v}");
     assert!(rel_err(a, 4.0 * side) < REL, "perimeter {a}");
+}
+
+const BIN: &str = env!("CARGO_BIN_EXE_sph");
+
+/// A fresh scratch directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sph_surface_test_{}_{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+/// A block of fluid at rest in free space (no effects), a few steps long; `output` is appended
+/// to the `[output]` table.
+fn tiny_scene(dir: &Path, dimension: usize, output: &str) -> PathBuf {
+    let (min, max, lo, hi) = if dimension == 2 {
+        ("[0.0, 0.0]", "[1.0, 1.0]", "[0.4, 0.4]", "[0.56, 0.56]")
+    } else {
+        ("[0.0, 0.0, 0.0]", "[1.0, 1.0, 1.0]", "[0.4, 0.4, 0.4]", "[0.56, 0.56, 0.56]")
+    };
+    let scene = dir.join("tiny.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "name = \"tiny\"\ndimension = {dimension}\neffects = []\n\n[domain]\nmin = {min}\nmax = {max}\n\n\
+[particles]\nspacing = 0.02\nsmoothing_ratio = 2.0\n\n[fluid]\nrho0 = 1000.0\nsound_speed = 20.0\n\n\
+[[fluid_box]]\nmin = {lo}\nmax = {hi}\n\n[solver]\nkind = \"wcsph\"\nend_time = 0.004\n\n\
+[output]\ninterval = 0.002\n{output}\n"
+        ),
+    )
+    .expect("scene");
+    scene
+}
+
+fn run_scene(scene: &Path, out: &Path) {
+    let run = Command::new(BIN)
+        .arg("run")
+        .arg(scene)
+        .args(["--threads", "1", "--out"])
+        .arg(out)
+        .output()
+        .expect("sph run starts");
+    assert!(run.status.success(), "sph run failed: {}", String::from_utf8_lossy(&run.stderr));
+}
+
+#[test]
+fn sph_surface_writes_a_parsable_series_for_every_frame() {
+    let dir = scratch("cli3d");
+    let out = dir.join("run");
+    run_scene(&tiny_scene(&dir, 3, ""), &out);
+    assert!(!out.join("surface.pvd").exists(), "no surface without the key");
+    let surface = Command::new(BIN).arg("surface").arg(&out).output().expect("sph surface starts");
+    assert!(surface.status.success(), "{}", String::from_utf8_lossy(&surface.stderr));
+    let frames = PvdSeries::read(&out.join("particles.pvd")).expect("particles.pvd");
+    let series = PvdSeries::read(&out.join("surface.pvd")).expect("surface.pvd");
+    assert!(frames.len() >= 2);
+    assert_eq!(series.len(), frames.len());
+    for ((t, vtp), (t_frame, _)) in series.entries().iter().zip(frames.entries()) {
+        assert_eq!(t, t_frame);
+        let mesh = read_vtp(&out.join(vtp)).expect("vtp parses");
+        assert!(!mesh.lines && !mesh.points.is_empty() && !mesh.cells.is_empty());
+        assert_eq!(mesh.normals.len(), mesh.points.len());
+        assert!(mesh.cells.iter().all(|c| c.len() == 3));
+        let ply = read_ply(&out.join(vtp.replace(".vtp", ".ply"))).expect("ply parses");
+        assert_eq!((ply.positions.len(), ply.elements.len()), (mesh.points.len(), mesh.cells.len()));
+        assert!(!ply.edges);
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn output_surface_key_writes_segments_during_a_2d_run() {
+    let dir = scratch("key2d");
+    let out = dir.join("run");
+    run_scene(&tiny_scene(&dir, 2, "surface = true"), &out);
+    let series = PvdSeries::read(&out.join("surface.pvd")).expect("surface.pvd");
+    let frames = PvdSeries::read(&out.join("particles.pvd")).expect("particles.pvd");
+    assert_eq!(series.len(), frames.len());
+    let (_, last) = series.entries().last().expect("a surface");
+    let mesh = read_vtp(&out.join(last)).expect("vtp parses");
+    assert!(mesh.lines && !mesh.cells.is_empty() && mesh.cells.iter().all(|c| c.len() == 2));
+    let ply = read_ply(&out.join(last.replace(".vtp", ".ply"))).expect("ply parses");
+    assert!(ply.edges && ply.elements.len() == mesh.cells.len());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn sph_surface_on_a_missing_directory_fails_with_one_line() {
+    let missing = std::env::temp_dir().join(format!("sph_surface_test_{}_absent", std::process::id()));
+    let run = Command::new(BIN).arg("surface").arg(&missing).output().expect("sph surface starts");
+    assert!(!run.status.success());
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("no such directory") && err.contains("absent"), "{err}");
+}
+
+#[test]
+fn misspelt_surface_key_is_named() {
+    let dir = scratch("typo");
+    let scene = tiny_scene(&dir, 2, "surfce = true");
+    let check = Command::new(BIN).arg("check").arg(&scene).output().expect("sph check starts");
+    assert!(!check.status.success());
+    let err = String::from_utf8_lossy(&check.stderr);
+    assert!(err.contains("surfce"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
 }
