@@ -263,7 +263,12 @@ const STEP_COLUMNS: [&str; 7] = [
 
 impl Writers {
     /// The writers as they were at a checkpoint: frames listed up to then, `forces.csv` cut back.
-    fn resume<const D: usize>(dir: &Path, with_forces: bool, scene: &Scene, state: &RunState) -> Result<Self, OutputError> {
+    fn resume<const D: usize>(
+        dir: &Path,
+        with_forces: bool,
+        scene: &Scene,
+        state: &RunState,
+    ) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir.join("frames")).map_err(|e| OutputError::io(&dir.join("frames"), e))?;
         let forces = match (with_forces, state.forces_len) {
             (true, Some(len)) => Some(ForceLog::resume(&dir.join("forces.csv"), len)?),
@@ -312,7 +317,10 @@ impl Writers {
         let f = &sim.fields;
         let time = sim.clock().time;
         if let Some((series, params)) = self.surface.as_mut() {
-            let fluid: Vec<Vector<D>> = (0..f.len()).filter(|&i| f.kind[i] == 0).map(|i| f.position[i]).collect();
+            let fluid: Vec<Vector<D>> = (0..f.len())
+                .filter(|&i| f.kind[i] == 0)
+                .map(|i| f.position[i])
+                .collect();
             let mesh = reconstruct(&fluid, params).map_err(SurfaceOutputError::from)?;
             series
                 .push(series.entries().len(), time, &mesh)
@@ -435,8 +443,9 @@ fn drive<const D: usize>(
         };
         let clock = sim.clock();
         let last = clock.time >= end;
-        let frame_due =
-            writers.is_some() && (scene.write_frames || scene.write_surface) && (clock.time >= next_frame - 1e-12 * end || last);
+        let frame_due = writers.is_some()
+            && (scene.write_frames || scene.write_surface)
+            && (clock.time >= next_frame - 1e-12 * end || last);
         if frame_due || probes.wants_fields(clock.time, last) {
             sim.sync_fields()?;
         }
@@ -461,7 +470,10 @@ fn drive<const D: usize>(
                 scene: restart.scene.clone(),
                 next_frame,
                 frames: w.pvd.entries().to_vec(),
-                surfaces: w.surface.as_ref().map_or_else(Vec::new, |s| s.0.entries().to_vec()),
+                surfaces: w
+                    .surface
+                    .as_ref()
+                    .map_or_else(Vec::new, |s| s.0.entries().to_vec()),
                 limits: limits.clone(),
                 probes: probes.state()?,
                 forces_len: match w.forces.as_mut() {

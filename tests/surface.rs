@@ -8,12 +8,12 @@
 //! `R_eq = (3 N dx³ / 4π)^(1/3)` (`(N dx² / π)^(1/2)` in 2D), and its area (perimeter).
 
 use sph::math::{Real, Vector};
+use sph::output::PvdSeries;
 use sph::output::ply::read_ply;
 use sph::output::vtp::read_vtp;
-use sph::output::PvdSeries;
+use sph::surface::{SurfaceMesh, SurfaceParams, reconstruct};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use sph::surface::{SurfaceMesh, SurfaceParams, reconstruct};
 
 /// Particle spacing [m] of the test lattices.
 const DX: f64 = 0.01;
@@ -66,7 +66,9 @@ fn assert_closed<const D: usize>(mesh: &SurfaceMesh<D>, centre: [f64; D]) {
     assert_eq!(mesh.normals.len(), mesh.vertex_count());
     for (x, n) in mesh.positions.iter().zip(&mesh.normals) {
         assert!((n.norm() - 1.0).abs() < 1e-5, "normal {n:?} is not unit");
-        let radial: f64 = (0..D).map(|k| (f64::from(x[k]) - centre[k]) * f64::from(n[k])).sum();
+        let radial: f64 = (0..D)
+            .map(|k| (f64::from(x[k]) - centre[k]) * f64::from(n[k]))
+            .sum();
         assert!(radial > 0.0, "normal {n:?} at {x:?} points into the fluid");
     }
 }
@@ -80,7 +82,11 @@ fn sphere_volume_and_area_within_3_percent() {
     let r_eq = (3.0 * volume / (4.0 * std::f64::consts::PI)).cbrt();
     let area = 4.0 * std::f64::consts::PI * r_eq * r_eq;
     let (v, a) = (mesh.enclosed_measure(), mesh.boundary_measure());
-    eprintln!("sphere: volume {:.4} %, area {:.4} %", 100.0 * (v / volume - 1.0), 100.0 * (a / area - 1.0));
+    eprintln!(
+        "sphere: volume {:.4} %, area {:.4} %",
+        100.0 * (v / volume - 1.0),
+        100.0 * (a / area - 1.0)
+    );
     assert!(rel_err(v, volume) < REL, "volume {v} vs {volume}");
     assert!(rel_err(a, area) < REL, "area {a} vs {area}");
 }
@@ -100,7 +106,11 @@ fn box_volume_within_3_percent_and_area_within_edge_rounding() {
     assert_closed(&mesh, [half; 3]);
     let side = ACROSS as f64 * DX;
     let (v, a) = (mesh.enclosed_measure(), mesh.boundary_measure());
-    eprintln!("box: volume {:.4} %, area {:.4} %", 100.0 * (v / side.powi(3) - 1.0), 100.0 * (a / (6.0 * side * side) - 1.0));
+    eprintln!(
+        "box: volume {:.4} %, area {:.4} %",
+        100.0 * (v / side.powi(3) - 1.0),
+        100.0 * (a / (6.0 * side * side) - 1.0)
+    );
     assert!(rel_err(v, side.powi(3)) < REL, "volume {v}");
     assert!(rel_err(a, 6.0 * side * side) < BOX_AREA_REL_20, "area {a}");
 }
@@ -114,7 +124,11 @@ fn box_of_40_across_has_area_within_3_percent() {
     let mesh = reconstruct(&particles, &SurfaceParams::new::<3>(DX, H)).unwrap();
     let side = n as f64 * DX;
     let (v, a) = (mesh.enclosed_measure(), mesh.boundary_measure());
-    eprintln!("box 40: volume {:.4} %, area {:.4} %", 100.0 * (v / side.powi(3) - 1.0), 100.0 * (a / (6.0 * side * side) - 1.0));
+    eprintln!(
+        "box 40: volume {:.4} %, area {:.4} %",
+        100.0 * (v / side.powi(3) - 1.0),
+        100.0 * (a / (6.0 * side * side) - 1.0)
+    );
     assert_eq!(mesh.open_facets(), 0);
     assert!(rel_err(v, side.powi(3)) < REL, "volume {v}");
     assert!(rel_err(a, 6.0 * side * side) < REL, "area {a}");
@@ -133,7 +147,9 @@ fn flat_surface_sits_half_a_spacing_outside_the_outer_centres() {
     for x in &mesh.positions {
         let p = x.map(f64::from);
         for k in 0..3 {
-            let others_inside = (0..3).filter(|&j| j != k).all(|j| p[j] > 3.0 * DX && p[j] < side - 3.0 * DX);
+            let others_inside = (0..3)
+                .filter(|&j| j != k)
+                .all(|j| p[j] > 3.0 * DX && p[j] < side - 3.0 * DX);
             if others_inside {
                 let off_face = p[k].abs().min((p[k] - side).abs());
                 worst = worst.max(off_face);
@@ -141,11 +157,18 @@ fn flat_surface_sits_half_a_spacing_outside_the_outer_centres() {
             }
         }
     }
-    eprintln!("flat faces: {count} vertices, worst {:.4} dx from the union's face", worst / DX);
+    eprintln!(
+        "flat faces: {count} vertices, worst {:.4} dx from the union's face",
+        worst / DX
+    );
     assert!(count > 1000, "{count} face vertices");
     // Tolerance: the lattice sum at a node differs from its continuum average by the lattice's
     // discreteness (h = 2 dx); measured worst 0.022 dx, allowed 0.05 dx.
-    assert!(worst < 0.05 * DX, "a face vertex is {} dx off the face", worst / DX);
+    assert!(
+        worst < 0.05 * DX,
+        "a face vertex is {} dx off the face",
+        worst / DX
+    );
 }
 
 #[test]
@@ -156,7 +179,11 @@ fn disc_area_and_perimeter_within_3_percent() {
     let area = particles.len() as f64 * DX * DX;
     let perimeter = 2.0 * (std::f64::consts::PI * area).sqrt();
     let (v, a) = (mesh.enclosed_measure(), mesh.boundary_measure());
-    eprintln!("disc: area {:.4} %, perimeter {:.4} %", 100.0 * (v / area - 1.0), 100.0 * (a / perimeter - 1.0));
+    eprintln!(
+        "disc: area {:.4} %, perimeter {:.4} %",
+        100.0 * (v / area - 1.0),
+        100.0 * (a / perimeter - 1.0)
+    );
     assert!(rel_err(v, area) < REL, "area {v} vs {area}");
     assert!(rel_err(a, perimeter) < REL, "perimeter {a} vs {perimeter}");
 }
@@ -169,7 +196,11 @@ fn square_area_and_perimeter_within_3_percent() {
     assert_closed(&mesh, [half; 2]);
     let side = ACROSS as f64 * DX;
     let (v, a) = (mesh.enclosed_measure(), mesh.boundary_measure());
-    eprintln!("square: area {:.4} %, perimeter {:.4} %", 100.0 * (v / (side * side) - 1.0), 100.0 * (a / (4.0 * side) - 1.0));
+    eprintln!(
+        "square: area {:.4} %, perimeter {:.4} %",
+        100.0 * (v / (side * side) - 1.0),
+        100.0 * (a / (4.0 * side) - 1.0)
+    );
     assert!(rel_err(v, side * side) < REL, "area {v}");
     assert!(rel_err(a, 4.0 * side) < REL, "perimeter {a}");
 }
@@ -190,7 +221,12 @@ fn tiny_scene(dir: &Path, dimension: usize, output: &str) -> PathBuf {
     let (min, max, lo, hi) = if dimension == 2 {
         ("[0.0, 0.0]", "[1.0, 1.0]", "[0.4, 0.4]", "[0.56, 0.56]")
     } else {
-        ("[0.0, 0.0, 0.0]", "[1.0, 1.0, 1.0]", "[0.4, 0.4, 0.4]", "[0.56, 0.56, 0.56]")
+        (
+            "[0.0, 0.0, 0.0]",
+            "[1.0, 1.0, 1.0]",
+            "[0.4, 0.4, 0.4]",
+            "[0.56, 0.56, 0.56]",
+        )
     };
     let scene = dir.join("tiny.toml");
     std::fs::write(
@@ -214,7 +250,11 @@ fn run_scene(scene: &Path, out: &Path) {
         .arg(out)
         .output()
         .expect("sph run starts");
-    assert!(run.status.success(), "sph run failed: {}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success(),
+        "sph run failed: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
 }
 
 #[test]
@@ -223,8 +263,16 @@ fn sph_surface_writes_a_parsable_series_for_every_frame() {
     let out = dir.join("run");
     run_scene(&tiny_scene(&dir, 3, ""), &out);
     assert!(!out.join("surface.pvd").exists(), "no surface without the key");
-    let surface = Command::new(BIN).arg("surface").arg(&out).output().expect("sph surface starts");
-    assert!(surface.status.success(), "{}", String::from_utf8_lossy(&surface.stderr));
+    let surface = Command::new(BIN)
+        .arg("surface")
+        .arg(&out)
+        .output()
+        .expect("sph surface starts");
+    assert!(
+        surface.status.success(),
+        "{}",
+        String::from_utf8_lossy(&surface.stderr)
+    );
     let frames = PvdSeries::read(&out.join("particles.pvd")).expect("particles.pvd");
     let series = PvdSeries::read(&out.join("surface.pvd")).expect("surface.pvd");
     assert!(frames.len() >= 2);
@@ -236,7 +284,10 @@ fn sph_surface_writes_a_parsable_series_for_every_frame() {
         assert_eq!(mesh.normals.len(), mesh.points.len());
         assert!(mesh.cells.iter().all(|c| c.len() == 3));
         let ply = read_ply(&out.join(vtp.replace(".vtp", ".ply"))).expect("ply parses");
-        assert_eq!((ply.positions.len(), ply.elements.len()), (mesh.points.len(), mesh.cells.len()));
+        assert_eq!(
+            (ply.positions.len(), ply.elements.len()),
+            (mesh.points.len(), mesh.cells.len())
+        );
         assert!(!ply.edges);
     }
     std::fs::remove_dir_all(&dir).ok();
@@ -261,18 +312,29 @@ fn output_surface_key_writes_segments_during_a_2d_run() {
 #[test]
 fn sph_surface_on_a_missing_directory_fails_with_one_line() {
     let missing = std::env::temp_dir().join(format!("sph_surface_test_{}_absent", std::process::id()));
-    let run = Command::new(BIN).arg("surface").arg(&missing).output().expect("sph surface starts");
+    let run = Command::new(BIN)
+        .arg("surface")
+        .arg(&missing)
+        .output()
+        .expect("sph surface starts");
     assert!(!run.status.success());
     let err = String::from_utf8_lossy(&run.stderr);
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
-    assert!(err.contains("no such directory") && err.contains("absent"), "{err}");
+    assert!(
+        err.contains("no such directory") && err.contains("absent"),
+        "{err}"
+    );
 }
 
 #[test]
 fn misspelt_surface_key_is_named() {
     let dir = scratch("typo");
     let scene = tiny_scene(&dir, 2, "surfce = true");
-    let check = Command::new(BIN).arg("check").arg(&scene).output().expect("sph check starts");
+    let check = Command::new(BIN)
+        .arg("check")
+        .arg(&scene)
+        .output()
+        .expect("sph check starts");
     assert!(!check.status.success());
     let err = String::from_utf8_lossy(&check.stderr);
     assert!(err.contains("surfce"), "{err}");

@@ -96,7 +96,9 @@ pub fn read_ply(path: &Path) -> Result<PlySurface, OutputError> {
             _ => {}
         }
     }
-    let (nv, ne) = vertices.zip(elements).ok_or_else(|| bad("missing vertex or face/edge counts".into()))?;
+    let (nv, ne) = vertices
+        .zip(elements)
+        .ok_or_else(|| bad("missing vertex or face/edge counts".into()))?;
     let mut body = &data[end + marker.len()..];
     let mut take = |n: usize| -> Result<&[u8], OutputError> {
         if body.len() < n {
@@ -106,11 +108,16 @@ pub fn read_ply(path: &Path) -> Result<PlySurface, OutputError> {
         body = b;
         Ok(a)
     };
-    let f32_at = |b: &[u8], i: usize| f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]);
-    let mut out = PlySurface { edges, ..PlySurface::default() };
+    let f32_at =
+        |b: &[u8], i: usize| f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]);
+    let mut out = PlySurface {
+        edges,
+        ..PlySurface::default()
+    };
     for _ in 0..nv {
         let row = take(24)?;
-        out.positions.push([f32_at(row, 0), f32_at(row, 1), f32_at(row, 2)]);
+        out.positions
+            .push([f32_at(row, 0), f32_at(row, 1), f32_at(row, 2)]);
         out.normals.push([f32_at(row, 3), f32_at(row, 4), f32_at(row, 5)]);
     }
     for _ in 0..ne {
@@ -128,4 +135,55 @@ pub fn read_ply(path: &Path) -> Result<PlySurface, OutputError> {
         return Err(bad(format!("{} bytes after the last element", body.len())));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vector;
+
+    #[test]
+    fn surface_ply_round_trips_faces_and_edges() {
+        let dir = std::env::temp_dir().join(format!("sph_ply_test_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let tri = SurfaceMesh::<3> {
+            positions: vec![
+                Vector::<3>::new(0.0, 0.0, 0.0),
+                Vector::<3>::new(1.0, 0.0, 0.0),
+                Vector::<3>::new(0.0, 1.0, 0.5),
+            ],
+            normals: vec![Vector::<3>::new(0.0, 0.6, 0.8); 3],
+            elements: vec![[0, 1, 2], [2, 1, 0]],
+        };
+        write_ply(&dir.join("t.ply"), &tri, 0.5).unwrap();
+        let back = read_ply(&dir.join("t.ply")).unwrap();
+        assert_eq!(
+            back.positions,
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.5]]
+        );
+        assert_eq!(back.normals, vec![[0.0, 0.6, 0.8]; 3]);
+        assert_eq!(
+            (back.elements, back.edges),
+            (vec![vec![0, 1, 2], vec![2, 1, 0]], false)
+        );
+        let seg = SurfaceMesh::<2> {
+            positions: vec![Vector::<2>::new(0.5, 0.0), Vector::<2>::new(0.0, 2.0)],
+            normals: vec![Vector::<2>::new(1.0, 0.0); 2],
+            elements: vec![[0, 1]],
+        };
+        write_ply(&dir.join("s.ply"), &seg, 0.0).unwrap();
+        let back = read_ply(&dir.join("s.ply")).unwrap();
+        assert_eq!(
+            (back.positions[1], back.elements.clone(), back.edges),
+            ([0.0, 2.0, 0.0], vec![vec![0, 1]], true)
+        );
+        // A truncated body is refused.
+        let bytes = std::fs::read(dir.join("s.ply")).unwrap();
+        std::fs::write(dir.join("cut.ply"), &bytes[..bytes.len() - 3]).unwrap();
+        assert!(matches!(
+            read_ply(&dir.join("cut.ply")),
+            Err(OutputError::Malformed { .. })
+        ));
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

@@ -8,9 +8,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::vtu::read_vtu_points;
 use super::ply::write_ply;
 use super::vtp::write_vtp;
+use super::vtu::read_vtu_points;
 use super::{OutputError, PvdSeries, read_summary};
 use crate::math::{Real, Vector};
 use crate::surface::{SurfaceError, SurfaceMesh, SurfaceParams, reconstruct};
@@ -49,7 +49,10 @@ impl SurfaceSeries {
     pub fn create(dir: &Path) -> Result<Self, OutputError> {
         let sub = dir.join("surface");
         std::fs::create_dir_all(&sub).map_err(|e| OutputError::io(&sub, e))?;
-        Ok(Self { dir: dir.to_path_buf(), pvd: PvdSeries::new() })
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            pvd: PvdSeries::new(),
+        })
     }
 
     /// A series continuing from the `(time [s], vtp file)` entries already written (restarts).
@@ -68,7 +71,12 @@ impl SurfaceSeries {
 
     /// Writes `mesh` as frame `index` at time `time` [s] (`.vtp` and `.ply`), then rewrites
     /// `surface.pvd`. Returns the `.vtp` path relative to the run directory.
-    pub fn push<const D: usize>(&mut self, index: usize, time: f64, mesh: &SurfaceMesh<D>) -> Result<String, OutputError> {
+    pub fn push<const D: usize>(
+        &mut self,
+        index: usize,
+        time: f64,
+        mesh: &SurfaceMesh<D>,
+    ) -> Result<String, OutputError> {
         let stem = format!("surface/surface_{index:05}");
         let vtp = format!("{stem}.vtp");
         write_vtp(&self.dir.join(&vtp), mesh, time)?;
@@ -94,7 +102,10 @@ pub struct SurfaceRunReport {
 /// dimension, spacing and h from `summary.json`, the frames from `particles.pvd`, keeps the
 /// fluid particles (`kind` 0) and writes [`SurfaceSeries`] with [`SurfaceParams::new`].
 pub fn reconstruct_run(dir: &Path) -> Result<SurfaceRunReport, SurfaceOutputError> {
-    let not_a_run = |reason: String| SurfaceOutputError::NotARun { dir: dir.to_path_buf(), reason };
+    let not_a_run = |reason: String| SurfaceOutputError::NotARun {
+        dir: dir.to_path_buf(),
+        reason,
+    };
     if !dir.is_dir() {
         return Err(not_a_run("no such directory".into()));
     }

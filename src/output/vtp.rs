@@ -38,7 +38,11 @@ pub fn write_vtp<const D: usize>(path: &Path, mesh: &SurfaceMesh<D>, time: f64) 
     }
     let n = mesh.positions.len() as u64;
     let m = mesh.elements.len() as u64;
-    let (section, count_attr) = if D == 3 { ("Polys", "NumberOfPolys") } else { ("Lines", "NumberOfLines") };
+    let (section, count_attr) = if D == 3 {
+        ("Polys", "NumberOfPolys")
+    } else {
+        ("Lines", "NumberOfLines")
+    };
     let sizes = [n * 12, n * 12, m * D as u64 * 8, m * 8];
     let mut offsets = [0u64; 4];
     for i in 1..4 {
@@ -111,7 +115,10 @@ pub fn read_vtp(path: &Path) -> Result<VtpSurface, OutputError> {
         .windows(13)
         .position(|w| w == b"<AppendedData")
         .ok_or_else(|| bad("no <AppendedData> element"))?;
-    let gt = data[app..].iter().position(|&b| b == b'>').ok_or_else(|| bad("unterminated <AppendedData>"))?;
+    let gt = data[app..]
+        .iter()
+        .position(|&b| b == b'>')
+        .ok_or_else(|| bad("unterminated <AppendedData>"))?;
     let underscore = data[app + gt + 1..]
         .iter()
         .position(|&b| !b.is_ascii_whitespace())
@@ -123,7 +130,9 @@ pub fn read_vtp(path: &Path) -> Result<VtpSurface, OutputError> {
     let appended = &data[underscore + 1..];
     let block = |offset: &str, ty: VtkType| -> Result<Vec<f64>, OutputError> {
         let off: usize = offset.trim().parse().map_err(|_| bad("bad DataArray offset"))?;
-        let len_bytes = appended.get(off..off + 8).ok_or_else(|| bad("block offset past end of file"))?;
+        let len_bytes = appended
+            .get(off..off + 8)
+            .ok_or_else(|| bad("block offset past end of file"))?;
         let mut len = [0u8; 8];
         len.copy_from_slice(len_bytes);
         let len = usize::try_from(u64::from_le_bytes(len)).map_err(|_| bad("block too long"))?;
@@ -146,25 +155,33 @@ pub fn read_vtp(path: &Path) -> Result<VtpSurface, OutputError> {
                 if tag.attr("type") != Some("PolyData") {
                     return Err(bad("VTKFile type is not PolyData"));
                 }
-                if tag.attr("header_type") != Some("UInt64") || tag.attr("byte_order") != Some("LittleEndian") {
+                if tag.attr("header_type") != Some("UInt64") || tag.attr("byte_order") != Some("LittleEndian")
+                {
                     return Err(bad("only little-endian files with UInt64 block headers are read"));
                 }
                 saw_polydata = true;
             }
             ("DataArray", TagKind::Start | TagKind::Empty) => {
-                let ty = tag.attr("type").and_then(VtkType::parse).ok_or_else(|| bad("unknown DataArray type"))?;
+                let ty = tag
+                    .attr("type")
+                    .and_then(VtkType::parse)
+                    .ok_or_else(|| bad("unknown DataArray type"))?;
                 let name = tag.attr("Name").unwrap_or("");
                 if name == "TimeValue" {
                     out.time = tag.text.trim().parse().ok();
                     continue;
                 }
-                let Some(offset) = tag.attr("offset") else { continue };
+                let Some(offset) = tag.attr("offset") else {
+                    continue;
+                };
                 let values = block(offset, ty)?;
                 let triples = |v: Vec<f64>| -> Result<Vec<[f32; 3]>, OutputError> {
                     if v.len() % 3 != 0 {
                         return Err(bad("a 3-component array has a partial tuple"));
                     }
-                    Ok(v.chunks_exact(3).map(|c| [c[0] as f32, c[1] as f32, c[2] as f32]).collect())
+                    Ok(v.chunks_exact(3)
+                        .map(|c| [c[0] as f32, c[1] as f32, c[2] as f32])
+                        .collect())
                 };
                 match (section, name) {
                     ("Points", _) => out.points = triples(values)?,
@@ -189,7 +206,9 @@ pub fn read_vtp(path: &Path) -> Result<VtpSurface, OutputError> {
         let mut start = 0usize;
         for end in offs {
             let end = end as usize;
-            let cell = conn.get(start..end).ok_or_else(|| bad("cell offsets are not increasing within connectivity"))?;
+            let cell = conn
+                .get(start..end)
+                .ok_or_else(|| bad("cell offsets are not increasing within connectivity"))?;
             if cell.iter().any(|&i| i < 0.0 || i as usize >= out.points.len()) {
                 return Err(bad("a cell refers to a point that does not exist"));
             }
@@ -201,4 +220,51 @@ pub fn read_vtp(path: &Path) -> Result<VtpSurface, OutputError> {
         return Err(bad("Normals and Points differ in length"));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vector;
+
+    #[test]
+    fn surface_vtp_round_trips_triangles_and_segments() {
+        let dir = std::env::temp_dir().join(format!("sph_vtp_test_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let tri = SurfaceMesh::<3> {
+            positions: vec![
+                Vector::<3>::new(0.0, 0.0, 0.0),
+                Vector::<3>::new(1.0, 0.0, 0.0),
+                Vector::<3>::new(0.0, 1.0, 0.5),
+            ],
+            normals: vec![Vector::<3>::new(0.0, 0.0, 1.0); 3],
+            elements: vec![[0, 1, 2]],
+        };
+        write_vtp(&dir.join("t.vtp"), &tri, 0.25).unwrap();
+        let back = read_vtp(&dir.join("t.vtp")).unwrap();
+        assert_eq!(back.time, Some(0.25));
+        assert_eq!(
+            back.points,
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.5]]
+        );
+        assert_eq!(back.normals, vec![[0.0, 0.0, 1.0]; 3]);
+        assert_eq!((back.cells, back.lines), (vec![vec![0, 1, 2]], false));
+        let seg = SurfaceMesh::<2> {
+            positions: vec![Vector::<2>::new(0.5, 0.0), Vector::<2>::new(0.0, 2.0)],
+            normals: vec![Vector::<2>::new(1.0, 0.0); 2],
+            elements: vec![[0, 1], [1, 0]],
+        };
+        write_vtp(&dir.join("s.vtp"), &seg, 1.0).unwrap();
+        let back = read_vtp(&dir.join("s.vtp")).unwrap();
+        assert_eq!(back.points, vec![[0.5, 0.0, 0.0], [0.0, 2.0, 0.0]]);
+        assert_eq!((back.cells, back.lines), (vec![vec![0, 1], vec![1, 0]], true));
+        // A truncated file is refused, not misread.
+        let bytes = std::fs::read(dir.join("s.vtp")).unwrap();
+        std::fs::write(dir.join("cut.vtp"), &bytes[..bytes.len() - 40]).unwrap();
+        assert!(matches!(
+            read_vtp(&dir.join("cut.vtp")),
+            Err(OutputError::Malformed { .. })
+        ));
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

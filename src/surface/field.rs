@@ -74,7 +74,11 @@ impl<const D: usize> SparseField<D> {
     /// Bins the particles at `positions` [m] and evaluates eq. (25) with support
     /// `smoothing_length` [m] on every node, spacing `cell_size` [m], of the blocks near them.
     /// Both lengths must be positive and finite (see [`super::SurfaceParams::validate`]).
-    pub fn build(positions: &[Vector<D>], smoothing_length: f64, cell_size: f64) -> Result<Self, SurfaceError> {
+    pub fn build(
+        positions: &[Vector<D>],
+        smoothing_length: f64,
+        cell_size: f64,
+    ) -> Result<Self, SurfaceError> {
         let c = cell_size;
         let h = smoothing_length;
         // A block at least h wide keeps the reach at one bin for the default parameters.
@@ -271,25 +275,29 @@ impl<const D: usize> SparseField<D> {
         let block_len = self.block as f64 * self.cell_size;
         let home = x.map(|v| (v / block_len).floor() as i64);
         let mut grad = [0.0f64; D];
-        for_each_in_box(home.map(|k| k - self.reach), home.map(|k| k + self.reach), |bin| {
-            let Some(range) = self.bins.get(&bin) else { return };
-            for p in &self.particles[range.clone()] {
-                let mut d = [0.0f64; D];
-                let mut r2 = 0.0;
-                for k in 0..D {
-                    d[k] = x[k] - p[k];
-                    r2 += d[k] * d[k];
-                }
-                // A particle exactly at x has no direction; its term is zero by symmetry.
-                if r2 < h * h && r2 > 0.0 {
-                    let r = r2.sqrt();
-                    let s = -2.0 / h * (1.0 - r / h) / r;
+        for_each_in_box(
+            home.map(|k| k - self.reach),
+            home.map(|k| k + self.reach),
+            |bin| {
+                let Some(range) = self.bins.get(&bin) else { return };
+                for p in &self.particles[range.clone()] {
+                    let mut d = [0.0f64; D];
+                    let mut r2 = 0.0;
                     for k in 0..D {
-                        grad[k] += s * d[k];
+                        d[k] = x[k] - p[k];
+                        r2 += d[k] * d[k];
+                    }
+                    // A particle exactly at x has no direction; its term is zero by symmetry.
+                    if r2 < h * h && r2 > 0.0 {
+                        let r = r2.sqrt();
+                        let s = -2.0 / h * (1.0 - r / h) / r;
+                        for k in 0..D {
+                            grad[k] += s * d[k];
+                        }
                     }
                 }
-            }
-        });
+            },
+        );
         grad
     }
 }
@@ -304,7 +312,11 @@ mod tests {
             .iter()
             .map(|p| {
                 let r2: f64 = (0..D).map(|k| (x[k] - f64::from(p[k])).powi(2)).sum();
-                if r2 < h * h { (1.0 - r2.sqrt() / h).powi(2) } else { 0.0 }
+                if r2 < h * h {
+                    (1.0 - r2.sqrt() / h).powi(2)
+                } else {
+                    0.0
+                }
             })
             .sum::<f64>()
             .sqrt()
@@ -330,7 +342,10 @@ mod tests {
             let expected = value_naive(&positions, field.node_position(g), h);
             let got = f64::from(field.value(g));
             // f32 storage of an f64 sum: relative 1e-6.
-            assert!((got - expected).abs() <= 1e-6 * expected.max(1.0), "node {g:?}: {got} vs {expected}");
+            assert!(
+                (got - expected).abs() <= 1e-6 * expected.max(1.0),
+                "node {g:?}: {got} vs {expected}"
+            );
             checked += usize::from(expected > 0.0);
         });
         assert!(checked > 1000, "only {checked} non-zero nodes checked");
@@ -358,8 +373,13 @@ mod tests {
             let (mut a, mut b) = (x, x);
             a[k] += e;
             b[k] -= e;
-            let fd = (value_naive(&positions, a, 0.05).powi(2) - value_naive(&positions, b, 0.05).powi(2)) / (2.0 * e);
-            assert!((g[k] - fd).abs() <= 1e-5 * fd.abs().max(1.0), "axis {k}: {} vs {fd}", g[k]);
+            let fd = (value_naive(&positions, a, 0.05).powi(2) - value_naive(&positions, b, 0.05).powi(2))
+                / (2.0 * e);
+            assert!(
+                (g[k] - fd).abs() <= 1e-5 * fd.abs().max(1.0),
+                "axis {k}: {} vs {fd}",
+                g[k]
+            );
         }
     }
 

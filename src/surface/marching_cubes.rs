@@ -60,7 +60,8 @@ fn cube() -> &'static Cube {
             let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
             for side in 0..2 {
                 let f = 2 * axis + side;
-                let mut corners = [(0, 0), (1, 0), (1, 1), (0, 1)].map(|(a, b)| side << axis | a << u | b << v);
+                let mut corners =
+                    [(0, 0), (1, 0), (1, 1), (0, 1)].map(|(a, b)| side << axis | a << u | b << v);
                 if side == 0 {
                     corners.reverse();
                 }
@@ -72,7 +73,12 @@ fn cube() -> &'static Cube {
                 }
             }
         }
-        Cube { edges, face_corners, face_edges, edge_faces }
+        Cube {
+            edges,
+            face_corners,
+            face_edges,
+            edge_faces,
+        }
     })
 }
 
@@ -114,9 +120,7 @@ fn polygons(v: &[Real; 8], iso: Real) -> Vec<Vec<usize>> {
 fn safe_fan_start(polygon: &[usize]) -> Option<usize> {
     let faces = &cube().edge_faces;
     let n = polygon.len();
-    (0..n).find(|&s| {
-        (2..n - 1).all(|i| faces[polygon[s]] & faces[polygon[(s + i) % n]] == 0)
-    })
+    (0..n).find(|&s| (2..n - 1).all(|i| faces[polygon[s]] & faces[polygon[(s + i) % n]] == 0))
 }
 
 /// Eq. (25)'s isosurface at level `iso` in 3D as outward triangles, one block of cells per rayon
@@ -227,7 +231,11 @@ mod tests {
         let cube = cube();
         for pattern in 0u32..256 {
             let v: [Real; 8] = std::array::from_fn(|c| if pattern >> c & 1 == 1 { 2.0 } else { 0.0 });
-            let crossings = cube.edges.iter().filter(|&&(c, a)| (pattern >> c & 1) != (pattern >> (c | 1 << a) & 1)).count();
+            let crossings = cube
+                .edges
+                .iter()
+                .filter(|&&(c, a)| (pattern >> c & 1) != (pattern >> (c | 1 << a) & 1))
+                .count();
             let polygons = polygons(&v, 1.0);
             let used: usize = polygons.iter().map(Vec::len).sum();
             assert_eq!(used, crossings, "pattern {pattern:08b}");
@@ -252,7 +260,11 @@ mod tests {
         let (a, b, c) = (mid(p[0]), mid(p[1]), mid(p[2]));
         let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
         let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
+        let n = [
+            u[1] * w[2] - u[2] * w[1],
+            u[2] * w[0] - u[0] * w[2],
+            u[0] * w[1] - u[1] * w[0],
+        ];
         assert!(n.iter().all(|&x| x > 0.0), "normal {n:?}");
     }
 }

@@ -106,7 +106,8 @@ pub(crate) fn extract<const D: usize>(field: &SparseField<D>, iso: Real) -> Piec
                 };
                 for &(exit, entry) in &segments[..n] {
                     let (a, b) = (vertex(exit), vertex(entry));
-                    out.elements.push(std::array::from_fn(|i| if i == 0 { a.0 } else { b.0 }));
+                    out.elements
+                        .push(std::array::from_fn(|i| if i == 0 { a.0 } else { b.0 }));
                     out.vertices.push(a);
                     out.vertices.push(b);
                 }

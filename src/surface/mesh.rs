@@ -66,7 +66,10 @@ pub(crate) fn weld<const D: usize>(mut pieces: Pieces<D>) -> SurfaceMesh<D> {
 
 /// Outward unit normal of each vertex: `−∇F²/|∇F²|` of eq. (25) at the vertex; where the gradient
 /// vanishes (a symmetric spot), the normalised sum of the adjacent elements' normals.
-pub(crate) fn vertex_normals<const D: usize>(field: &SparseField<D>, mesh: &SurfaceMesh<D>) -> Vec<Vector<D>> {
+pub(crate) fn vertex_normals<const D: usize>(
+    field: &SparseField<D>,
+    mesh: &SurfaceMesh<D>,
+) -> Vec<Vector<D>> {
     let mut fallback = vec![Vector::<D>::zeros(); mesh.positions.len()];
     for e in &mesh.elements {
         let n = mesh.element_normal(e);
@@ -111,7 +114,12 @@ impl<const D: usize> SurfaceMesh<D> {
             let (a, b, c) = (self.point(e[0]), self.point(e[1]), self.point(e[2]));
             let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
             let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-            [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]].map(|x| 0.5 * x)
+            [
+                u[1] * w[2] - u[2] * w[1],
+                u[2] * w[0] - u[0] * w[2],
+                u[0] * w[1] - u[1] * w[0],
+            ]
+            .map(|x| 0.5 * x)
         } else {
             // The fluid is on the left of a → b, so the outward normal is the right-hand side.
             let (a, b) = (self.point(e[0]), self.point(e[1]));
@@ -131,7 +139,11 @@ impl<const D: usize> SurfaceMesh<D> {
                 if D == 3 {
                     let c = self.point(e[2]);
                     let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-                    let n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
+                    let n = [
+                        u[1] * w[2] - u[2] * w[1],
+                        u[2] * w[0] - u[0] * w[2],
+                        u[0] * w[1] - u[1] * w[0],
+                    ];
                     0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
                 } else {
                     (u[0] * u[0] + u[1] * u[1]).sqrt()
@@ -156,7 +168,11 @@ impl<const D: usize> SurfaceMesh<D> {
                 let b = self.point(e[1]);
                 if D == 3 {
                     let c = self.point(e[2]);
-                    let bc = [b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2], b[0] * c[1] - b[1] * c[0]];
+                    let bc = [
+                        b[1] * c[2] - b[2] * c[1],
+                        b[2] * c[0] - b[0] * c[2],
+                        b[0] * c[1] - b[1] * c[0],
+                    ];
                     (a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2]) / 6.0
                 } else {
                     0.5 * (a[0] * b[1] - a[1] * b[0])
@@ -188,7 +204,9 @@ impl<const D: usize> SurfaceMesh<D> {
                 }
             }
         }
-        uses.values().filter(|&&(sum, count)| sum != 0 || count != 2).count()
+        uses.values()
+            .filter(|&&(sum, count)| sum != 0 || count != 2)
+            .count()
     }
 }
 
@@ -201,12 +219,23 @@ mod tests {
         let positions = (0..8)
             .map(|i| Vector::<3>::new((i & 1) as Real, ((i >> 1) & 1) as Real, ((i >> 2) & 1) as Real))
             .collect();
-        let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
         let elements = quads
             .iter()
             .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
             .collect();
-        SurfaceMesh { positions, normals: Vec::new(), elements }
+        SurfaceMesh {
+            positions,
+            normals: Vec::new(),
+            elements,
+        }
     }
 
     #[test]
@@ -230,7 +259,11 @@ mod tests {
             Vector::<2>::new(1.0, 1.0),
             Vector::<2>::new(0.0, 1.0),
         ];
-        let mut mesh = SurfaceMesh { positions, normals: Vec::new(), elements: vec![[0, 1], [1, 2], [2, 3], [3, 0]] };
+        let mut mesh = SurfaceMesh {
+            positions,
+            normals: Vec::new(),
+            elements: vec![[0, 1], [1, 2], [2, 3], [3, 0]],
+        };
         assert!((mesh.enclosed_measure() - 1.0).abs() < 1e-12);
         assert!((mesh.boundary_measure() - 4.0).abs() < 1e-12);
         assert_eq!(mesh.open_facets(), 0);

@@ -53,7 +53,9 @@ pub enum SurfaceError {
         value: f64,
     },
     /// Positions too far from the origin, in grid cells, for 64-bit node indices.
-    #[error("particle {particle} lies {cells:.3e} grid cells from the origin, beyond what node indices can address")]
+    #[error(
+        "particle {particle} lies {cells:.3e} grid cells from the origin, beyond what node indices can address"
+    )]
     OutOfRange {
         /// Index of the particle in the input.
         particle: usize,
@@ -145,4 +147,73 @@ pub fn reconstruct<const D: usize>(
     };
     mesh.normals = mesh::vertex_normals(&field, &mesh);
     Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn surface_iso_level_is_half_the_interior_square() {
+        // 2D, h = 2 dx: F_int² = π·4/6; 3D: 2π·8/15.
+        assert!((iso_level(2, 0.01, 0.02).powi(2) - std::f64::consts::PI * 4.0 / 12.0).abs() < 1e-12);
+        assert!((iso_level(3, 0.01, 0.02).powi(2) - std::f64::consts::PI * 8.0 / 15.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn surface_of_no_particles_is_empty_and_bad_parameters_are_named() {
+        let params = SurfaceParams::new::<3>(0.01, 0.02);
+        assert!(reconstruct::<3>(&[], &params).unwrap().is_empty());
+        let bad = SurfaceParams {
+            cell_size: 0.0,
+            ..params
+        };
+        assert_eq!(
+            reconstruct::<3>(&[Vector::<3>::zeros()], &bad).unwrap_err(),
+            SurfaceError::BadParameter {
+                name: "cell_size",
+                value: 0.0
+            }
+        );
+        let nan = SurfaceParams {
+            smoothing_length: f64::NAN,
+            ..params
+        };
+        assert!(matches!(
+            reconstruct::<3>(&[], &nan),
+            Err(SurfaceError::BadParameter {
+                name: "smoothing_length",
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn surface_drops_a_lone_particle_and_closes_around_a_small_cluster() {
+        let params = SurfaceParams::new::<3>(0.01, 0.02);
+        // F ≤ 1 around a lone particle, below F_iso ≈ 1.29 for h = 2 dx: spray is not drawn.
+        assert!(
+            reconstruct(&[Vector::<3>::new(0.3, -0.2, 0.1)], &params)
+                .unwrap()
+                .is_empty()
+        );
+        let centre = Vector::<3>::new(0.3, -0.2, 0.1);
+        let cluster: Vec<Vector<3>> = (0..27)
+            .map(|i| {
+                centre
+                    + Vector::<3>::new(
+                        (i % 3) as Real - 1.0,
+                        ((i / 3) % 3) as Real - 1.0,
+                        (i / 9) as Real - 1.0,
+                    ) * 0.01
+            })
+            .collect();
+        let mesh = reconstruct(&cluster, &params).unwrap();
+        assert!(!mesh.is_empty());
+        assert_eq!(mesh.open_facets(), 0);
+        assert!(mesh.enclosed_measure() > 0.0);
+        for (x, n) in mesh.positions.iter().zip(&mesh.normals) {
+            assert!((x - centre).dot(n) > 0.0, "normal {n:?} at {x:?}");
+        }
+    }
 }
