@@ -1,7 +1,7 @@
 //! Marching cubes [LC87]: the isosurface of eq. (25) in 3D as outward triangles.
 //!
 //! Instead of the classic 256-case table, each cube's surface is built from its faces: every
-//! face contributes the segments of [`super::marching_squares::face_segments`] (asymptotic decider on
+//! face contributes the segments of `marching_squares::face_segments` (asymptotic decider on
 //! ambiguous faces), which join into closed polygons around the cube. Because two cubes sharing
 //! a face compute the same segments from the same four values, neighbouring polygons meet edge
 //! to edge and the welded mesh is watertight wherever the fluid is closed (the classic table

@@ -20,7 +20,9 @@
 //! surface half a spacing outside the outer particle centres, independent of `h/dx`. On a
 //! curved surface of radius `R` the level sits about `h²/(10 R)` inside the union body (less than
 //! half the kernel ball is inside there); on a 20-particle sphere with `h = 2 dx` that is
-//! 0.04 dx, a volume error near 1 %. Measured in `tests/surface.rs`.
+//! 0.04 dx, a volume error near 1 %. Measured in `tests/surface.rs`. The level exceeds the
+//! value 1 that F reaches at a lone particle (for h > 1.69 dx in 3D, h > 1.96 dx in 2D), so
+//! isolated spray particles are not drawn; clusters of a few particles are.
 //!
 //! References: [P] the seed paper, eq. (25); [LC87] Lorensen & Cline 1987 (marching cubes);
 //! [NH91] Nielson & Hamann 1991 (the asymptotic decider on ambiguous faces).
