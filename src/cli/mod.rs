@@ -3,12 +3,14 @@
 //! `sph run SCENE` runs a scene and writes its results; `sph check SCENE` validates a scene and
 //! prints its particle counts, memory estimate and stage plan; `sph sweep SCENE --set
 //! KEY=V1,V2,...` runs one variant per value and compares them; `sph bench` times the solver at
-//! several sizes on each backend.
+//! several sizes on each backend; `sph surface RUN_DIR` reconstructs the free surface of a
+//! finished run's frames.
 
 mod bench;
 mod check;
 mod compare;
 mod run;
+mod surface;
 mod sweep;
 
 use clap::{Parser, Subcommand, ValueEnum};
@@ -134,6 +136,12 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
     },
+    /// Reconstruct the free surface (eq. 25) of every frame of a finished run: writes
+    /// RUN_DIR/surface/surface_NNNNN.vtp and .ply and the series RUN_DIR/surface.pvd.
+    Surface {
+        /// Output directory of a finished `sph run` (holds summary.json and particles.pvd).
+        run_dir: PathBuf,
+    },
     /// Validate a scene; print particle counts, memory needed and the stage plan.
     Check {
         /// Scene file (TOML).
@@ -185,6 +193,7 @@ where
             sweep::sweep(&scene, out, threads, backend, &sets)
         }
         Command::Check { scene, sets } => check::check(&scene, &sets),
+        Command::Surface { run_dir } => surface::surface(&run_dir),
         Command::Compare {
             scene,
             runs,

@@ -77,6 +77,8 @@ pub struct Scene {
     pub output_interval: f64,
     /// Whether particle frames are written.
     pub write_frames: bool,
+    /// Whether the free surface (eq. (25)) is written at every frame time.
+    pub write_surface: bool,
     /// Probes (`[[probe]]`), in file order, with unique names.
     pub probes: Vec<Probe>,
 }

@@ -270,6 +270,9 @@ pub struct OutputFile {
     pub interval: Option<f64>,
     /// Whether to write particle frames; default true.
     pub frames: Option<bool>,
+    /// Whether to write the free surface (eq. (25)) at every frame time as
+    /// `surface/surface_NNNNN.vtp` and `.ply`, listed in `surface.pvd`; default false.
+    pub surface: Option<bool>,
 }
 
 /// `[[probe]]`: a quantity measured during the run.

@@ -443,6 +443,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         None => end_time.map(|t| t / 50.0),
     };
     let write_frames = out.and_then(|o| o.frames).unwrap_or(true);
+    let write_surface = out.and_then(|o| o.surface).unwrap_or(false);
 
     let resolved = (|| {
         Some(Scene {
@@ -466,6 +467,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             end_time: end_time?,
             output_interval: interval?,
             write_frames,
+            write_surface,
             probes,
         })
     })();
