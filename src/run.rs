@@ -246,7 +246,7 @@ fn surface_series<const D: usize>(
     if !scene.write_surface {
         return Ok(None);
     }
-    let params = SurfaceParams::new::<D>(scene.spacing, scene.smoothing_length);
+    let params = SurfaceParams::with_radius::<D>(scene.spacing, scene.surface_radius);
     Ok(Some((SurfaceSeries::resume(dir, entries)?, params)))
 }
 

@@ -141,6 +141,10 @@ enum Command {
     Surface {
         /// Output directory of a finished `sph run` (holds summary.json and particles.pvd).
         run_dir: PathBuf,
+        /// Support radius R of eq. (25) in particle spacings (smaller: sharper edges and
+        /// corners, bumpier curved surfaces; see the README's "Free surface").
+        #[arg(long, value_name = "R", default_value_t = crate::surface::DEFAULT_RADIUS)]
+        radius: f64,
     },
     /// Validate a scene; print particle counts, memory needed and the stage plan.
     Check {
@@ -193,7 +197,7 @@ where
             sweep::sweep(&scene, out, threads, backend, &sets)
         }
         Command::Check { scene, sets } => check::check(&scene, &sets),
-        Command::Surface { run_dir } => surface::surface(&run_dir),
+        Command::Surface { run_dir, radius } => surface::surface(&run_dir, radius),
         Command::Compare {
             scene,
             runs,

@@ -99,9 +99,11 @@ pub struct SurfaceRunReport {
 }
 
 /// Reconstructs the free surface of every frame of the finished run in `dir`: reads the
-/// dimension, spacing and h from `summary.json`, the frames from `particles.pvd`, keeps the
-/// fluid particles (`kind` 0) and writes [`SurfaceSeries`] with [`SurfaceParams::new`].
-pub fn reconstruct_run(dir: &Path) -> Result<SurfaceRunReport, SurfaceOutputError> {
+/// dimension and spacing from `summary.json`, the frames from `particles.pvd`, keeps the
+/// fluid particles (`kind` 0) and writes [`SurfaceSeries`] with
+/// [`SurfaceParams::with_radius`]`(spacing, radius)` (`radius` in spacings, e.g.
+/// [`crate::surface::DEFAULT_RADIUS`]).
+pub fn reconstruct_run(dir: &Path, radius: f64) -> Result<SurfaceRunReport, SurfaceOutputError> {
     let not_a_run = |reason: String| SurfaceOutputError::NotARun {
         dir: dir.to_path_buf(),
         reason,
@@ -121,15 +123,15 @@ pub fn reconstruct_run(dir: &Path) -> Result<SurfaceRunReport, SurfaceOutputErro
             .and_then(serde_json::Value::as_f64)
             .ok_or_else(|| not_a_run(format!("summary.json has no number `{key}`")))
     };
-    let (spacing, h) = (length("spacing")?, length("smoothing_length")?);
+    let spacing = length("spacing")?;
     let pvd_path = dir.join("particles.pvd");
     if !pvd_path.is_file() {
         return Err(not_a_run("no particles.pvd (were frames written?)".into()));
     }
     let frames = PvdSeries::read(&pvd_path)?;
     match summary.dimension {
-        2 => surface_frames::<2>(dir, &frames, spacing, h),
-        3 => surface_frames::<3>(dir, &frames, spacing, h),
+        2 => surface_frames::<2>(dir, &frames, spacing, radius),
+        3 => surface_frames::<3>(dir, &frames, spacing, radius),
         d => Err(SurfaceError::UnsupportedDimension(d).into()),
     }
 }
@@ -138,9 +140,9 @@ fn surface_frames<const D: usize>(
     dir: &Path,
     frames: &PvdSeries,
     spacing: f64,
-    h: f64,
+    radius: f64,
 ) -> Result<SurfaceRunReport, SurfaceOutputError> {
-    let params = SurfaceParams::new::<D>(spacing, h);
+    let params = SurfaceParams::with_radius::<D>(spacing, radius);
     let mut series = SurfaceSeries::create(dir)?;
     let mut report = SurfaceRunReport::default();
     for (index, (time, file)) in frames.entries().iter().enumerate() {

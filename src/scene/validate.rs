@@ -444,6 +444,10 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
     };
     let write_frames = out.and_then(|o| o.frames).unwrap_or(true);
     let write_surface = out.and_then(|o| o.surface).unwrap_or(false);
+    let surface_radius = match out.and_then(|o| o.surface_radius) {
+        Some(r) => c.positive(op.k("surface_radius"), r),
+        None => Some(crate::surface::DEFAULT_RADIUS),
+    };
 
     let resolved = (|| {
         Some(Scene {
@@ -468,6 +472,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             output_interval: interval?,
             write_frames,
             write_surface,
+            surface_radius: surface_radius?,
             probes,
         })
     })();
