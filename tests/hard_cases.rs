@@ -105,8 +105,10 @@ fn rest_3d_wcsph() {
 /// sees pressure noise the sweeps cannot: `rest_2d` blows up by step 10 and this case passes
 /// the bound only until step 8; the poly6 gradient in the force stage too is stable in 2D and
 /// unstable in 3D (pairing) by step 15; β = 0.6–0.9 or restarting the momentum when the
-/// residual grows leaves stages at the cap. The next step is one kernel for density and
-/// pressure gradient that resists pairing (Wendland C2, as IISPH/DFSPH codes use).
+/// residual grows leaves stages at the cap. One kernel for density and every gradient
+/// (Wendland C2, support h, as DualSPHysics and DFSPH codes use) keeps `rest_2d` within its
+/// bound for 1 s, but here rises 0.35 % with a steady −0.03 m/s mean vertical velocity that
+/// the positions do not follow (the stages' velocity, not a motion). Still open.
 #[test]
 #[ignore = "known failure: the start-up step raises KE + PE by 0.37 % of |E0| (limit 0.1 %)"]
 fn rest_3d_corrected() {
