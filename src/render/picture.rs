@@ -25,6 +25,9 @@ pub const MAX_WIDTH: u32 = crate::output::plot::MAX_SIZE;
 /// Background of the picture.
 const BACKGROUND: [u8; 3] = [255, 255, 255];
 
+/// How much darker the farthest solid particle of a 3D view is than the nearest.
+const DEPTH_DARKENING: f64 = 0.45;
+
 /// Text and outline colour.
 const INK: [u8; 3] = [0, 0, 0];
 
@@ -157,18 +160,34 @@ fn draw_particles(canvas: &mut Canvas, particles: &FrameParticles, style: &Frame
         .map(|i| (style.projection.project(particles.position[i]).depth, i))
         .collect();
     order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    // Depth range of what is drawn: the farthest is sorted first, the nearest last.
+    let (far, near) = match (order.first(), order.last()) {
+        (Some(f), Some(n)) => (f.0, n.0),
+        _ => (0.0, 0.0),
+    };
     let (u0, _, _, v1) = style.bounds;
     let r = style.radius * layout.scale;
     for (_, i) in order {
         let p = style.projection.project(particles.position[i]);
         let x = layout.origin.0 + (p.u - u0) * layout.scale;
         let y = layout.origin.1 + (v1 - p.v) * layout.scale;
-        let color = if particles.kind[i] != 0 {
-            solid_grey(particles.kind[i])
+        // Solids are drawn without rims (a rim on every wall particle is a texture the PNG
+        // compressor cannot shrink); in 3D their grey darkens with distance instead, so the
+        // floor and the walls of a tank read as separate faces.
+        if particles.kind[i] != 0 {
+            let grey = solid_grey(particles.kind[i]);
+            let color = if style.shaded {
+                // 0 at the farthest drawn particle, 1 at the nearest.
+                let nearness = (p.depth - far) / (near - far).max(f64::MIN_POSITIVE);
+                let f = 1.0 - DEPTH_DARKENING * (1.0 - nearness);
+                grey.map(|v| (f64::from(v) * f).round() as u8)
+            } else {
+                grey
+            };
+            canvas.disc(x, y, r, color, false);
         } else {
-            style.range.color(particles.value[i])
-        };
-        canvas.disc(x, y, r, color, style.shaded);
+            canvas.disc(x, y, r, style.range.color(particles.value[i]), style.shaded);
+        }
     }
 }
 

@@ -3,6 +3,12 @@
 //! Discs are filled directly (no plotting library per particle): one frame of 10^5–10^6
 //! particles takes milliseconds, so every frame of a run can be drawn.
 
+/// Inner radius of a shaded disc's dark ring, as a fraction of the radius.
+pub const RIM: f64 = 0.7;
+
+/// Brightness of a shaded disc's ring relative to its colour.
+pub const RIM_SHADE: f64 = 0.72;
+
 /// An 8-bit sRGB image, row-major from the top-left pixel, 3 bytes per pixel.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Canvas {
@@ -50,8 +56,9 @@ impl Canvas {
 
     /// A disc centred at (`cx`, `cy`) [px, may be fractional] of radius `r` [px], clipped to the
     /// canvas. A pixel is inside when its centre is within `r` (at least the nearest pixel is
-    /// drawn). With `shaded`, the colour darkens towards the rim (by up to 35 %) so that
-    /// overlapping spheres in a 3D view stay distinguishable.
+    /// drawn). With `shaded`, the outer ring (beyond [`RIM`] of the radius) is darkened to
+    /// [`RIM_SHADE`] so that overlapping spheres in a 3D view stay distinguishable; two flat
+    /// tones rather than a gradient keep the PNG small (a third of the size at 10^5 particles).
     pub fn disc(&mut self, cx: f64, cy: f64, r: f64, color: [u8; 3], shaded: bool) {
         if !(cx.is_finite() && cy.is_finite() && r.is_finite()) {
             return;
@@ -63,6 +70,7 @@ impl Canvas {
         let y0 = ((cy - r).floor() as i64).max(0);
         let y1 = ((cy + r).ceil() as i64).min(h - 1);
         let r2 = r * r;
+        let rim = color.map(|v| (f64::from(v) * RIM_SHADE).round() as u8);
         for y in y0..=y1 {
             let dy = y as f64 + 0.5 - cy;
             for x in x0..=x1 {
@@ -71,12 +79,7 @@ impl Canvas {
                 if d2 > r2 {
                     continue;
                 }
-                let c = if shaded {
-                    let f = 1.0 - 0.35 * d2 / r2;
-                    color.map(|v| (f64::from(v) * f).round() as u8)
-                } else {
-                    color
-                };
+                let c = if shaded && d2 > RIM * RIM * r2 { rim } else { color };
                 let k = 3 * (y * w + x) as usize;
                 self.pixels[k..k + 3].copy_from_slice(&c);
             }
