@@ -5,8 +5,8 @@
 //! parallel over frames (rayon): the first fixes what must not change from frame to frame (the
 //! colour range, the picture's extent, the fluid's bounding box for the cut-away of near
 //! walls), the second draws each selected frame and writes `frame_NNNNN.png` (NNNNN = the
-//! frame's index in the series). Both passes cover every frame of the run whatever `every` is,
-//! so `--every 10` draws the same colours as `--every 1`.
+//! frame's index in the series). The first pass covers every frame of the run whatever `every`
+//! is, so `--every 10` draws the same colours as `--every 1`.
 //!
 //! Files: [`colormap`] (viridis, the range and its ticks), [`projection`] (views and the
 //! cut-away), [`raster`] (the pixel buffer and discs), [`frames`] (reading the run),

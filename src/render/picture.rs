@@ -36,7 +36,8 @@ const INK: [u8; 3] = [0, 0, 0];
 pub struct FrameStyle {
     /// The camera.
     pub projection: Projection,
-    /// Shade discs as spheres (3D views).
+    /// 3D cues: a dark rim on fluid discs, solid greys darkening with depth (over the depth
+    /// range drawn in the frame).
     pub shaded: bool,
     /// Extent of the picture plane drawn, `(u_min, u_max, v_min, v_max)` [m].
     pub bounds: (f64, f64, f64, f64),

@@ -58,12 +58,14 @@ impl Canvas {
     /// canvas. A pixel is inside when its centre is within `r` (at least the nearest pixel is
     /// drawn). With `shaded`, the outer ring (beyond [`RIM`] of the radius) is darkened to
     /// [`RIM_SHADE`] so that overlapping spheres in a 3D view stay distinguishable; two flat
-    /// tones rather than a gradient keep the PNG small (a third of the size at 10^5 particles).
+    /// tones rather than a gradient keep the PNG smaller (570 rather than 800 kB for a 10^5-particle
+    /// 1000 px frame).
     pub fn disc(&mut self, cx: f64, cy: f64, r: f64, color: [u8; 3], shaded: bool) {
         if !(cx.is_finite() && cy.is_finite() && r.is_finite()) {
             return;
         }
-        let r = r.max(0.5);
+        // Every point lies within 1/√2 px of a pixel centre: no particle vanishes.
+        let r = r.max(std::f64::consts::FRAC_1_SQRT_2);
         let (w, h) = (i64::from(self.width), i64::from(self.height));
         let x0 = ((cx - r).floor() as i64).max(0);
         let x1 = ((cx + r).ceil() as i64).min(w - 1);
@@ -117,5 +119,9 @@ mod tests {
         c.disc(2.5, 1.5, 0.1, [9, 9, 9], false);
         assert_eq!(c.pixel(2, 1), Some([9, 9, 9]));
         assert_eq!(c.pixels.iter().filter(|&&b| b == 9).count(), 3);
+        // Centred on a pixel corner: still drawn.
+        let mut c = Canvas::new(4, 4, [0, 0, 0]);
+        c.disc(2.0, 2.0, 0.1, [9, 9, 9], false);
+        assert!(c.pixels.contains(&9));
     }
 }
