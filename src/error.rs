@@ -15,6 +15,9 @@ pub enum Error {
     /// Writing results failed.
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
+    /// A free surface could not be reconstructed or written.
+    #[error(transparent)]
+    Surface(#[from] crate::output::surface_series::SurfaceOutputError),
     /// A figure could not be drawn or written.
     #[error(transparent)]
     Plot(#[from] crate::output::plot::PlotError),

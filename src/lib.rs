@@ -33,6 +33,7 @@ pub mod run;
 pub mod scene;
 pub mod smoothing;
 pub mod solver;
+pub mod surface;
 pub mod sweep;
 pub mod validation;
 

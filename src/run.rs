@@ -2,7 +2,9 @@
 //!
 //! Output directory layout: `summary.json`, `forces.csv` (one row per solid per step),
 //! `steps.csv` (one row per step: time, dt, the criterion that limited it, extremes),
-//! `particles.pvd` and `frames/frame_NNNNN.vtu`. The `.pvd` is rewritten after every frame and
+//! `particles.pvd` and `frames/frame_NNNNN.vtu`; with `[output] surface = true` also
+//! `surface.pvd` and `surface/surface_NNNNN.{vtp,ply}` (the free surface of eq. (25) at each frame
+//! time, [`crate::output::surface_series`]). The `.pvd` is rewritten after every frame and
 //! every file is written to a temporary name and renamed, so a run that stops (error or kill)
 //! leaves every frame written so far readable; on a step error `summary.json` records it.
 
@@ -10,6 +12,7 @@ use crate::backend::{BackendKind, cuda};
 use crate::boundary::keep_out::KeepOutBox;
 use crate::error::Error;
 use crate::math::{Real, Vector};
+use crate::output::surface_series::{SurfaceOutputError, SurfaceSeries};
 use crate::output::vtu::Frame;
 use crate::output::{
     CsvTable, CsvValue, ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu,
@@ -19,6 +22,7 @@ use crate::scene::{Effect, Scene, SceneError, SolidShape, SolverKind, generate};
 use crate::solver::checkpoint::{Checkpoint, CheckpointError};
 use crate::solver::{Correction, Integrator};
 use crate::solver::{SimConfig, Simulation};
+use crate::surface::{SurfaceParams, reconstruct};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -173,6 +177,9 @@ pub struct RunState {
     pub next_frame: f64,
     /// Frames written so far: `(t [s], file)`.
     pub frames: Vec<(f64, String)>,
+    /// Surface meshes written so far: `(t [s], vtp file)`.
+    #[serde(default)]
+    pub surfaces: Vec<(f64, String)>,
     /// Steps per time-step limit so far.
     pub limits: std::collections::BTreeMap<String, u64>,
     /// The probes' record so far.
@@ -226,6 +233,21 @@ struct Writers {
     forces: Option<ForceLog>,
     /// `steps.csv`: one row per step, the step and the criterion that limited it.
     steps: CsvTable,
+    /// The free-surface series and its parameters, when the scene asks for it.
+    surface: Option<(SurfaceSeries, SurfaceParams)>,
+}
+
+/// The surface series of a scene with `[output] surface = true`, continuing `entries`.
+fn surface_series<const D: usize>(
+    dir: &Path,
+    scene: &Scene,
+    entries: &[(f64, String)],
+) -> Result<Option<(SurfaceSeries, SurfaceParams)>, OutputError> {
+    if !scene.write_surface {
+        return Ok(None);
+    }
+    let params = SurfaceParams::with_radius::<D>(scene.spacing, scene.surface_radius);
+    Ok(Some((SurfaceSeries::resume(dir, entries)?, params)))
 }
 
 /// Columns of `steps.csv`.
@@ -241,7 +263,12 @@ const STEP_COLUMNS: [&str; 7] = [
 
 impl Writers {
     /// The writers as they were at a checkpoint: frames listed up to then, `forces.csv` cut back.
-    fn resume(dir: &Path, with_forces: bool, state: &RunState) -> Result<Self, OutputError> {
+    fn resume<const D: usize>(
+        dir: &Path,
+        with_forces: bool,
+        scene: &Scene,
+        state: &RunState,
+    ) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir.join("frames")).map_err(|e| OutputError::io(&dir.join("frames"), e))?;
         let forces = match (with_forces, state.forces_len) {
             (true, Some(len)) => Some(ForceLog::resume(&dir.join("forces.csv"), len)?),
@@ -262,10 +289,11 @@ impl Writers {
             pvd,
             forces,
             steps,
+            surface: surface_series::<D>(dir, scene, &state.surfaces)?,
         })
     }
 
-    fn create(dir: &Path, with_forces: bool) -> Result<Self, OutputError> {
+    fn create<const D: usize>(dir: &Path, with_forces: bool, scene: &Scene) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir.join("frames")).map_err(|e| OutputError::io(&dir.join("frames"), e))?;
         let forces = if with_forces {
             Some(ForceLog::create(&dir.join("forces.csv"))?)
@@ -277,19 +305,30 @@ impl Writers {
             pvd: PvdSeries::new(),
             forces,
             steps: CsvTable::create(&dir.join("steps.csv"), &STEP_COLUMNS)?,
+            surface: surface_series::<D>(dir, scene, &[])?,
         })
     }
 
-    fn frame<const D: usize>(&mut self, sim: &Simulation<D>, write_frame: bool) -> Result<(), OutputError> {
+    fn frame<const D: usize>(&mut self, sim: &Simulation<D>, write_frame: bool) -> Result<(), Error> {
         if let Some(f) = self.forces.as_mut() {
             f.flush()?;
         }
         self.steps.flush()?;
+        let f = &sim.fields;
+        let time = sim.clock().time;
+        if let Some((series, params)) = self.surface.as_mut() {
+            let fluid: Vec<Vector<D>> = (0..f.len())
+                .filter(|&i| f.kind[i] == 0)
+                .map(|i| f.position[i])
+                .collect();
+            let mesh = reconstruct(&fluid, params).map_err(SurfaceOutputError::from)?;
+            series
+                .push(series.entries().len(), time, &mesh)
+                .map_err(SurfaceOutputError::from)?;
+        }
         if !write_frame {
             return Ok(());
         }
-        let f = &sim.fields;
-        let time = sim.clock().time;
         let name = format!("frames/frame_{:05}.vtu", self.pvd.len());
         let frame = Frame {
             time,
@@ -301,7 +340,7 @@ impl Writers {
         };
         write_vtu(&self.dir.join(&name), &frame)?;
         self.pvd.push(time, name);
-        self.pvd.write(&self.dir.join("particles.pvd"))
+        Ok(self.pvd.write(&self.dir.join("particles.pvd"))?)
     }
 }
 
@@ -331,8 +370,8 @@ fn drive<const D: usize>(
         _ => None,
     };
     let mut writers = match (&options.out_dir, &resumed) {
-        (Some(dir), Some(state)) => Some(Writers::resume(dir, with_forces, state)?),
-        (Some(dir), None) => Some(Writers::create(dir, with_forces)?),
+        (Some(dir), Some(state)) => Some(Writers::resume::<D>(dir, with_forces, scene, state)?),
+        (Some(dir), None) => Some(Writers::create::<D>(dir, with_forces, scene)?),
         (None, _) => None,
     };
     sim.use_backend(options.backend)?;
@@ -404,8 +443,9 @@ fn drive<const D: usize>(
         };
         let clock = sim.clock();
         let last = clock.time >= end;
-        let frame_due =
-            writers.is_some() && scene.write_frames && (clock.time >= next_frame - 1e-12 * end || last);
+        let frame_due = writers.is_some()
+            && (scene.write_frames || scene.write_surface)
+            && (clock.time >= next_frame - 1e-12 * end || last);
         if frame_due || probes.wants_fields(clock.time, last) {
             sim.sync_fields()?;
         }
@@ -430,6 +470,10 @@ fn drive<const D: usize>(
                 scene: restart.scene.clone(),
                 next_frame,
                 frames: w.pvd.entries().to_vec(),
+                surfaces: w
+                    .surface
+                    .as_ref()
+                    .map_or_else(Vec::new, |s| s.0.entries().to_vec()),
                 limits: limits.clone(),
                 probes: probes.state()?,
                 forces_len: match w.forces.as_mut() {

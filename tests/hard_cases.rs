@@ -95,8 +95,18 @@ fn rest_3d_wcsph() {
 /// at interior particles one or two spacings from the side walls (999.3–999.5 kg/m³ with
 /// P > 0), where the walls' correction increments are never negative; allowing negative wall
 /// increments converges every stage and keeps the potential energy flat, but the first step
-/// still gains 7.7e-3 J of kinetic energy (1.56e-3 of |E0|). The next place to work is how
-/// the sweeps treat walls and momentum, not the step size.
+/// still gains 7.7e-3 J of kinetic energy (1.56e-3 of |E0|). That energy is sideways noise,
+/// not bulk motion: in the last stage the residual falls to 1.3e-4 by sweep 60, then grows to
+/// 1.8e-3 by sweep 160 (heavy-ball sweeps with the spiky gradient are not a symmetric step, and
+/// a mode that shuffles particles sideways grows), leaving 0.05 m/s sideways near the floor.
+/// Measured fixes that failed elsewhere: the poly6 gradient (the density kernel's) in the
+/// sweeps, with walls of either sign, converges every stage here (≤ 81 sweeps, first-step
+/// kinetic energy 6e-5 J, pressure at the hydrostatic value), but the spiky force stage then
+/// sees pressure noise the sweeps cannot: `rest_2d` blows up by step 10 and this case passes
+/// the bound only until step 8; the poly6 gradient in the force stage too is stable in 2D and
+/// unstable in 3D (pairing) by step 15; β = 0.6–0.9 or restarting the momentum when the
+/// residual grows leaves stages at the cap. The next step is one kernel for density and
+/// pressure gradient that resists pairing (Wendland C2, as IISPH/DFSPH codes use).
 #[test]
 #[ignore = "known failure: the start-up step raises KE + PE by 0.37 % of |E0| (limit 0.1 %)"]
 fn rest_3d_corrected() {

@@ -3,7 +3,8 @@
 //! `sph run SCENE` runs a scene and writes its results; `sph check SCENE` validates a scene and
 //! prints its particle counts, memory estimate and stage plan; `sph sweep SCENE --set
 //! KEY=V1,V2,...` runs one variant per value and compares them; `sph bench` times the solver at
-//! several sizes on each backend; `sph render RUN_DIR` draws a run's frames and `sph plot RUN_DIR`
+//! several sizes on each backend; `sph surface RUN_DIR` reconstructs the free surface of a
+//! finished run's frames; `sph render RUN_DIR` draws a run's frames and `sph plot RUN_DIR`
 //! charts its logs.
 
 mod bench;
@@ -12,6 +13,7 @@ mod compare;
 mod plot;
 mod render;
 mod run;
+mod surface;
 mod sweep;
 
 use clap::{Parser, Subcommand, ValueEnum};
@@ -176,6 +178,16 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Reconstruct the free surface (eq. 25) of every frame of a finished run: writes
+    /// RUN_DIR/surface/surface_NNNNN.vtp and .ply and the series RUN_DIR/surface.pvd.
+    Surface {
+        /// Output directory of a finished `sph run` (holds summary.json and particles.pvd).
+        run_dir: PathBuf,
+        /// Support radius R of eq. (25) in particle spacings (smaller: sharper edges and
+        /// corners, bumpier curved surfaces; see the README's "Free surface").
+        #[arg(long, value_name = "R", default_value_t = crate::surface::DEFAULT_RADIUS)]
+        radius: f64,
+    },
     /// Validate a scene; print particle counts, memory needed and the stage plan.
     Check {
         /// Scene file (TOML).
@@ -227,6 +239,7 @@ where
             sweep::sweep(&scene, out, threads, backend, &sets)
         }
         Command::Check { scene, sets } => check::check(&scene, &sets),
+        Command::Surface { run_dir, radius } => surface::surface(&run_dir, radius),
         Command::Compare {
             scene,
             runs,

@@ -1,8 +1,9 @@
 //! Result output: VTK XML unstructured-grid frames ([`vtu`]), ParaView
 //! `.pvd` time series ([`pvd`]), CSV logs ([`csv`]) and the JSON run
-//! summary ([`summary`]).
+//! summary ([`summary`]); free-surface meshes as VTK polydata ([`vtp`]) and
+//! PLY ([`ply`]).
 //!
-//! Every whole-file writer (`.vtu`, `.pvd`, `.json`) writes to a sibling
+//! Every whole-file writer (`.vtu`, `.vtp`, `.ply`, `.pvd`, `.json`) writes to a sibling
 //! file with `.tmp` appended to its name and then renames it over the
 //! target, so a crash never leaves a half-written file behind. CSV logs are
 //! append-only and are flushed explicitly.
@@ -12,8 +13,11 @@
 
 pub mod csv;
 pub mod plot;
+pub mod ply;
 pub mod pvd;
 pub mod summary;
+pub mod surface_series;
+pub mod vtp;
 pub mod vtu;
 mod xml;
 

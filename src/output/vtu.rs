@@ -144,7 +144,7 @@ impl VtkType {
     /// Decodes little-endian values (length must be a multiple of
     /// [`size`](Self::size)) to `f64`. Exact for every type except 64-bit
     /// integers beyond 2^53.
-    fn decode_le(self, bytes: &[u8]) -> Vec<f64> {
+    pub(crate) fn decode_le(self, bytes: &[u8]) -> Vec<f64> {
         fn conv<const N: usize>(bytes: &[u8], f: impl Fn([u8; N]) -> f64) -> Vec<f64> {
             bytes
                 .chunks_exact(N)

@@ -77,6 +77,11 @@ pub struct Scene {
     pub output_interval: f64,
     /// Whether particle frames are written.
     pub write_frames: bool,
+    /// Whether the free surface (eq. (25)) is written at every frame time.
+    pub write_surface: bool,
+    /// Support radius of that surface's eq. (25) in particle spacings (`[output]
+    /// surface_radius`, default [`crate::surface::DEFAULT_RADIUS`]).
+    pub surface_radius: f64,
     /// Probes (`[[probe]]`), in file order, with unique names.
     pub probes: Vec<Probe>,
 }

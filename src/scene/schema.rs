@@ -270,6 +270,12 @@ pub struct OutputFile {
     pub interval: Option<f64>,
     /// Whether to write particle frames; default true.
     pub frames: Option<bool>,
+    /// Whether to write the free surface (eq. (25)) at every frame time as
+    /// `surface/surface_NNNNN.vtp` and `.ply`, listed in `surface.pvd`; default false.
+    pub surface: Option<bool>,
+    /// Support radius R of eq. (25) for that surface, in particle spacings, > 0; default
+    /// [`crate::surface::DEFAULT_RADIUS`] (independent of `smoothing_ratio`).
+    pub surface_radius: Option<f64>,
 }
 
 /// `[[probe]]`: a quantity measured during the run.

@@ -443,6 +443,11 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         None => end_time.map(|t| t / 50.0),
     };
     let write_frames = out.and_then(|o| o.frames).unwrap_or(true);
+    let write_surface = out.and_then(|o| o.surface).unwrap_or(false);
+    let surface_radius = match out.and_then(|o| o.surface_radius) {
+        Some(r) => c.positive(op.k("surface_radius"), r),
+        None => Some(crate::surface::DEFAULT_RADIUS),
+    };
 
     let resolved = (|| {
         Some(Scene {
@@ -466,6 +471,8 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             end_time: end_time?,
             output_interval: interval?,
             write_frames,
+            write_surface,
+            surface_radius: surface_radius?,
             probes,
         })
     })();
