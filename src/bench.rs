@@ -11,6 +11,7 @@
 use crate::backend::BackendKind;
 use crate::error::Error;
 use crate::grid::Grid;
+use crate::output::plot::{Figure, Series, SeriesStyle};
 use crate::run::AnySimulation;
 use crate::scene::{Scene, generate::count_particles, load_scene};
 use crate::solver::Simulation;
@@ -249,4 +250,34 @@ pub fn to_csv(rows: &[BenchRow]) -> String {
         ));
     }
     s
+}
+
+/// The paper's Fig. 5 as a chart: seconds per step against particle count, log–log, one line
+/// per backend (its device in the legend), in the order the backends first appear.
+pub fn timing_figure(rows: &[BenchRow]) -> Figure {
+    let mut series: Vec<Series> = Vec::new();
+    for r in rows {
+        let label = format!("{} ({})", r.backend, r.device);
+        let point = (r.particles as f64, r.seconds_per_step);
+        match series.iter_mut().find(|s| s.label == label) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series {
+                label,
+                points: vec![point],
+                style: SeriesStyle::LineMarkers,
+            }),
+        }
+    }
+    for s in &mut series {
+        s.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    Figure {
+        title: "time per step against particle count (Fig. 5)".into(),
+        x_label: "particles N".into(),
+        y_label: "time per step [s]".into(),
+        log_x: true,
+        log_y: true,
+        series,
+        ..Figure::default()
+    }
 }

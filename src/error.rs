@@ -21,6 +21,9 @@ pub enum Error {
     /// A figure could not be drawn or written.
     #[error(transparent)]
     Plot(#[from] crate::output::plot::PlotError),
+    /// A run's frames could not be rendered.
+    #[error(transparent)]
+    Render(#[from] crate::render::RenderError),
     /// A probe could not be compared with its reference data.
     #[error(transparent)]
     Probe(#[from] crate::probe::ProbeError),

@@ -1,9 +1,10 @@
 //! `sph bench [--backend cpu,cuda] [--sizes 1e4,1e5,...] [--scene S]`: the paper's Fig. 5 as a
-//! table (printed, and written to `bench.csv`).
+//! table (printed, and written to `bench.csv`); with `--plot` also as `bench.png` (log-log).
 
 use super::BackendArg;
 use crate::backend::BackendKind;
-use crate::bench::{BenchOptions, BenchRow, bench, stages_csv, to_csv};
+use crate::bench::{BenchOptions, BenchRow, bench, stages_csv, timing_figure, to_csv};
+use crate::output::plot::write_png;
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 
@@ -47,6 +48,7 @@ pub fn run_bench(
     steps: usize,
     sweeps: usize,
     sets: &[String],
+    plot: bool,
 ) -> anyhow::Result<()> {
     let sizes = sizes
         .iter()
@@ -108,5 +110,11 @@ pub fn run_bench(
         println!("{:>11} {:>5}: {}", r.particles, r.backend, parts.join(", "));
     }
     println!("wrote {} and {}", csv.display(), stages.display());
+    if plot {
+        let png = out.join("bench.png");
+        write_png(&timing_figure(&rows), &png, (900, 600))
+            .with_context(|| format!("writing {}", png.display()))?;
+        println!("wrote {}", png.display());
+    }
     Ok(())
 }

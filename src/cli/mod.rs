@@ -4,11 +4,14 @@
 //! prints its particle counts, memory estimate and stage plan; `sph sweep SCENE --set
 //! KEY=V1,V2,...` runs one variant per value and compares them; `sph bench` times the solver at
 //! several sizes on each backend; `sph surface RUN_DIR` reconstructs the free surface of a
-//! finished run's frames.
+//! finished run's frames; `sph render RUN_DIR` draws a run's frames and `sph plot RUN_DIR`
+//! charts its logs.
 
 mod bench;
 mod check;
 mod compare;
+mod plot;
+mod render;
 mod run;
 mod surface;
 mod sweep;
@@ -88,7 +91,7 @@ enum Command {
         sets: Vec<String>,
     },
     /// Time the solver at several particle counts on each backend (the paper's Fig. 5): prints
-    /// the table and writes bench.csv.
+    /// the table and writes bench.csv (and with --plot bench.png).
     Bench {
         /// Scene to rescale to each size.
         #[arg(long, default_value = "scenes/dam_break_column_3d.toml")]
@@ -114,6 +117,9 @@ enum Command {
         /// Override any scene key by its dotted TOML path.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
+        /// Also write bench.png: time per step against particles, log-log, one line per backend.
+        #[arg(long)]
+        plot: bool,
     },
     /// Draw one probe of several finished runs (their probes.csv) against the scene's
     /// reference data on one figure, and print each run's error or force peak.
@@ -135,6 +141,42 @@ enum Command {
         /// Override any scene key by its dotted TOML path.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
+    },
+    /// Draw a run's frames as PNG pictures (the paper's Figs. 2-3): particles coloured by a
+    /// field on one fixed scale for the whole run, solids grey, the time in a corner.
+    Render {
+        /// The run's output directory (holds particles.pvd and frames/).
+        run_dir: PathBuf,
+        /// Draw every N-th frame (frame 0 first).
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        every: usize,
+        /// View of a 3D run (2D runs: side, their x-y plane).
+        #[arg(long, value_enum, default_value_t = render::ViewArg::Side)]
+        view: render::ViewArg,
+        /// Field colouring the fluid.
+        #[arg(long, value_enum, default_value_t = render::ColorArg::Speed)]
+        color: render::ColorArg,
+        /// Image width [px]; the height follows the picture.
+        #[arg(long, default_value_t = 1200)]
+        width: u32,
+        /// Output directory [default: RUN_DIR/render_<view>_<color>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Chart a run's CSV logs as PNGs: force on each solid (Fig. 4), probes, density error,
+    /// correction iterations and time step per step.
+    Plot {
+        /// The run's output directory.
+        run_dir: PathBuf,
+        /// The run's scene: its probes with reference data are also drawn against it.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Override a key of --scene by its dotted TOML path (as given to the run).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Output directory [default: RUN_DIR/plots].
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// Reconstruct the free surface (eq. 25) of every frame of a finished run: writes
     /// RUN_DIR/surface/surface_NNNNN.vtp and .ply and the series RUN_DIR/surface.pvd.
@@ -215,6 +257,21 @@ where
             out,
             threads,
             sets,
-        } => bench::run_bench(&scene, out, threads, &backend, &sizes, steps, sweeps, &sets),
+            plot,
+        } => bench::run_bench(&scene, out, threads, &backend, &sizes, steps, sweeps, &sets, plot),
+        Command::Render {
+            run_dir,
+            every,
+            view,
+            color,
+            width,
+            out,
+        } => render::render(&run_dir, out, every, view, color, width),
+        Command::Plot {
+            run_dir,
+            scene,
+            sets,
+            out,
+        } => plot::plot(&run_dir, out, scene.as_deref(), &sets),
     }
 }

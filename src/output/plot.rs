@@ -30,7 +30,7 @@ const FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 
 /// The font family name under which [`FONT`] is registered; plotters' own
 /// defaults (legend, tick labels) ask for this family.
-const FONT_FAMILY: &str = "sans-serif";
+pub(crate) const FONT_FAMILY: &str = "sans-serif";
 
 /// Smallest accepted image side \[px\]: room for the title, axis labels and ticks.
 pub const MIN_SIZE: u32 = 200;
@@ -113,6 +113,8 @@ pub enum SeriesStyle {
     Line,
     /// One marker per point, no connecting line (experiment data).
     Markers,
+    /// A polyline with a marker at each point (few measured points, e.g. timings).
+    LineMarkers,
 }
 
 /// One curve of a [`Figure`].
@@ -218,6 +220,47 @@ pub fn write_png(figure: &Figure, path: &Path, size: (u32, u32)) -> Result<(), P
     Ok(())
 }
 
+/// Writes an 8-bit RGB image (`pixels`: row-major from the top-left, 3 bytes per pixel, `size` =
+/// (width, height) [px]) as a PNG to `path`, atomically as [`write_png`] (drawn into
+/// `<path>.tmp.png`, renamed once complete). For pictures drawn pixel by pixel, such as the
+/// particle frames of `sph render`.
+///
+/// # Errors
+/// [`PlotError::InvalidSize`] when a side is zero, above [`MAX_SIZE`] or `pixels` does not hold
+/// `3 · width · height` bytes, [`PlotError::Io`] and [`PlotError::Drawing`] as [`write_png`].
+pub fn write_rgb_png(pixels: &[u8], size: (u32, u32), path: &Path) -> Result<(), PlotError> {
+    let (width, height) = size;
+    let expected = 3 * width as usize * height as usize;
+    if width == 0 || height == 0 || width > MAX_SIZE || height > MAX_SIZE || pixels.len() != expected {
+        return Err(PlotError::InvalidSize { width, height });
+    }
+    let tmp = tmp_png_path(path);
+    let io_error = |source| PlotError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    File::create(&tmp).map_err(io_error)?;
+    let drawn = (|| {
+        let mut backend = BitMapBackend::new(&tmp, size);
+        backend
+            .blit_bitmap((0, 0), size, pixels)
+            .map_err(|e| e.to_string())?;
+        backend.present().map_err(|e| e.to_string())
+    })();
+    if let Err(message) = drawn {
+        let _ = fs::remove_file(&tmp);
+        return Err(PlotError::Drawing {
+            path: path.to_path_buf(),
+            message,
+        });
+    }
+    if let Err(e) = fs::rename(&tmp, path) {
+        let _ = fs::remove_file(&tmp);
+        return Err(io_error(e));
+    }
+    Ok(())
+}
+
 /// The temporary sibling the image is drawn into: `fig.png` -> `fig.png.tmp.png`.
 fn tmp_png_path(path: &Path) -> PathBuf {
     let mut name = path.as_os_str().to_owned();
@@ -279,7 +322,7 @@ fn axis_range(
 }
 
 /// Registers the embedded font with plotters once per process.
-fn register_embedded_font() -> Result<(), String> {
+pub(crate) fn register_embedded_font() -> Result<(), String> {
     static REGISTERED: OnceLock<Result<(), String>> = OnceLock::new();
     REGISTERED
         .get_or_init(|| {
@@ -297,7 +340,7 @@ fn font_size((width, height): (u32, u32)) -> f64 {
 /// How the tick labels of one axis are written; chosen once per axis so
 /// that all its labels share one style.
 #[derive(Debug, Clone, Copy)]
-struct TickFormat {
+pub(crate) struct TickFormat {
     /// Exponent notation (`2.5e-4`) for the whole axis.
     exponent: bool,
     /// Digits after the decimal point (of the mantissa in exponent notation);
@@ -307,7 +350,7 @@ struct TickFormat {
 
 impl TickFormat {
     /// The format for an axis showing `range` (about 10 ticks on a linear axis).
-    fn new(range: &Range<f64>, log: bool) -> Self {
+    pub(crate) fn new(range: &Range<f64>, log: bool) -> Self {
         let magnitude = range.start.abs().max(range.end.abs());
         let smallest = if log { range.start } else { magnitude };
         let exponent = magnitude >= 1e5 || smallest < 1e-3;
@@ -330,7 +373,7 @@ impl TickFormat {
     }
 
     /// The label for tick value `v`, trailing zeros removed.
-    fn label(&self, v: f64) -> String {
+    pub(crate) fn label(&self, v: f64) -> String {
         let text = match (self.exponent, self.digits) {
             (true, Some(d)) => format!("{v:.d$e}"),
             (true, None) => format!("{v:.0e}"),
@@ -462,6 +505,24 @@ where
                     .draw_series(points.map(|p| marker_element(p, shape, marker, style)))
                     .map_err(|e| e.to_string())?;
                 annotation.legend(move |(x, y)| marker_element((x + 10, y), shape, marker, style))
+            }
+            SeriesStyle::LineMarkers => {
+                let points: Vec<(f64, f64)> = points.collect();
+                chart
+                    .draw_series(LineSeries::new(
+                        points.iter().copied(),
+                        colour.stroke_width(stroke),
+                    ))
+                    .map_err(|e| e.to_string())?;
+                let style = colour.filled();
+                let annotation = chart
+                    .draw_series(points.into_iter().map(|p| Circle::new(p, marker, style)))
+                    .map_err(|e| e.to_string())?;
+                annotation.legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new(vec![(0, 0), (20, 0)], legend_style)
+                        + Circle::new((10, 0), marker, style)
+                })
             }
         };
         if !series.label.is_empty() {

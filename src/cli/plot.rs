@@ -1,0 +1,29 @@
+//! `sph plot RUN_DIR [--scene SCENE]`: PNG charts of a run's CSV logs: forces on each solid
+//! (the paper's Fig. 4), probes, density error, correction iterations and time step per step;
+//! with the run's scene, each probe against its reference data.
+
+use crate::charts::write_run_charts;
+use crate::scene::load_scene;
+use anyhow::Context;
+use std::path::{Path, PathBuf};
+
+/// Writes the charts of the run in `run_dir` to `out` [default: RUN_DIR/plots].
+pub fn plot(
+    run_dir: &Path,
+    out: Option<PathBuf>,
+    scene: Option<&Path>,
+    sets: &[String],
+) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        scene.is_some() || sets.is_empty(),
+        "--set needs --scene (it overrides the scene's keys)"
+    );
+    let scene = scene
+        .map(|path| load_scene(path, sets).with_context(|| format!("loading scene {}", path.display())))
+        .transpose()?;
+    let out = out.unwrap_or_else(|| run_dir.join("plots"));
+    // The errors name the directory or file at fault; no further context needed.
+    let files = write_run_charts(run_dir, &out, scene.as_ref())?;
+    println!("wrote {} charts to {}", files.len(), out.display());
+    Ok(())
+}
