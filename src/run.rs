@@ -378,6 +378,13 @@ fn drive<const D: usize>(
     let solver = scene.solver.kind.name();
     let mut summary = Summary {
         scene: options.scene_name.clone(),
+        scene_file: options.restart.scene.as_ref().map(|(file, _)| file.clone()),
+        scene_overrides: options
+            .restart
+            .scene
+            .as_ref()
+            .map(|(_, sets)| sets.clone())
+            .unwrap_or_default(),
         dimension: D,
         solver: solver.into(),
         backend: sim.backend_name().into(),

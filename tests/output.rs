@@ -490,6 +490,8 @@ fn sample_summary() -> Summary {
     extra.insert("iterations".into(), serde_json::json!([3, 4, 5]));
     Summary {
         scene: "dam_break".into(),
+        scene_file: Some("/runs/scenes/dam_break.toml".into()),
+        scene_overrides: vec!["solver.dt=1e-4".into()],
         dimension: 2,
         solver: "ipc".into(),
         backend: "cpu".into(),

@@ -318,9 +318,32 @@ fn plot_charts_forces_probes_and_steps_with_reference_data() {
         // A drawn curve: Tableau blue (31, 119, 180) and its antialiased edges.
         assert!(image.colored_pixels() > 200, "{name}: {}", image.colored_pixels());
     }
-    // Without the scene: no reference chart, by default into RUN_DIR/plots.
+    // Without --scene: the scene file named in summary.json gives the reference chart, by
+    // default into RUN_DIR/plots.
     sph_ok(&["plot", run.to_str().unwrap()]);
-    let plain = png_files(&run.join("plots"));
+    let own = png_files(&run.join("plots"));
+    assert_eq!(own.len(), 6);
+    assert!(own.iter().any(|f| f.ends_with("front_reference.png")));
+    // A run whose summary names no scene file (or one that is gone): no reference chart.
+    let summary_path = run.join("summary.json");
+    let mut summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&summary_path).unwrap()).unwrap();
+    assert!(
+        summary["scene_file"]
+            .as_str()
+            .unwrap()
+            .ends_with("dam_break_2d.toml")
+    );
+    summary["scene_file"] = "/no/such/scene.toml".into();
+    std::fs::write(&summary_path, serde_json::to_vec(&summary).unwrap()).unwrap();
+    let plain_dir = dir.0.join("plain");
+    sph_ok(&[
+        "plot",
+        run.to_str().unwrap(),
+        "--out",
+        plain_dir.to_str().unwrap(),
+    ]);
+    let plain = png_files(&plain_dir);
     assert_eq!(plain.len(), 5);
     assert!(!plain.iter().any(|f| f.ends_with("front_reference.png")));
 }

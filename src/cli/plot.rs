@@ -1,6 +1,8 @@
 //! `sph plot RUN_DIR [--scene SCENE]`: PNG charts of a run's CSV logs: forces on each solid
 //! (the paper's Fig. 4), probes, density error, correction iterations and time step per step;
-//! with the run's scene, each probe against its reference data.
+//! with the run's scene, each probe against its reference data. Without `--scene`, the scene
+//! file the run was started from (`scene_file` and `scene_overrides` in `summary.json`) is used
+//! when it is still there.
 
 use crate::charts::write_run_charts;
 use crate::scene::load_scene;
@@ -18,12 +20,33 @@ pub fn plot(
         scene.is_some() || sets.is_empty(),
         "--set needs --scene (it overrides the scene's keys)"
     );
-    let scene = scene
-        .map(|path| load_scene(path, sets).with_context(|| format!("loading scene {}", path.display())))
-        .transpose()?;
+    let scene = match scene {
+        Some(path) => {
+            Some(load_scene(path, sets).with_context(|| format!("loading scene {}", path.display()))?)
+        }
+        None => run_scene(run_dir),
+    };
     let out = out.unwrap_or_else(|| run_dir.join("plots"));
     // The errors name the directory or file at fault; no further context needed.
     let files = write_run_charts(run_dir, &out, scene.as_ref())?;
     println!("wrote {} charts to {}", files.len(), out.display());
     Ok(())
+}
+
+/// The scene the run in `run_dir` was started from, as its `summary.json` names it, if that file
+/// still loads; otherwise none (the charts are drawn without reference data, and a line says
+/// why when the file was named).
+fn run_scene(run_dir: &Path) -> Option<crate::scene::Scene> {
+    let summary = crate::output::read_summary(&run_dir.join("summary.json")).ok()?;
+    let file = summary.scene_file?;
+    match load_scene(&file, &summary.scene_overrides) {
+        Ok(scene) => Some(scene),
+        Err(e) => {
+            eprintln!(
+                "note: no reference data: the run's scene {} does not load ({e})",
+                file.display()
+            );
+            None
+        }
+    }
 }

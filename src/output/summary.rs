@@ -22,6 +22,13 @@ fn f64_or_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
 pub struct Summary {
     /// Scene name (usually the scene file stem).
     pub scene: String,
+    /// The scene file the run was started from (absolute), when known: `sph plot` reads the
+    /// probes' reference data from it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene_file: Option<std::path::PathBuf>,
+    /// The `--set` overrides the run was started with.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub scene_overrides: Vec<String>,
     /// Spatial dimension, 2 or 3.
     pub dimension: usize,
     /// Solver / pressure-correction scheme name.
