@@ -387,8 +387,8 @@ fn stages(c: &mut Criterion) {
     // Best effort: a leftover folder in the temporary directory is harmless.
     let _ = std::fs::remove_dir_all(&dir);
 
-    // A step is long (about 60 ms for the 3D scene on two cores, 2D corrected steps vary with
-    // their sweep count): flat sampling takes the same few iterations per sample.
+    // A step is long (30–60 ms for the 3D scene on two cores, ~140 ms for the 2D corrected one
+    // with its ~200 sweeps): flat sampling takes the same few iterations per sample.
     let mut g = group(c, "full_step");
     g.sampling_mode(SamplingMode::Flat)
         .measurement_time(Duration::from_secs(5));
