@@ -12,8 +12,12 @@ use crate::fields::{FLUID, Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector, max_in_order, sum_by_group, sum_in_order, to_xyz};
 use crate::physics::{
-    artificial_viscosity::artificial_viscous_acceleration, correction, density::density_term, eos,
-    pressure::pressure_acceleration, viscosity::viscous_acceleration,
+    artificial_viscosity::artificial_viscous_acceleration,
+    correction,
+    density::density_term,
+    eos,
+    pressure::{pressure_acceleration_from_terms, pressure_term},
+    viscosity::viscous_acceleration,
 };
 use rayon::prelude::*;
 
@@ -30,6 +34,14 @@ pub struct CpuBackend<const D: usize> {
     displacement: Vec<Vector<D>>,
     /// Pressure increments of the previous sweep (heavy-ball momentum), empty after a sort.
     delta_p_previous: Vec<Real>,
+    /// Per particle since the last sort: a solid with no fluid particle among its neighbour
+    /// candidates (`Grid::neighbour_ranges`). Its wall pressure, correction increment and
+    /// force on its solid are exactly zero until the next sort, so the solid loops skip it
+    /// (the tank walls far from the water: half the particles of the 3D column scene). Empty
+    /// before the first sort: nothing is skipped.
+    dry: Vec<bool>,
+    /// `p/ρ²` per particle (`physics::pressure::pressure_term`) of the current pressure loop.
+    pressure_terms: Vec<Real>,
 }
 
 impl<const D: usize> CpuBackend<D> {
@@ -44,6 +56,34 @@ impl<const D: usize> CpuBackend<D> {
             + self.wall.capacity() * 8
             + self.delta_p.capacity() * 4
             + self.displacement.capacity() * D * 4
+            + self.dry.capacity()
+            + self.pressure_terms.capacity() * 4
+    }
+
+    /// Whether particle `i` is a solid without fluid candidates since the last sort.
+    #[inline(always)]
+    fn is_dry(&self, i: usize) -> bool {
+        self.dry.get(i).copied().unwrap_or(false)
+    }
+
+    /// Recomputes [`CpuBackend::dry`] for the sorted `kind`: a running count of fluid particles
+    /// in sorted order tells whether a candidate range holds any.
+    fn find_dry_solids(&mut self, kind: &[u32]) {
+        let mut fluid_before = Vec::with_capacity(kind.len() + 1);
+        fluid_before.push(0u32);
+        let mut count = 0u32;
+        for &k in kind {
+            count += u32::from(k == FLUID);
+            fluid_before.push(count);
+        }
+        let grid = &self.grid;
+        self.dry.clear();
+        self.dry.par_extend((0..kind.len()).into_par_iter().map(|i| {
+            kind[i] != FLUID
+                && grid
+                    .neighbour_ranges(i)
+                    .all(|r| fluid_before[r.end] == fluid_before[r.start])
+        }));
     }
 }
 
@@ -53,10 +93,11 @@ fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: boo
     grid: &Grid<D>,
     fields: &Fields<D>,
     params: &StepParams<D>,
+    terms: &[Real],
     i: usize,
 ) -> Vector<D> {
     let kernel = params.smoothing();
-    let (p_i, rho_i, u_i) = (fields.pressure[i], fields.density[i], fields.velocity[i]);
+    let (q_i, rho_i, u_i) = (terms[i], fields.density[i], fields.velocity[i]);
     let mut a = params.gravity; // eq. (6)
     grid.for_each_neighbour(&fields.position, i, |j, d, r2| {
         if j == i {
@@ -65,7 +106,7 @@ fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: boo
         let r = r2.sqrt();
         let (m_j, rho_j) = (fields.mass[j], fields.density[j]);
         let grad = kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale;
-        a += pressure_acceleration(p_i, rho_i, fields.pressure[j], rho_j, m_j, &grad);
+        a += pressure_acceleration_from_terms(q_i, terms[j], m_j, &grad);
         if ARTIFICIAL {
             let u_ij = u_i - fields.velocity[j];
             a += artificial_viscous_acceleration(
@@ -106,6 +147,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         self.delta_p_previous.clear();
         fields.permute(perm, &mut self.scratch);
         self.grid.link();
+        self.find_dry_solids(&fields.kind);
         Ok(())
     }
 
@@ -165,9 +207,15 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let grid = &self.grid;
         let f = &*fields;
         self.wall.clear();
+        let dry = &self.dry;
         self.wall.par_extend((0..f.len()).into_par_iter().map(|w| {
             if f.kind[w] == FLUID {
                 return (f.pressure[w], f.density[w]);
+            }
+            // No fluid neighbour: (27) gives zero; the summed density (19) of the other model
+            // still needs the wall's own neighbours.
+            if model == WallModel::Extrapolated && dry.get(w).copied().unwrap_or(false) {
+                return (0.0, eos::density_from_pressure(0.0, params.rho0, params.c2));
             }
             let mut sums = WallPressureSums::<D>::default();
             let mut summed_density = 0.0;
@@ -201,7 +249,8 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     }
 
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
-        let grid = &self.grid;
+        fill_pressure_terms(&mut self.pressure_terms, &fields.pressure, &fields.density);
+        let (grid, q) = (&self.grid, &self.pressure_terms);
         let mut acceleration = std::mem::take(&mut fields.acceleration);
         let f = &*fields;
         acceleration.par_iter_mut().enumerate().for_each(|(i, a)| {
@@ -209,10 +258,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 Vector::zeros()
             } else {
                 match (terms.viscosity, terms.artificial_viscosity) {
-                    (false, false) => fluid_acceleration::<D, false, false>(grid, f, params, i),
-                    (true, false) => fluid_acceleration::<D, true, false>(grid, f, params, i),
-                    (false, true) => fluid_acceleration::<D, false, true>(grid, f, params, i),
-                    (true, true) => fluid_acceleration::<D, true, true>(grid, f, params, i),
+                    (false, false) => fluid_acceleration::<D, false, false>(grid, f, params, q, i),
+                    (true, false) => fluid_acceleration::<D, true, false>(grid, f, params, q, i),
+                    (false, true) => fluid_acceleration::<D, false, true>(grid, f, params, q, i),
+                    (true, true) => fluid_acceleration::<D, true, true>(grid, f, params, q, i),
                 }
             };
         });
@@ -240,7 +289,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         }
         sum_by_group(f.len(), solids, |s| {
             let kind = f.kind[s];
-            if kind == FLUID {
+            if kind == FLUID || self.is_dry(s) {
                 return None;
             }
             let mut force = Vector::<D>::zeros();
@@ -413,9 +462,13 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let fluid_dp = std::mem::take(&mut self.delta_p);
         let mut solid_dp = std::mem::take(&mut self.wall);
         solid_dp.clear();
+        let dry = &self.dry;
         solid_dp.par_extend((0..n).into_par_iter().map(|w| {
             if f.kind[w] == FLUID {
                 return (fluid_dp[w], 0.0);
+            }
+            if dry.get(w).copied().unwrap_or(false) {
+                return (0.0, 0.0);
             }
             let mut sums = WallPressureSums::<D>::default();
             grid.for_each_neighbour(&f.position, w, |j, d, r2| {
@@ -450,7 +503,8 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let grid = &self.grid;
         let n = fields.len();
         let f = &*fields;
-        let dp = &self.delta_p;
+        fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.density);
+        let q = &self.pressure_terms;
         let tau2 = tau * tau;
         self.displacement.clear();
         self.displacement.par_extend((0..n).into_par_iter().map(|i| {
@@ -463,7 +517,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     return;
                 }
                 let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
-                a += pressure_acceleration(dp[i], f.density[i], dp[j], f.density[j], f.mass[j], &grad);
+                a += pressure_acceleration_from_terms(q[i], q[j], f.mass[j], &grad);
             });
             a * tau2 // eq. (23)
         }));
@@ -536,6 +590,17 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         }
         report
     }
+}
+
+/// `terms[i] = pressure[i]/density[i]²` (`physics::pressure::pressure_term`), in a reused buffer.
+fn fill_pressure_terms(terms: &mut Vec<Real>, pressure: &[Real], density: &[Real]) {
+    terms.clear();
+    terms.par_extend(
+        pressure
+            .par_iter()
+            .zip(density)
+            .map(|(&p, &rho)| pressure_term(p, rho)),
+    );
 }
 
 /// First particle with a non-finite position, velocity, acceleration, density or pressure.
