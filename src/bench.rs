@@ -41,6 +41,10 @@ pub struct BenchRow {
     pub interactions_per_second: f64,
     /// Memory the backend holds per particle [B] (host for the CPU, device for CUDA).
     pub bytes_per_particle: f64,
+    /// Peak resident set of the process while the row was built and measured, per particle [B]
+    /// (`memory::peak_resident_bytes`; includes the program itself, a few MB, which dominates
+    /// below about 1e5 particles); NaN where the system does not report it.
+    pub peak_resident_per_particle: f64,
     /// Mean neighbours per particle (pairs closer than h, self excluded).
     pub neighbours: f64,
     /// This row's speedup over the CPU row of the same size, for GPU rows.
@@ -178,6 +182,8 @@ fn measure<const D: usize>(
         particle_steps_per_second: particles as f64 / seconds_per_step,
         interactions_per_second: 2.0 * neighbours * particles as f64 / seconds_per_sweep,
         bytes_per_particle: sim.backend_bytes() as f64 / particles.max(1) as f64,
+        peak_resident_per_particle: crate::memory::peak_resident_bytes()
+            .map_or(f64::NAN, |b| b as f64 / particles.max(1) as f64),
         neighbours,
         speedup: None,
         stages,
@@ -198,6 +204,8 @@ pub fn bench(
     for &size in &options.sizes {
         let scene = scaled_scene(path, sets, size)?;
         for &backend in &options.backends {
+            // Each row's own peak: the previous rows' memory is freed by now.
+            crate::memory::reset_peak_resident();
             let mut row = match AnySimulation::from_scene(&scene)? {
                 AnySimulation::D2(sim) => measure(sim, &scene, backend, options)?,
                 AnySimulation::D3(sim) => measure(sim, &scene, backend, options)?,
@@ -230,11 +238,12 @@ pub fn stages_csv(rows: &[BenchRow]) -> String {
 pub fn to_csv(rows: &[BenchRow]) -> String {
     let mut s = String::from(
         "particles,backend,device,spacing_m,seconds_per_step,seconds_per_sweep,sweeps_per_step,\
-         particle_steps_per_second,interactions_per_second,bytes_per_particle,neighbours,speedup\n",
+         particle_steps_per_second,interactions_per_second,bytes_per_particle,\
+         peak_resident_per_particle,neighbours,speedup\n",
     );
     for r in rows {
         s.push_str(&format!(
-            "{},{},{},{:e},{:e},{:e},{:.2},{:e},{:e},{:.1},{:.2},{}\n",
+            "{},{},{},{:e},{:e},{:e},{:.2},{:e},{:e},{:.1},{:.1},{:.2},{}\n",
             r.particles,
             r.backend,
             r.device.replace(',', " "),
@@ -245,6 +254,7 @@ pub fn to_csv(rows: &[BenchRow]) -> String {
             r.particle_steps_per_second,
             r.interactions_per_second,
             r.bytes_per_particle,
+            r.peak_resident_per_particle,
             r.neighbours,
             r.speedup.map_or(String::new(), |x| format!("{x:.2}"))
         ));

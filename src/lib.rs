@@ -25,6 +25,7 @@ pub mod error;
 pub mod fields;
 pub mod grid;
 pub mod math;
+pub mod memory;
 pub mod output;
 pub mod physics;
 pub mod probe;

@@ -43,6 +43,15 @@ fn one_cpu_row_is_measured_and_written() {
     // A 3D lattice with h = 2 dx has 32 neighbours inside; walls and the free surface have fewer.
     assert!(r.neighbours > 10.0 && r.neighbours < 33.0, "{}", r.neighbours);
     assert!(r.bytes_per_particle > 50.0 && r.bytes_per_particle < 600.0);
+    // The process's peak (Linux): at least what the backend holds, and the binary's few MB.
+    if !r.peak_resident_per_particle.is_nan() {
+        assert!(
+            r.peak_resident_per_particle > r.bytes_per_particle,
+            "{} vs {}",
+            r.peak_resident_per_particle,
+            r.bytes_per_particle
+        );
+    }
     assert_eq!(r.speedup, None);
     let names: Vec<&str> = r.stages.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(

@@ -23,7 +23,7 @@ pub fn parse_size(text: &str) -> anyhow::Result<u64> {
 
 fn print_row(r: &BenchRow) {
     println!(
-        "{:>11} {:>5} {:>24} {:>12.3e} {:>12.3e} {:>7.2} {:>12.3e} {:>12.3e} {:>8.0} {:>8}",
+        "{:>11} {:>5} {:>24} {:>12.3e} {:>12.3e} {:>7.2} {:>12.3e} {:>12.3e} {:>8.0} {:>8.0} {:>8}",
         r.particles,
         r.backend,
         r.device,
@@ -33,6 +33,7 @@ fn print_row(r: &BenchRow) {
         r.particle_steps_per_second,
         r.interactions_per_second,
         r.bytes_per_particle,
+        r.peak_resident_per_particle,
         r.speedup.map_or("-".to_string(), |x| format!("{x:.1}x")),
     );
 }
@@ -81,7 +82,7 @@ pub fn run_bench(
         crate::backend::cuda::probe()?;
     }
     println!(
-        "{:>11} {:>5} {:>24} {:>12} {:>12} {:>7} {:>12} {:>12} {:>8} {:>8}",
+        "{:>11} {:>5} {:>24} {:>12} {:>12} {:>7} {:>12} {:>12} {:>8} {:>8} {:>8}",
         "particles",
         "back",
         "device",
@@ -91,6 +92,7 @@ pub fn run_bench(
         "p-steps/s",
         "inter/s",
         "B/part",
+        "RSS/part",
         "speedup"
     );
     let rows = pool.install(|| bench(scene, sets, &options, &mut print_row))?;
