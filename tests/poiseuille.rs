@@ -62,7 +62,10 @@ fn scene(sets: &[&str]) -> Scene {
 
 /// The driving body force F [m/s²] along the channel: the scene's gravity.
 fn body_force(scene: &Scene) -> f64 {
-    scene.gravity.as_ref().expect("the body force is the scene's gravity")[0]
+    scene
+        .gravity
+        .as_ref()
+        .expect("the body force is the scene's gravity")[0]
 }
 
 /// SOURCES.md 7.3, Poiseuille start-up: `u(y, t) = F/(2ν) y (L − y) − Σ_{n≥0} 4 F L²/(ν π³
@@ -109,7 +112,10 @@ fn profiles(scene: &Scene) -> Vec<Profile> {
             sum[b] += f64::from(f.velocity[i][0]);
             count[b] += 1;
         }
-        assert!(count.iter().all(|&c| c > 0), "every bin holds particles: {count:?}");
+        assert!(
+            count.iter().all(|&c| c > 0),
+            "every bin holds particles: {count:?}"
+        );
         out.push(Profile {
             time: t,
             y: (0..bins).map(|b| (b as f64 + 0.5) * dx).collect(),
@@ -150,7 +156,10 @@ fn lattice_laplacian_moment(h: f64, dx: f64) -> f64 {
 /// Least-squares fit `u(y) = a · 4 y (L − y)/L² + s` [m/s]: the curvature term and a uniform
 /// slip velocity. Returns `(a, s, largest residual)`.
 fn fit_parabola_and_slip(p: &Profile) -> (f64, f64, f64) {
-    let basis: Vec<f64> = p.y.iter().map(|&y| 4.0 * y * (WIDTH - y) / (WIDTH * WIDTH)).collect();
+    let basis: Vec<f64> =
+        p.y.iter()
+            .map(|&y| 4.0 * y * (WIDTH - y) / (WIDTH * WIDTH))
+            .collect();
     let n = basis.len() as f64;
     let (sx, sy) = (basis.iter().sum::<f64>(), p.u.iter().sum::<f64>());
     let sxx: f64 = basis.iter().map(|x| x * x).sum();
@@ -171,7 +180,10 @@ fn fit_parabola_and_slip(p: &Profile) -> (f64, f64, f64) {
             the module doc"]
 fn start_up_profile_follows_the_series_within_5_percent_of_u0() {
     let scene = scene(&[]);
-    let (f, nu) = (body_force(&scene), scene.viscosity.expect("viscosity") / scene.rho0);
+    let (f, nu) = (
+        body_force(&scene),
+        scene.viscosity.expect("viscosity") / scene.rho0,
+    );
     let u0 = f * WIDTH * WIDTH / (8.0 * nu);
     let errors: Vec<(f64, f64)> = profiles(&scene)
         .iter()
@@ -192,7 +204,10 @@ fn start_up_profile_follows_the_series_within_5_percent_of_u0() {
 #[test]
 fn laplacian_viscosity_error_is_the_lattice_deficit_and_the_wall_slip() {
     let scene = scene(&[]);
-    let (f, nu) = (body_force(&scene), scene.viscosity.expect("viscosity") / scene.rho0);
+    let (f, nu) = (
+        body_force(&scene),
+        scene.viscosity.expect("viscosity") / scene.rho0,
+    );
     let u0 = f * WIDTH * WIDTH / (8.0 * nu);
     let h = scene.smoothing_length;
     let lambda = lattice_laplacian_moment(h, scene.spacing);
@@ -216,7 +231,10 @@ fn laplacian_viscosity_error_is_the_lattice_deficit_and_the_wall_slip() {
         s / u0,
         residual / u0
     );
-    assert!(residual <= 0.01 * u0, "not a parabola plus slip: residual {residual}");
+    assert!(
+        residual <= 0.01 * u0,
+        "not a parabola plus slip: residual {residual}"
+    );
     assert!(
         (a / u0 * lambda - 1.0).abs() <= 0.03,
         "curvature {} u0, expected 1/λ = {}",
@@ -224,7 +242,11 @@ fn laplacian_viscosity_error_is_the_lattice_deficit_and_the_wall_slip() {
         1.0 / lambda
     );
     let b = s * WIDTH / (4.0 * u0);
-    assert!((0.2 * h..=0.35 * h).contains(&b), "slip length {b} m = {} h", b / h);
+    assert!(
+        (0.2 * h..=0.35 * h).contains(&b),
+        "slip length {b} m = {} h",
+        b / h
+    );
 }
 
 /// The inviscid alternative: artificial viscosity alone, with α set so that its continuum
@@ -253,7 +275,16 @@ fn artificial_viscosity_is_not_a_shear_viscosity() {
     let all = profiles(&scene);
     let mid = all[0].u.len() / 2;
     let (at_02, at_06) = (all[3].u[mid], all[4].u[mid]);
-    println!("α = {alpha}: centreline {:.3} u0 at 0.2 s, {:.3} u0 at 0.6 s", at_02 / u0, at_06 / u0);
+    println!(
+        "α = {alpha}: centreline {:.3} u0 at 0.2 s, {:.3} u0 at 0.6 s",
+        at_02 / u0,
+        at_06 / u0
+    );
     assert!(at_06 > 2.0 * u0, "centreline {} u0 at 0.6 s", at_06 / u0);
-    assert!(at_06 - at_02 > 0.5 * u0, "still accelerating: {} -> {} u0", at_02 / u0, at_06 / u0);
+    assert!(
+        at_06 - at_02 > 0.5 * u0,
+        "still accelerating: {} -> {} u0",
+        at_02 / u0,
+        at_06 / u0
+    );
 }
