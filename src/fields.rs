@@ -36,6 +36,64 @@ pub struct Fields<const D: usize> {
     pub velocity_start: Vec<Vector<D>>,
 }
 
+/// A field of [`Fields`] by name, for what a stage reads and writes (`Stage::reads`,
+/// `Stage::writes`, printed by `sph plan`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Field {
+    /// [`Fields::position`].
+    Position,
+    /// [`Fields::velocity`].
+    Velocity,
+    /// [`Fields::acceleration`].
+    Acceleration,
+    /// [`Fields::density`].
+    Density,
+    /// [`Fields::pressure`].
+    Pressure,
+    /// [`Fields::mass`].
+    Mass,
+    /// [`Fields::kind`].
+    Kind,
+    /// [`Fields::id`].
+    Id,
+    /// [`Fields::position_start`].
+    PositionStart,
+    /// [`Fields::velocity_start`].
+    VelocityStart,
+}
+
+impl Field {
+    /// Every field, in the order of [`Fields`] (what a reorder writes).
+    pub const ALL: [Field; 10] = [
+        Field::Position,
+        Field::Velocity,
+        Field::Acceleration,
+        Field::Density,
+        Field::Pressure,
+        Field::Mass,
+        Field::Kind,
+        Field::Id,
+        Field::PositionStart,
+        Field::VelocityStart,
+    ];
+
+    /// The field's name in [`Fields`].
+    pub fn name(self) -> &'static str {
+        match self {
+            Field::Position => "position",
+            Field::Velocity => "velocity",
+            Field::Acceleration => "acceleration",
+            Field::Density => "density",
+            Field::Pressure => "pressure",
+            Field::Mass => "mass",
+            Field::Kind => "kind",
+            Field::Id => "id",
+            Field::PositionStart => "position_start",
+            Field::VelocityStart => "velocity_start",
+        }
+    }
+}
+
 /// Scratch buffers reused by [`Fields::permute`], so reordering does not allocate per step.
 #[derive(Debug, Clone, Default)]
 pub struct PermuteScratch<const D: usize> {
@@ -102,5 +160,23 @@ impl<const D: usize> Fields<D> {
             * D
             * 4
             + (self.density.capacity() * 3 + self.kind.capacity() * 2) * 4
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn field_names_are_the_members_of_fields_in_order() {
+        // The Debug form lists the struct's members: `Fields { position: [], velocity: [], … }`.
+        let debug = format!("{:?}", Fields::<2>::default());
+        let members: Vec<&str> = debug
+            .trim_start_matches("Fields {")
+            .split(", ")
+            .filter_map(|m| m.trim().split(':').next())
+            .collect();
+        let names: Vec<&str> = Field::ALL.iter().map(|f| f.name()).collect();
+        assert_eq!(members, names);
     }
 }

@@ -105,6 +105,19 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
     }
 }
 
+/// What the stage plan of a validated scene depends on (`solver::plan`): its effects, its
+/// solids and whether any moves, its integrator and solver.
+pub fn plan_inputs(scene: &Scene) -> crate::solver::plan::PlanInputs {
+    crate::solver::plan::PlanInputs {
+        viscosity: scene.has(Effect::Viscosity),
+        artificial_viscosity: scene.has(Effect::ArtificialViscosity),
+        solids: !scene.solids.is_empty(),
+        moving_solids: scene.solids.iter().any(|s| s.motion.is_some()),
+        integrator: integrator(scene),
+        corrected: correction(scene).is_some(),
+    }
+}
+
 /// The scene's integrator.
 pub fn integrator(scene: &Scene) -> Integrator {
     match scene.solver.integrator {

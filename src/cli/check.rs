@@ -50,14 +50,7 @@ pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
         }
     );
     let viscosity = scene.viscosity.is_some();
-    let plan = crate::solver::plan::plan(crate::solver::plan::PlanInputs {
-        viscosity,
-        artificial_viscosity: scene.artificial_viscosity.is_some(),
-        solids: !scene.solids.is_empty(),
-        moving_solids: scene.solids.iter().any(|s| s.motion.is_some()),
-        integrator: crate::run::integrator(&scene),
-        corrected: crate::run::correction(&scene).is_some(),
-    });
+    let plan = crate::solver::plan::plan(crate::run::plan_inputs(&scene));
     let names: Vec<&str> = plan.iter().map(|s| s.name()).collect();
     println!(
         "  plan             {}{}",

@@ -1,7 +1,8 @@
 //! The `sph` command line: the only place that prints or exits.
 //!
 //! `sph run SCENE` runs a scene and writes its results; `sph check SCENE` validates a scene and
-//! prints its particle counts, memory estimate and stage plan; `sph sweep SCENE --set
+//! prints its particle counts, memory estimate and stage plan; `sph plan SCENE` prints what a
+//! run simulates, stage by stage, with equations and fields; `sph sweep SCENE --set
 //! KEY=V1,V2,...` runs one variant per value and compares them; `sph bench` times the solver at
 //! several sizes on each backend; `sph surface RUN_DIR` reconstructs the free surface of a
 //! finished run's frames; `sph render RUN_DIR` draws a run's frames and `sph plot RUN_DIR`
@@ -10,6 +11,7 @@
 mod bench;
 mod check;
 mod compare;
+mod plan;
 mod plot;
 mod render;
 mod run;
@@ -188,6 +190,16 @@ enum Command {
         #[arg(long, value_name = "R", default_value_t = crate::surface::DEFAULT_RADIUS)]
         radius: f64,
     },
+    /// Print what a run of the scene simulates: the stages of each integrator stage in order,
+    /// each with its equation (PAPER.md numbering) and the particle fields it reads and writes,
+    /// the correction loop and guards inside them, and the probes and output after each step.
+    Plan {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Override any scene key by its dotted TOML path.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+    },
     /// Validate a scene; print particle counts, memory needed and the stage plan.
     Check {
         /// Scene file (TOML).
@@ -239,6 +251,7 @@ where
             sweep::sweep(&scene, out, threads, backend, &sets)
         }
         Command::Check { scene, sets } => check::check(&scene, &sets),
+        Command::Plan { scene, sets } => plan::print_plan(&scene, &sets),
         Command::Surface { run_dir, radius } => surface::surface(&run_dir, radius),
         Command::Compare {
             scene,

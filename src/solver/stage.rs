@@ -1,7 +1,17 @@
 //! The stages of a step. The same snake_case names appear as `Backend` methods (and, with the
 //! CUDA backend, as kernel names), so timers and benchmark rows line up by construction.
+//!
+//! Each stage also says what it implements (PAPER.md equation numbers; [A12] Adami, Hu & Adams,
+//! J. Comput. Phys. 231 (2012); [M92] Monaghan 1992; [MFZ97] Morris, Fox & Zhu 1997) and which particle fields it reads and
+//! writes, one function per piece (`sph plan` prints them), next to the stage itself so the two
+//! cannot drift apart. [`SubStage`] does the same for the steps the driver (`solver::step`) runs
+//! inside a stage: the correction loop and the no-penetration guard.
 
 use crate::backend::{ForceTerms, WallModel};
+use crate::fields::Field;
+use Field::{
+    Acceleration, Density, Id, Kind, Mass, Position, PositionStart, Pressure, Velocity, VelocityStart,
+};
 
 /// When in an integrator stage [`Stage::MoveSolids`] places the moving solids.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,6 +68,211 @@ impl Stage {
             Stage::Integrate => "integrate",
             Stage::RkStage => "rk_stage",
             Stage::Correction => "correct_positions",
+        }
+    }
+
+    /// What the stage implements: the PAPER.md equation (or the source) it follows.
+    pub fn equation(&self) -> &'static str {
+        match self {
+            Stage::MoveSolids(_) => "x0 + d(t)",
+            Stage::SortByCell => "section 3",
+            Stage::Density => "(18)",
+            Stage::EquationOfState => "(19)",
+            Stage::WallPressure(_) => "[A12] (27)",
+            Stage::Forces(terms) => match (terms.viscosity, terms.artificial_viscosity) {
+                (false, false) => "(15): (16), (6)",
+                (true, false) => "(15): (16), (17), (6)",
+                (false, true) => "(15): (16), [M92], (6)",
+                (true, true) => "(15): (16), (17), [M92], (6)",
+            },
+            Stage::SolidForces => "Fig. 4",
+            Stage::TimeStep => "CFL, [M92], [MFZ97]",
+            Stage::Integrate => "(15)",
+            Stage::RkStage => "(15), note 8",
+            Stage::Correction => "(23)-(24)",
+        }
+    }
+
+    /// What the stage computes, in words.
+    pub fn description(&self) -> &'static str {
+        match self {
+            Stage::MoveSolids(SolidsAt::StageStart) => "moving solids to where they are at the stage's start",
+            Stage::MoveSolids(SolidsAt::StageResult) => {
+                "moving solids to where they are at the stage's result"
+            }
+            Stage::SortByCell => "cell keys, radix sort, reorder of every field, cell ranges",
+            Stage::Density => "density by summation (fluid)",
+            Stage::EquationOfState => "pressure from density, clamped at zero (note 6)",
+            Stage::WallPressure(WallModel::ExtrapolatedOrSummed) => {
+                "solid pressure: extrapolated from the fluid, or (19) of its own density if larger"
+            }
+            Stage::WallPressure(WallModel::Extrapolated) => "solid pressure extrapolated from the fluid",
+            Stage::Forces(terms) => match (terms.viscosity, terms.artificial_viscosity) {
+                (false, false) => "acceleration: pressure force, body force",
+                (true, false) => "acceleration: pressure force, viscosity, body force",
+                (false, true) => "acceleration: pressure force, artificial viscosity, body force",
+                (true, true) => "acceleration: pressure force, viscosity, artificial viscosity, body force",
+            },
+            Stage::SolidForces => "force of the fluid on each named solid: the forces stage's pair terms",
+            Stage::TimeStep => {
+                "time step from sound, flow, forces and viscosity; state guards (first integrator stage only)"
+            }
+            Stage::Integrate => "symplectic Euler: u += a dt, then x += u dt (fluid)",
+            Stage::RkStage => "one SSP-RK3 stage (the first also stores x^n, u^n)",
+            Stage::Correction => "position correction loop, until the compression is below delta",
+        }
+    }
+
+    /// The particle fields the stage reads.
+    pub fn reads(&self) -> &'static [Field] {
+        match self {
+            Stage::MoveSolids(_) => &[Kind, Id],
+            Stage::SortByCell => &[Position],
+            Stage::Density => &[Position, Mass, Kind],
+            Stage::EquationOfState => &[Density, Kind],
+            Stage::WallPressure(_) => &[Position, Density, Pressure, Mass, Kind],
+            Stage::Forces(terms) if terms.viscosity || terms.artificial_viscosity => {
+                &[Position, Velocity, Density, Pressure, Mass, Kind]
+            }
+            Stage::Forces(_) => &[Position, Density, Pressure, Mass, Kind],
+            Stage::SolidForces => &[Position, Velocity, Density, Pressure, Mass, Kind],
+            Stage::TimeStep => &[Position, Velocity, Acceleration, Density, Kind],
+            Stage::Integrate => &[Velocity, Acceleration, Kind],
+            Stage::RkStage => &[
+                Position,
+                Velocity,
+                Acceleration,
+                Kind,
+                PositionStart,
+                VelocityStart,
+            ],
+            Stage::Correction => &[Position, Density, Pressure, Mass, Kind],
+        }
+    }
+
+    /// The particle fields the stage writes.
+    pub fn writes(&self) -> &'static [Field] {
+        match self {
+            Stage::MoveSolids(_) => &[Position, Velocity],
+            Stage::SortByCell => &Field::ALL,
+            Stage::Density => &[Density],
+            Stage::EquationOfState => &[Pressure],
+            Stage::WallPressure(_) => &[Density, Pressure],
+            Stage::Forces(_) => &[Acceleration],
+            Stage::SolidForces | Stage::TimeStep => &[],
+            Stage::Integrate => &[Position, Velocity],
+            Stage::RkStage => &[Position, Velocity, PositionStart, VelocityStart],
+            Stage::Correction => &[Position, Velocity, Density, Pressure],
+        }
+    }
+
+    /// The steps the driver runs inside this stage, in order (`solver::step`): the correction
+    /// loop's sweep, and the no-penetration guard after a move when the scene has solids.
+    pub fn sub_stages(&self, solids: bool) -> Vec<SubStage> {
+        match self {
+            Stage::Integrate | Stage::RkStage if solids => vec![SubStage::KeepOut],
+            Stage::Correction => {
+                let mut sweep = vec![
+                    SubStage::SortByCell,
+                    SubStage::Density,
+                    SubStage::CorrectionError,
+                    SubStage::CorrectionPressure,
+                ];
+                if solids {
+                    sweep.push(SubStage::SolidForces);
+                }
+                sweep.push(SubStage::CorrectPositions);
+                if solids {
+                    sweep.push(SubStage::KeepOut);
+                }
+                sweep
+            }
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// A step the driver runs inside a [`Stage`] (`Stage::sub_stages`); each is one `Backend` method
+/// of the same name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SubStage {
+    /// The correction's re-sort, once particles drifted `RESORT_DRIFT · h` since the last sort.
+    SortByCell,
+    /// Eq. (18) on the corrected positions.
+    Density,
+    /// Eq. (24) with note 6: the largest compression, and the loop's residual.
+    CorrectionError,
+    /// Eq. (19) with the correction's stiffness (note 5): pressure increments `δp`.
+    CorrectionPressure,
+    /// The sweep's push on each named solid (Fig. 4).
+    SolidForces,
+    /// Eq. (23): displacement from `δp`, and the velocity change `Δx/τ` (note 7).
+    CorrectPositions,
+    /// The no-penetration guard (`boundary::keep_out`).
+    KeepOut,
+}
+
+impl SubStage {
+    /// The snake_case name (as the backend method).
+    pub fn name(&self) -> &'static str {
+        match self {
+            SubStage::SortByCell => "sort_by_cell",
+            SubStage::Density => "density",
+            SubStage::CorrectionError => "correction_error",
+            SubStage::CorrectionPressure => "correction_pressure",
+            SubStage::SolidForces => "solid_forces",
+            SubStage::CorrectPositions => "correct_positions",
+            SubStage::KeepOut => "keep_out",
+        }
+    }
+
+    /// What the step implements: the PAPER.md equation (or the source) it follows.
+    pub fn equation(&self) -> &'static str {
+        match self {
+            SubStage::SortByCell => "section 3",
+            SubStage::Density => "(18)",
+            SubStage::CorrectionError => "(24), note 6",
+            SubStage::CorrectionPressure => "(19), note 5",
+            SubStage::SolidForces => "Fig. 4: (16)",
+            SubStage::CorrectPositions => "(23), note 7",
+            SubStage::KeepOut => "boundary::keep_out",
+        }
+    }
+
+    /// What the step computes, in words.
+    pub fn description(&self) -> &'static str {
+        match self {
+            SubStage::SortByCell => "re-sort, only once particles drifted far since the last sort",
+            SubStage::Density => "density by summation",
+            SubStage::CorrectionError => "largest compression; stop when below delta or at the cap",
+            SubStage::CorrectionPressure => "pressure increments from the density error, added to pressure",
+            SubStage::SolidForces => "the sweep's push on each named solid",
+            SubStage::CorrectPositions => "move by dt^2 f^press/rho, velocity += dx/tau",
+            SubStage::KeepOut => "put fluid particles found inside a solid back outside it",
+        }
+    }
+
+    /// The particle fields the step reads.
+    pub fn reads(&self) -> &'static [Field] {
+        match self {
+            SubStage::SortByCell => &[Position],
+            SubStage::Density => &[Position, Mass, Kind],
+            SubStage::CorrectionError => &[Density, Pressure, Kind],
+            SubStage::CorrectionPressure => &[Position, Density, Pressure, Kind],
+            SubStage::SolidForces => &[Position, Density, Mass, Kind],
+            SubStage::CorrectPositions => &[Position, Density, Mass, Kind],
+            SubStage::KeepOut => &[Position, Velocity, Mass, Kind],
+        }
+    }
+
+    /// The particle fields the step writes.
+    pub fn writes(&self) -> &'static [Field] {
+        match self {
+            SubStage::SortByCell => &Field::ALL,
+            SubStage::Density => &[Density],
+            SubStage::CorrectionError | SubStage::SolidForces => &[],
+            SubStage::CorrectionPressure => &[Pressure],
+            SubStage::CorrectPositions | SubStage::KeepOut => &[Position, Velocity],
         }
     }
 }

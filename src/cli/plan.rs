@@ -1,0 +1,228 @@
+//! `sph plan SCENE`: what a run of the scene simulates, step by step.
+//!
+//! Prints the stage plan (`solver::plan`, built from the scene's effects, solids and solver)
+//! with each stage's equation and the particle fields it reads and writes (`Stage::equation`,
+//! `Stage::reads`, `Stage::writes`), the steps the driver runs inside a stage (the correction
+//! loop's sweep, the no-penetration guard: `Stage::sub_stages`), the start-up settle, and what
+//! the run does after each step (probes, output files). A term the scene does not ask for is
+//! not printed because it does not run.
+
+use crate::fields::Field;
+use crate::run::{correction, plan_inputs};
+use crate::scene::{Effect, Scene, load_scene};
+use crate::solver::Integrator;
+use crate::solver::plan::plan;
+use crate::solver::stage::{Stage, SubStage};
+use crate::solver::step::RESORT_DRIFT;
+use anyhow::Context;
+use std::fmt::Write;
+use std::path::Path;
+
+/// Validates the scene and prints its plan.
+pub fn print_plan(path: &Path, sets: &[String]) -> anyhow::Result<()> {
+    let scene = load_scene(path, sets).with_context(|| format!("planning scene {}", path.display()))?;
+    print!("{}", render(&scene, &path.display().to_string()));
+    Ok(())
+}
+
+/// Field names joined by commas; every field reads as "every field (reorder)".
+fn fields(list: &[Field]) -> String {
+    if list.len() == Field::ALL.len() {
+        return "every field (reorder)".into();
+    }
+    if list.is_empty() {
+        return "no particle field".into();
+    }
+    list.iter().map(|f| f.name()).collect::<Vec<_>>().join(", ")
+}
+
+/// A vector as `(a, b)`.
+fn vector(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|c| format!("{c}")).collect();
+    format!("({})", parts.join(", "))
+}
+
+/// One effect with its parameters.
+fn effect(scene: &Scene, e: Effect) -> String {
+    match e {
+        Effect::Gravity => {
+            let g = scene.gravity.as_deref().map(vector).unwrap_or_default();
+            if scene.gravity_ramp > 0.0 {
+                format!("gravity g = {g} m/s^2, ramped in over {} s", scene.gravity_ramp)
+            } else {
+                format!("gravity g = {g} m/s^2")
+            }
+        }
+        Effect::Viscosity => format!("viscosity mu = {} Pa s", scene.viscosity.unwrap_or(0.0)),
+        Effect::ArtificialViscosity => format!(
+            "artificial_viscosity alpha = {}",
+            scene.artificial_viscosity.unwrap_or(0.0)
+        ),
+    }
+}
+
+/// The plan printout of a validated scene; `origin` names it in the heading.
+pub fn render(scene: &Scene, origin: &str) -> String {
+    let inputs = plan_inputs(scene);
+    let stages = plan(inputs);
+    let solids = inputs.solids;
+    let mut out = String::new();
+    let (rounds, integrator) = match inputs.integrator {
+        Integrator::SymplecticEuler => (1, "symplectic Euler, 1 integrator stage per step"),
+        Integrator::Rk3 => (3, "SSP-RK3, 3 integrator stages per step at t + (0, 1, 1/2) dt"),
+    };
+    // Writing to a String cannot fail; the results are ignored below for that reason.
+    let _ = writeln!(
+        out,
+        "scene {origin}: {}D, solver {}, {integrator}",
+        scene.dimension,
+        scene.solver.kind.name()
+    );
+    let effects: Vec<String> = scene.effects.iter().map(|&e| effect(scene, e)).collect();
+    let _ = writeln!(
+        out,
+        "effects: {}",
+        if effects.is_empty() {
+            "none".into()
+        } else {
+            effects.join("; ")
+        }
+    );
+    if !scene.has(Effect::Gravity) {
+        let _ = writeln!(
+            out,
+            "  (no gravity: the body force (6) in the forces stage is zero)"
+        );
+    }
+    let solid_names: Vec<String> = scene
+        .solids
+        .iter()
+        .map(|s| match s.motion {
+            Some(_) => format!("{} (moving)", s.name),
+            None => s.name.clone(),
+        })
+        .collect();
+    let _ = writeln!(
+        out,
+        "solids: {}",
+        if solid_names.is_empty() {
+            "none".into()
+        } else {
+            solid_names.join(", ")
+        }
+    );
+    let c = correction(scene);
+    if let Some(c) = &c {
+        let _ = writeln!(out, "\nfirst step only:");
+        let _ = writeln!(
+            out,
+            "  settle                   (23)-(24)                    the correction loop below on the initial state, moving particles without giving them velocity"
+        );
+        let _ = writeln!(
+            out,
+            "      delta = {:e}, at most {} sweeps, relaxation {}",
+            c.delta, c.max_iterations, c.relaxation
+        );
+    }
+    let _ = writeln!(out, "\neach integrator stage ({rounds} per step), in order:");
+    for (k, stage) in stages.iter().enumerate() {
+        stage_lines(&mut out, k + 1, stage);
+        let subs = stage.sub_stages(solids);
+        if subs.is_empty() {
+            continue;
+        }
+        let _ = match (stage, &c) {
+            (Stage::Correction, Some(c)) => writeln!(
+                out,
+                "      each sweep, until the compression is below delta = {:e} (at most {} sweeps{}):",
+                c.delta,
+                c.max_iterations,
+                if c.strict { ", else an error" } else { "" }
+            ),
+            _ => writeln!(out, "      then:"),
+        };
+        for sub in subs {
+            sub_stage_lines(&mut out, sub);
+        }
+    }
+    let _ = writeln!(out, "\nafter each step:");
+    let probe_interval = scene.output_interval / 10.0;
+    for p in &scene.probes {
+        let axis = ["x", "y", "z"].get(p.axis).copied().unwrap_or("?");
+        let what = match p.solid.and_then(|s| scene.solids.get(s)) {
+            Some(s) => format!("{} on {} along {axis}", p.kind.name(), s.name),
+            None => format!("{} along {axis}", p.kind.name()),
+        };
+        let _ = writeln!(
+            out,
+            "  probe {:<14} {what}, recorded every {probe_interval} s{}",
+            p.name,
+            if p.reference.is_some() {
+                ", compared with its reference data"
+            } else {
+                ""
+            }
+        );
+    }
+    let _ = writeln!(
+        out,
+        "  steps.csv            every step: time step, its limit, extremes"
+    );
+    if solids {
+        let _ = writeln!(out, "  forces.csv           every step: force on each solid");
+    }
+    if scene.write_frames {
+        let _ = writeln!(
+            out,
+            "  frames               every {} s: position, velocity, density, pressure, kind (.vtu)",
+            scene.output_interval
+        );
+    }
+    if scene.write_surface {
+        let _ = writeln!(
+            out,
+            "  surface              every {} s: free surface (25) (.vtp, .ply)",
+            scene.output_interval
+        );
+    }
+    out
+}
+
+/// The lines of one plan stage: number, name, equation, description, fields.
+fn stage_lines(out: &mut String, number: usize, stage: &Stage) {
+    let _ = writeln!(
+        out,
+        "  {number:>2}. {:<18} {:<28} {}",
+        stage.name(),
+        stage.equation(),
+        stage.description()
+    );
+    let _ = writeln!(
+        out,
+        "      reads {} -> writes {}",
+        fields(stage.reads()),
+        fields(stage.writes())
+    );
+}
+
+/// The lines of one step the driver runs inside a stage.
+fn sub_stage_lines(out: &mut String, sub: SubStage) {
+    let description = match sub {
+        SubStage::SortByCell => {
+            format!("re-sort, only once particles drifted {RESORT_DRIFT} h since the last sort")
+        }
+        _ => sub.description().to_string(),
+    };
+    let _ = writeln!(
+        out,
+        "      - {:<19} {:<25} {description}",
+        sub.name(),
+        sub.equation()
+    );
+    let _ = writeln!(
+        out,
+        "          reads {} -> writes {}",
+        fields(sub.reads()),
+        fields(sub.writes())
+    );
+}

@@ -1,0 +1,188 @@
+//! `sph plan SCENE` (issue 7): on every shipped scene it prints the plan, or, for the scenes whose
+//! fixed step is refused on purpose (`scenes/hard/large_dt_*.toml`), the one-line validation
+//! error and a non-zero exit; and the plan shows exactly the effects the scene asks for.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs `sph plan` on `scene` with `--set` overrides.
+fn plan(scene: &Path, sets: &[&str]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sph"));
+    cmd.arg("plan").arg(scene);
+    for s in sets {
+        cmd.arg("--set").arg(s);
+    }
+    cmd.output().expect("sph runs")
+}
+
+/// A shipped scene by its path under the crate.
+fn shipped(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+/// Every `*.toml` of `scenes/` and `scenes/hard/`.
+fn shipped_scenes() -> Vec<PathBuf> {
+    let mut all = Vec::new();
+    for dir in ["scenes", "scenes/hard"] {
+        for entry in std::fs::read_dir(shipped(dir)).expect("scene folder") {
+            let path = entry.expect("entry").path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                all.push(path);
+            }
+        }
+    }
+    all.sort();
+    all
+}
+
+/// The printed plan's stage lines (`  N. name  equation  description`).
+fn stage_names(stdout: &str) -> Vec<String> {
+    stdout
+        .lines()
+        .filter_map(|l| {
+            let (number, rest) = l.trim_start().split_once(". ")?;
+            number.parse::<u32>().ok()?;
+            rest.split_whitespace().next().map(String::from)
+        })
+        .collect()
+}
+
+#[test]
+fn plan_runs_on_every_shipped_scene_and_refuses_the_large_steps_in_one_line() {
+    let scenes = shipped_scenes();
+    assert!(scenes.len() >= 25, "found {} scenes", scenes.len());
+    let mut refused = Vec::new();
+    for scene in &scenes {
+        let out = plan(scene, &[]);
+        let (stdout, stderr) = (
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr),
+        );
+        let name = scene.file_name().expect("file").to_string_lossy().into_owned();
+        if name.starts_with("large_dt_") {
+            assert!(!out.status.success(), "{name}: accepted");
+            let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+            assert_eq!(lines.len(), 1, "{name}: {stderr}");
+            assert!(
+                lines[0].contains("solver.dt") && lines[0].contains("h / C"),
+                "{name}: {stderr}"
+            );
+            refused.push(name);
+            continue;
+        }
+        assert!(out.status.success(), "{name}: {stderr}");
+        let names = stage_names(&stdout);
+        for expected in ["sort_by_cell", "density", "forces", "time_step"] {
+            assert!(
+                names.iter().any(|n| n == expected),
+                "{name}: no {expected} in {names:?}"
+            );
+        }
+        // Every stage line names an equation or source, and every stage its fields.
+        assert!(
+            stdout.contains("(18)") && stdout.contains("(15)"),
+            "{name}: {stdout}"
+        );
+        let fields = stdout.lines().filter(|l| l.starts_with("      reads ")).count();
+        assert_eq!(fields, names.len(), "{name}: {stdout}");
+    }
+    assert_eq!(refused, ["large_dt_2d.toml", "large_dt_3d.toml"]);
+}
+
+#[test]
+fn wcsph_without_viscosity_has_no_viscosity_line() {
+    // `hydrostatic_2d` without its viscosity: the effect and its key removed (a key given without
+    // its effect is refused, and `--set` cannot remove a key), written to a temporary file.
+    let scene = shipped("scenes/hydrostatic_2d.toml");
+    let text = std::fs::read_to_string(&scene).expect("scene");
+    let inviscid: String = text
+        .lines()
+        .filter(|l| !l.starts_with("viscosity ="))
+        .map(|l| {
+            l.replace(
+                r#"effects = ["gravity", "viscosity"]"#,
+                r#"effects = ["gravity"]"#,
+            ) + "\n"
+        })
+        .collect();
+    let dir = std::env::temp_dir().join(format!("sph_plan_test_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("inviscid.toml");
+    std::fs::write(&path, inviscid).expect("write scene");
+    let out = plan(&path, &[]);
+    let _ = std::fs::remove_dir_all(&dir);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!stdout.contains("(17)"), "{stdout}");
+    assert!(!stdout.contains("viscosity mu"), "{stdout}");
+    let forces = stdout
+        .lines()
+        .find(|l| l.contains(". forces "))
+        .expect("forces line");
+    assert!(!forces.contains("viscosity"), "{forces}");
+    assert!(stdout.contains("(15): (16), (6)"), "{stdout}");
+    assert!(stage_names(&stdout).contains(&"equation_of_state".to_string()));
+    // The shipped scene, with viscosity, has it.
+    let viscous = plan(&scene, &[]);
+    assert!(String::from_utf8_lossy(&viscous.stdout).contains("(15): (16), (17), (6)"));
+}
+
+#[test]
+fn corrected_scene_shows_the_correction_and_no_equation_of_state() {
+    let out = plan(&shipped("scenes/dam_break_2d.toml"), &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    let names = stage_names(&stdout);
+    assert!(!names.contains(&"equation_of_state".to_string()), "{names:?}");
+    assert_eq!(
+        names.last().map(String::as_str),
+        Some("correct_positions"),
+        "{names:?}"
+    );
+    assert!(
+        stdout.contains("(23)-(24)") && stdout.contains("(24), note 6"),
+        "{stdout}"
+    );
+    for sub in [
+        "- density",
+        "- correction_pressure",
+        "- correct_positions",
+        "- keep_out",
+    ] {
+        assert!(stdout.contains(sub), "no {sub}: {stdout}");
+    }
+    assert!(stdout.contains("settle"), "{stdout}");
+    // And the wcsph variant of the same scene has (19) and no correction.
+    let wcsph = plan(&shipped("scenes/dam_break_2d.toml"), &["solver.kind=wcsph"]);
+    let names = stage_names(&String::from_utf8_lossy(&wcsph.stdout));
+    assert!(names.contains(&"equation_of_state".to_string()));
+    assert!(!names.contains(&"correct_positions".to_string()));
+}
+
+#[test]
+fn moving_walls_show_move_solids() {
+    let out = plan(&shipped("scenes/hard/sloshing_2d.toml"), &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    let names = stage_names(&stdout);
+    assert_eq!(
+        names.first().map(String::as_str),
+        Some("move_solids"),
+        "{names:?}"
+    );
+    assert!(stdout.contains("(moving)"), "{stdout}");
+    // A corrected run places them again before each correction.
+    let corrected = plan(
+        &shipped("scenes/hard/sloshing_2d.toml"),
+        &["solver.kind=corrected"],
+    );
+    let names = stage_names(&String::from_utf8_lossy(&corrected.stdout));
+    assert_eq!(
+        names.iter().filter(|n| *n == "move_solids").count(),
+        2,
+        "{names:?}"
+    );
+    // Fixed walls: no such stage.
+    let fixed = plan(&shipped("scenes/hydrostatic_2d.toml"), &[]);
+    assert!(!stage_names(&String::from_utf8_lossy(&fixed.stdout)).contains(&"move_solids".to_string()));
+}

@@ -1,0 +1,290 @@
+//! The viscosity choice against an exact solution: start-up of plane Poiseuille flow
+//! (`scenes/poiseuille_2d.toml`; Morris, Fox & Zhu 1997, series in validation/SOURCES.md 7.3).
+//!
+//! Set-up (the scene's comments give the reasons): walls y = 0 and y = L = 0.1 m, fluid from
+//! rest, body force F = 0.4 m/s² along x (the scene's `fluid.gravity`), ν = 0.01 m²/s, so
+//! u0 = F L²/(8ν) = 0.05 m/s, Re = u0 L/ν = 0.5 and the viscous time L²/ν = 1 s; dx = L/20,
+//! h = 2 dx, `wcsph` with C = 20 u0. The solver has no periodic boundaries, so the channel is a
+//! block 6 L long with free ends: nothing builds a pressure gradient along x, and the ends'
+//! influence spreads by viscous diffusion only, sqrt(ν t) ≤ 0.8 L by t = 0.6 s, while the
+//! profile is measured in the middle L of the block, 2.5 L from either end (the block moves at
+//! most u0 t = 0.3 L). The profile: mean `u_x` of the fluid particles in that section, in 20
+//! bins one spacing wide across the channel, against the series at the bin centres, at
+//! t = 0.02, 0.05, 0.1, 0.2 and 0.6 s (t ν/L² the same numbers; at 0.6 the series is within
+//! 0.3 % of the steady parabola).
+//!
+//! Result (measured; README "Viscosity: what the Poiseuille test shows"): the paper's Laplacian
+//! viscosity (17) does **not** reach the 5 % target. The error grows to 29 % of u0 at the steady
+//! state (centreline 1.29 u0), from two causes that `laplacian_viscosity_error_is_the_lattice_
+//! deficit_and_the_wall_slip` separates:
+//! - the SPH Laplacian of (17) on the lattice at h = 2 dx is λ = 0.85 of the true one (the
+//!   second moment `Σ_j V_j r² ∇²W / (2D)`; 0.95 at h = 3 dx, 0.98 at 4 dx), so the fluid
+//!   feels ν λ: the parabola's curvature is 1/λ = 1.17 times the series';
+//! - the walls' particles carry zero velocity, which is not a no-slip condition at the wall
+//!   face: the fluid slips with a slip length b ≈ h/4 (fitted 0.30 h here; 0.27 h at h = 2 dx and
+//!   0.24 h at h = 4 dx with μ/λ in the scene), a uniform 4b/L ≈ 0.12 u0 on top of the profile. Adami, Hu & Adams (2012), whose
+//!   wall pressure the solver uses, give the wall particles the mirrored velocity
+//!   `2 u_wall − ũ` instead; that is not implemented.
+//!
+//! Refining dx at h = 2 dx does not help (L = 40 dx: 23 %, since λ stays 0.85); a larger h/dx
+//! fixes λ but not the slip (h = 4 dx: 21 %). The 5 % test is therefore `#[ignore]`d with the
+//! measured number; run it with `--ignored` to see it fail.
+//!
+//! Artificial viscosity instead of (17): with α chosen so that its continuum equivalent
+//! (`physics::artificial_viscosity::equivalent_viscosity`, Monaghan 2005) equals ν, the flow
+//! never becomes Poiseuille flow: the switch (approaching pairs only) leaves most of the shear
+//! unresisted and the fluid slides as a plug that keeps accelerating (centreline 3.0 u0 at
+//! t = 0.6 s, 1.26 u0 more than at 0.4 s). `artificial_viscosity_is_not_a_shear_viscosity`.
+
+use sph::fields::FLUID;
+use sph::physics::lattice::lattice_mass;
+use sph::run::simulation_from_scene;
+use sph::scene::{Scene, load_scene, parse_scene};
+use sph::smoothing::Smoothing;
+use std::path::Path;
+
+/// Channel width L [m] (walls at y = 0 and y = L; the scene's fluid box).
+const WIDTH: f64 = 0.1;
+/// Centre of the measured section [m]: the middle of the fluid block x ∈ [0, 6 L].
+const SECTION_CENTRE: f64 = 0.3;
+/// Times [s] at which the profile is compared (t ν/L² the same numbers).
+const TIMES: [f64; 5] = [0.02, 0.05, 0.1, 0.2, 0.6];
+/// The target: largest |u_SPH − u_series| in a bin, as a fraction of the steady centreline
+/// speed u0 (the brief of issue 7).
+const TARGET: f64 = 0.05;
+
+/// The shipped scene, with `sets` applied.
+fn scene(sets: &[&str]) -> Scene {
+    let path = format!("{}/scenes/poiseuille_2d.toml", env!("CARGO_MANIFEST_DIR"));
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    load_scene(Path::new(&path), &sets).expect("scenes/poiseuille_2d.toml is valid")
+}
+
+/// The driving body force F [m/s²] along the channel: the scene's gravity.
+fn body_force(scene: &Scene) -> f64 {
+    scene
+        .gravity
+        .as_ref()
+        .expect("the body force is the scene's gravity")[0]
+}
+
+/// SOURCES.md 7.3, Poiseuille start-up: `u(y, t) = F/(2ν) y (L − y) − Σ_{n≥0} 4 F L²/(ν π³
+/// (2n+1)³) sin((2n+1) π y/L) exp(−(2n+1)² π² ν t/L²)` [m/s]; y [m], t [s]. 200 terms: the
+/// omitted tail is below 4 F L²/(ν π³) Σ_{k>400} k⁻³ ≈ 4e-7 u0.
+fn series(y: f64, t: f64, f: f64, nu: f64) -> f64 {
+    let (l, pi) = (WIDTH, std::f64::consts::PI);
+    let mut u = f / (2.0 * nu) * y * (l - y);
+    for n in 0..200 {
+        let k = (2 * n + 1) as f64;
+        u -= 4.0 * f * l * l / (nu * pi.powi(3) * k.powi(3))
+            * (k * pi * y / l).sin()
+            * (-k * k * pi * pi * nu * t / (l * l)).exp();
+    }
+    u
+}
+
+/// One measured profile: bin centres y [m] and the mean fluid `u_x` [m/s] in each bin.
+struct Profile {
+    time: f64,
+    y: Vec<f64>,
+    u: Vec<f64>,
+}
+
+/// Runs `scene` and measures the profile at each of [`TIMES`].
+fn profiles(scene: &Scene) -> Vec<Profile> {
+    let mut sim = simulation_from_scene::<2>(scene).expect("the scene builds");
+    let dx = scene.spacing;
+    let bins = (WIDTH / dx).round() as usize;
+    let mut out = Vec::new();
+    for &t in &TIMES {
+        while sim.clock().time < t - 1e-9 {
+            sim.step(t).expect("the step succeeds");
+        }
+        sim.sync_fields().expect("CPU fields");
+        let f = &sim.fields;
+        let (mut sum, mut count) = (vec![0.0; bins], vec![0usize; bins]);
+        for i in (0..f.len()).filter(|&i| f.kind[i] == FLUID) {
+            let (x, y) = (f64::from(f.position[i][0]), f64::from(f.position[i][1]));
+            if (x - SECTION_CENTRE).abs() > 0.5 * WIDTH {
+                continue;
+            }
+            let b = ((y / dx).floor().max(0.0) as usize).min(bins - 1);
+            sum[b] += f64::from(f.velocity[i][0]);
+            count[b] += 1;
+        }
+        assert!(
+            count.iter().all(|&c| c > 0),
+            "every bin holds particles: {count:?}"
+        );
+        out.push(Profile {
+            time: t,
+            y: (0..bins).map(|b| (b as f64 + 0.5) * dx).collect(),
+            u: sum.iter().zip(&count).map(|(s, &c)| s / c as f64).collect(),
+        });
+    }
+    out
+}
+
+/// Largest |u − series| over the bins, as a fraction of `u0` [m/s].
+fn worst_error(p: &Profile, f: f64, nu: f64, u0: f64) -> f64 {
+    p.y.iter()
+        .zip(&p.u)
+        .map(|(&y, &u)| (u - series(y, p.time, f, nu)).abs() / u0)
+        .fold(0.0, f64::max)
+}
+
+/// Second moment of the viscosity kernel's Laplacian on the lattice, `λ = Σ_{j≠i} V_j r_ij²
+/// ∇²W^visc(r_ij) / (2D)` with the lattice volume `V = m/ρ0` (`physics::lattice`): the SPH
+/// Laplacian (17) of a quadratic field on the lattice is `λ` times the true one (1 in the
+/// continuum, where `∫ r² ∇²W dV = 2D ∫ W dV`).
+fn lattice_laplacian_moment(h: f64, dx: f64) -> f64 {
+    let kernel = Smoothing::<2>::new(h as f32).expect("2D");
+    let volume = lattice_mass(&kernel, dx, 1.0);
+    let n = (h / dx).ceil() as i64;
+    let mut sum = 0.0;
+    for i in -n..=n {
+        for j in -n..=n {
+            let r = ((i * i + j * j) as f64).sqrt() * dx;
+            if r > 0.0 {
+                sum += volume * r * r * f64::from(kernel.laplacian_w_viscosity(r as f32));
+            }
+        }
+    }
+    sum / 4.0
+}
+
+/// Least-squares fit `u(y) = a · 4 y (L − y)/L² + s` [m/s]: the curvature term and a uniform
+/// slip velocity. Returns `(a, s, largest residual)`.
+fn fit_parabola_and_slip(p: &Profile) -> (f64, f64, f64) {
+    let basis: Vec<f64> =
+        p.y.iter()
+            .map(|&y| 4.0 * y * (WIDTH - y) / (WIDTH * WIDTH))
+            .collect();
+    let n = basis.len() as f64;
+    let (sx, sy) = (basis.iter().sum::<f64>(), p.u.iter().sum::<f64>());
+    let sxx: f64 = basis.iter().map(|x| x * x).sum();
+    let sxy: f64 = basis.iter().zip(&p.u).map(|(x, u)| x * u).sum();
+    let a = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    let s = (sy - a * sx) / n;
+    let residual = basis
+        .iter()
+        .zip(&p.u)
+        .map(|(x, u)| (u - (a * x + s)).abs())
+        .fold(0.0, f64::max);
+    (a, s, residual)
+}
+
+#[test]
+#[ignore = "fails: the Laplacian viscosity (17) with zero-velocity wall particles is 29 % of u0 \
+            off at the steady state (lattice Laplacian 0.85 at h = 2 dx, wall slip ≈ h/4); see \
+            the module doc"]
+fn start_up_profile_follows_the_series_within_5_percent_of_u0() {
+    let scene = scene(&[]);
+    let (f, nu) = (
+        body_force(&scene),
+        scene.viscosity.expect("viscosity") / scene.rho0,
+    );
+    let u0 = f * WIDTH * WIDTH / (8.0 * nu);
+    let errors: Vec<(f64, f64)> = profiles(&scene)
+        .iter()
+        .map(|p| (p.time, worst_error(p, f, nu, u0)))
+        .collect();
+    assert!(
+        errors.iter().all(|&(_, e)| e <= TARGET),
+        "worst bin / u0 at each time [s] (target {TARGET}): {errors:.3?}"
+    );
+}
+
+/// Measures why the 5 % target fails, so a change to the viscosity or the walls shows here.
+/// At t = 0.6 s (series within 0.3 % of steady) the profile is a parabola plus a uniform slip
+/// velocity, within 0.01 u0 (measured 0.0012 u0); its curvature is the series' times `1/λ`
+/// within 3 % (λ = 0.85 from the lattice sum; measured 0.5 %), and the slip length
+/// `b = s L/(4 u0)` lies in [0.2 h, 0.35 h] (measured 0.30 h; with μ/λ in the scene the whole
+/// error is a uniform +0.107 u0, b = 0.27 h).
+#[test]
+fn laplacian_viscosity_error_is_the_lattice_deficit_and_the_wall_slip() {
+    let scene = scene(&[]);
+    let (f, nu) = (
+        body_force(&scene),
+        scene.viscosity.expect("viscosity") / scene.rho0,
+    );
+    let u0 = f * WIDTH * WIDTH / (8.0 * nu);
+    let h = scene.smoothing_length;
+    let lambda = lattice_laplacian_moment(h, scene.spacing);
+    assert!((lambda - 0.8516).abs() < 1e-3, "λ = {lambda} at h = 2 dx");
+    let all = profiles(&scene);
+    let early = &all[0];
+    // Before the walls' influence reaches the centre (t = 0.02 s), the core accelerates at F.
+    let centre = early.u[early.u.len() / 2];
+    let expected = series(early.y[early.u.len() / 2], early.time, f, nu);
+    assert!(
+        (centre - expected).abs() <= 0.005 * u0,
+        "core at t = 0.02 s: {centre} vs {expected} m/s"
+    );
+    let steady = all.last().expect("profiles");
+    let (a, s, residual) = fit_parabola_and_slip(steady);
+    let worst = worst_error(steady, f, nu, u0);
+    println!(
+        "t = 0.6 s: worst {worst:.3} u0, curvature {:.3} u0 (1/λ = {:.3}), slip {:.3} u0, fit residual {:.4} u0",
+        a / u0,
+        1.0 / lambda,
+        s / u0,
+        residual / u0
+    );
+    assert!(
+        residual <= 0.01 * u0,
+        "not a parabola plus slip: residual {residual}"
+    );
+    assert!(
+        (a / u0 * lambda - 1.0).abs() <= 0.03,
+        "curvature {} u0, expected 1/λ = {}",
+        a / u0,
+        1.0 / lambda
+    );
+    let b = s * WIDTH / (4.0 * u0);
+    assert!(
+        (0.2 * h..=0.35 * h).contains(&b),
+        "slip length {b} m = {} h",
+        b / h
+    );
+}
+
+/// The inviscid alternative: artificial viscosity alone, with α set so that its continuum
+/// equivalent equals ν, does not give Poiseuille flow. Measured: the fluid slides as a plug
+/// still accelerating at t = 0.6 s (centreline 3.0 u0, the series 0.995 u0); asserted: the
+/// centreline is above 2 u0 and still gained more than 0.5 u0 since t = 0.2 s (the series
+/// gains 0.14 u0).
+#[test]
+fn artificial_viscosity_is_not_a_shear_viscosity() {
+    let reference = scene(&[]);
+    let nu = reference.viscosity.expect("viscosity") / reference.rho0;
+    let f = body_force(&reference);
+    let u0 = f * WIDTH * WIDTH / (8.0 * nu);
+    let (c, h) = (reference.sound_speed, reference.smoothing_length);
+    let alpha = nu / sph::physics::artificial_viscosity::equivalent_viscosity(1.0, c, h, 2);
+    let path = format!("{}/scenes/poiseuille_2d.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).expect("scene file");
+    let text = text
+        .replace(
+            r#"effects = ["gravity", "viscosity"]"#,
+            r#"effects = ["gravity", "artificial_viscosity"]"#,
+        )
+        .replace("viscosity = 10.0", &format!("artificial_viscosity = {alpha}"));
+    let scene = parse_scene(&text, &path, &[]).expect("the artificial-viscosity variant is valid");
+    assert_eq!(scene.viscosity, None, "no (17) in this variant");
+    let all = profiles(&scene);
+    let mid = all[0].u.len() / 2;
+    let (at_02, at_06) = (all[3].u[mid], all[4].u[mid]);
+    println!(
+        "α = {alpha}: centreline {:.3} u0 at 0.2 s, {:.3} u0 at 0.6 s",
+        at_02 / u0,
+        at_06 / u0
+    );
+    assert!(at_06 > 2.0 * u0, "centreline {} u0 at 0.6 s", at_06 / u0);
+    assert!(
+        at_06 - at_02 > 0.5 * u0,
+        "still accelerating: {} -> {} u0",
+        at_02 / u0,
+        at_06 / u0
+    );
+}
