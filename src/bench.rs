@@ -41,9 +41,10 @@ pub struct BenchRow {
     pub interactions_per_second: f64,
     /// Memory the backend holds per particle [B] (host for the CPU, device for CUDA).
     pub bytes_per_particle: f64,
-    /// Peak resident set of the process while the row was built and measured, per particle [B]
-    /// (`memory::peak_resident_bytes`; includes the program itself, a few MB, which dominates
-    /// below about 1e5 particles); NaN where the system does not report it.
+    /// Peak resident set of the process while the row's simulation was measured, per particle
+    /// [B] (`memory::peak_resident_bytes`, reset once the simulation is built; includes the
+    /// program itself, a few MB, which dominates below about 1e5 particles); NaN where the
+    /// system does not report it.
     pub peak_resident_per_particle: f64,
     /// Mean neighbours per particle (pairs closer than h, self excluded).
     pub neighbours: f64,
@@ -145,6 +146,9 @@ fn measure<const D: usize>(
 ) -> Result<BenchRow, Error> {
     let particles = sim.fields.len() as u64;
     let neighbours = neighbours_per_particle(&sim);
+    // The peak from here on: the simulation and its backend, not the scene's generation or
+    // the neighbour count's own grid (both freed by now).
+    crate::memory::reset_peak_resident();
     sim.use_backend(backend)?;
     let seconds_per_sweep = sim.time_sweeps(options.sweeps)?;
     sim.step(f64::INFINITY)?;
@@ -204,8 +208,6 @@ pub fn bench(
     for &size in &options.sizes {
         let scene = scaled_scene(path, sets, size)?;
         for &backend in &options.backends {
-            // Each row's own peak: the previous rows' memory is freed by now.
-            crate::memory::reset_peak_resident();
             let mut row = match AnySimulation::from_scene(&scene)? {
                 AnySimulation::D2(sim) => measure(sim, &scene, backend, options)?,
                 AnySimulation::D3(sim) => measure(sim, &scene, backend, options)?,

@@ -54,16 +54,30 @@ pub fn max_in_order<F>(len: usize, term: F) -> f64
 where
     F: Fn(usize) -> f64 + Sync + Send,
 {
+    max_each_in_order(len, |i| [term(i)])[0]
+}
+
+/// [`max_in_order`] of `N` terms at once, in one pass: each component's largest value, NaN if
+/// any of that component's terms is NaN, `−∞` for `len = 0`.
+pub fn max_each_in_order<const N: usize, F>(len: usize, term: F) -> [f64; N]
+where
+    F: Fn(usize) -> [f64; N] + Sync + Send,
+{
     (0..len).into_par_iter().map(term).reduce(
-        || f64::NEG_INFINITY,
-        |a, b| {
-            if a.is_nan() || b.is_nan() {
-                f64::NAN
-            } else {
-                a.max(b)
-            }
-        },
+        || [f64::NEG_INFINITY; N],
+        |a, b| std::array::from_fn(|k| max_or_nan(a[k], b[k])),
     )
+}
+
+/// The larger of `a` and `b`, NaN if either is (`f64::max` would drop the NaN): the reduction
+/// of [`max_in_order`], for loops that reduce while they compute.
+#[inline(always)]
+pub fn max_or_nan(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
 }
 
 /// Sums `term(i)` per group: `term` returns the group (`< groups`) and the value, or `None` to

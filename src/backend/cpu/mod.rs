@@ -10,7 +10,9 @@ use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::boundary::{solid_force::force_on_solid, wall_pressure::WallPressureSums};
 use crate::fields::{FLUID, Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
-use crate::math::{Real, Vector, max_in_order, sum_by_group, sum_in_order, to_xyz};
+use crate::math::{
+    Real, Vector, max_each_in_order, max_in_order, max_or_nan, sum_by_group, sum_in_order, to_xyz,
+};
 use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration,
     correction,
@@ -38,8 +40,12 @@ pub struct CpuBackend<const D: usize> {
     /// candidates (`Grid::neighbour_ranges`). Its wall pressure, correction increment and
     /// force on its solid are exactly zero until the next sort, so the solid loops skip it
     /// (the tank walls far from the water: half the particles of the 3D column scene). Empty
-    /// before the first sort: nothing is skipped.
+    /// before the first sort: nothing is skipped (the correction finds them on first use).
     dry: Vec<bool>,
+    /// The other solids (indices, ascending), whose correction increments are summed.
+    wet: Vec<u32>,
+    /// The correction increments of the `wet` solids [Pa], before they are scattered.
+    wet_increments: Vec<Real>,
     /// `p/ρ²` per particle (`physics::pressure::pressure_term`) of the current pressure loop.
     pressure_terms: Vec<Real>,
 }
@@ -57,6 +63,8 @@ impl<const D: usize> CpuBackend<D> {
             + self.delta_p.capacity() * 4
             + self.displacement.capacity() * D * 4
             + self.dry.capacity()
+            + self.wet.capacity() * 4
+            + self.wet_increments.capacity() * 4
             + self.pressure_terms.capacity() * 4
     }
 
@@ -84,6 +92,10 @@ impl<const D: usize> CpuBackend<D> {
                     .neighbour_ranges(i)
                     .all(|r| fluid_before[r.end] == fluid_before[r.start])
         }));
+        let dry = &self.dry;
+        self.wet.clear();
+        self.wet
+            .extend((0..kind.len() as u32).filter(|&i| kind[i as usize] != FLUID && !dry[i as usize]));
     }
 }
 
@@ -145,6 +157,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     fn sort_by_cell(&mut self, fields: &mut Fields<D>, h: f32) -> Result<(), GridError> {
         let perm = self.grid.sort(&fields.position, h)?;
         self.delta_p_previous.clear();
+        self.delta_p.clear();
         fields.permute(perm, &mut self.scratch);
         self.grid.link();
         self.find_dry_solids(&fields.kind);
@@ -422,73 +435,79 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn correction_error(&mut self, fields: &Fields<D>, rho0: f32) -> CorrectionError {
         let f = fields;
-        let fluid_max = |term: &(dyn Fn(usize) -> f64 + Sync)| {
-            max_in_order(f.len(), |i| if f.kind[i] == FLUID { term(i) } else { 0.0 }).max(0.0)
-        };
+        let [compression, residual] = max_each_in_order(f.len(), |i| {
+            if f.kind[i] == FLUID {
+                [
+                    correction::compression(f.density[i], rho0),
+                    correction::residual(f.density[i], rho0, f.pressure[i]),
+                ]
+            } else {
+                [0.0; 2]
+            }
+        });
         CorrectionError {
-            compression: fluid_max(&|i| correction::compression(f.density[i], rho0)),
-            residual: fluid_max(&|i| correction::residual(f.density[i], rho0, f.pressure[i])),
+            compression: compression.max(0.0),
+            residual: residual.max(0.0),
         }
     }
 
     fn begin_correction(&mut self, _fields: &mut Fields<D>) {
+        // Both buffers: `correction_pressure` swaps them before it reads the previous one.
         self.delta_p_previous.clear();
+        self.delta_p.clear();
     }
 
     fn correction_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
+        // The last sweep's increments become the previous ones (heavy-ball momentum): a swap of
+        // buffers, not a copy; `delta_p` is overwritten below.
+        std::mem::swap(&mut self.delta_p, &mut self.delta_p_previous);
         let kernel = params.smoothing();
-        let grid = &self.grid;
         let n = fields.len();
+        if self.dry.len() != n {
+            self.find_dry_solids(&fields.kind);
+        }
         self.delta_p.resize(n, 0.0);
-        let f = &*fields;
         let beta = correction::MOMENTUM;
         let prev = &self.delta_p_previous;
         let has_prev = prev.len() == n;
-        // Fluid first: eq. (19) with the correction's stiffness, pressure kept >= 0 (note 6).
-        self.delta_p.par_iter_mut().enumerate().for_each(|(i, dp)| {
-            *dp = if f.kind[i] == FLUID {
-                // Heavy-ball momentum on the increments (see `physics::correction::MOMENTUM`).
-                let m = if has_prev { beta * prev[i] } else { 0.0 };
-                correction::pressure_increment(f.density[i], params.rho0, f.pressure[i] + m, k) + m
-            } else {
-                0.0
-            };
-        });
-        // Then solids: [A12] extrapolation of the fluid increments, without the gravity term
-        // (gravity acts in the force stage, not in the correction), and never negative: a wall
-        // next to particles that give pressure back must not pull a compressed particle onto
-        // itself (measured: that held a particle against the floor of the dam break through
-        // 1000 sweeps).
-        let fluid_dp = std::mem::take(&mut self.delta_p);
-        let mut solid_dp = std::mem::take(&mut self.wall);
-        solid_dp.clear();
-        let dry = &self.dry;
-        solid_dp.par_extend((0..n).into_par_iter().map(|w| {
-            if f.kind[w] == FLUID {
-                return (fluid_dp[w], 0.0);
-            }
-            if dry.get(w).copied().unwrap_or(false) {
-                return (0.0, 0.0);
-            }
-            let mut sums = WallPressureSums::<D>::default();
-            grid.for_each_neighbour(&f.position, w, |j, d, r2| {
-                if f.kind[j] == FLUID {
-                    sums.add(fluid_dp[j], f.density[j], &d, kernel.w(r2));
-                }
-            });
-            (sums.pressure(&Vector::zeros()), 0.0)
-        }));
-        self.delta_p = fluid_dp;
+        // Fluid first: eq. (19) with the correction's stiffness, pressure kept >= 0 (note 6),
+        // added to the pressure in the same pass.
+        let (kind, density, rho0) = (&fields.kind, &fields.density, params.rho0);
         self.delta_p
             .par_iter_mut()
             .zip(fields.pressure.par_iter_mut())
             .enumerate()
             .for_each(|(i, (dp, p))| {
-                *dp = solid_dp[i].0;
+                *dp = if kind[i] == FLUID {
+                    // Heavy-ball momentum on the increments (see `physics::correction::MOMENTUM`).
+                    let m = if has_prev { beta * prev[i] } else { 0.0 };
+                    correction::pressure_increment(density[i], rho0, *p + m, k) + m
+                } else {
+                    0.0
+                };
                 *p += *dp;
             });
-        self.wall = solid_dp;
-        self.delta_p_previous.clone_from(&self.delta_p);
+        let f = &*fields;
+        // Then the solids with fluid candidates (the others get 0): [A12] extrapolation of the
+        // fluid increments, without the gravity term (gravity acts in the force stage, not in
+        // the correction), and never negative: a wall next to particles that give pressure back
+        // must not pull a compressed particle onto itself (measured: that held a particle
+        // against the floor of the dam break through 1000 sweeps).
+        let (grid, fluid_dp) = (&self.grid, &self.delta_p);
+        self.wet_increments.clear();
+        self.wet_increments.par_extend(self.wet.par_iter().map(|&w| {
+            let mut sums = WallPressureSums::<D>::default();
+            grid.for_each_neighbour(&f.position, w as usize, |j, d, r2| {
+                if f.kind[j] == FLUID {
+                    sums.add(fluid_dp[j], f.density[j], &d, kernel.w(r2));
+                }
+            });
+            sums.pressure(&Vector::zeros())
+        }));
+        for (&w, &dp) in self.wet.iter().zip(&self.wet_increments) {
+            self.delta_p[w as usize] = dp;
+            fields.pressure[w as usize] += dp;
+        }
     }
 
     fn correct_positions(
@@ -506,22 +525,30 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.density);
         let q = &self.pressure_terms;
         let tau2 = tau * tau;
-        self.displacement.clear();
-        self.displacement.par_extend((0..n).into_par_iter().map(|i| {
-            if f.kind[i] != FLUID {
-                return Vector::zeros();
-            }
-            let mut a = Vector::<D>::zeros();
-            grid.for_each_neighbour(&f.position, i, |j, d, r2| {
-                if j == i {
-                    return;
-                }
-                let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
-                a += pressure_acceleration_from_terms(q[i], q[j], f.mass[j], &grad);
-            });
-            a * tau2 // eq. (23)
-        }));
-        let largest = max_in_order(n, |i| f64::from(self.displacement[i].norm())).max(0.0);
+        self.displacement.resize(n, Vector::zeros());
+        // The displacements and their largest length in one pass.
+        let largest = self
+            .displacement
+            .par_iter_mut()
+            .enumerate()
+            .map(|(i, out)| {
+                *out = if f.kind[i] != FLUID {
+                    Vector::zeros()
+                } else {
+                    let mut a = Vector::<D>::zeros();
+                    grid.for_each_neighbour(&f.position, i, |j, d, r2| {
+                        if j == i {
+                            return;
+                        }
+                        let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
+                        a += pressure_acceleration_from_terms(q[i], q[j], f.mass[j], &grad);
+                    });
+                    a * tau2 // eq. (23)
+                };
+                f64::from(out.norm())
+            })
+            .reduce(|| f64::NEG_INFINITY, max_or_nan)
+            .max(0.0);
         // One factor for all particles keeps every pair's displacements antisymmetric.
         let scale = if largest > f64::from(max_step) {
             (f64::from(max_step) / largest) as Real
