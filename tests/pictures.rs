@@ -550,6 +550,7 @@ fn bench_chart_is_log_log_with_one_line_per_backend() {
         particle_steps_per_second: particles as f64 / seconds,
         interactions_per_second: 0.0,
         bytes_per_particle: 100.0,
+        peak_resident_per_particle: 150.0,
         neighbours: 30.0,
         speedup: None,
         stages: Vec::new(),

@@ -143,21 +143,29 @@ fn sphere_volume_and_area_within_3_percent() {
 /// 1/size: at 40 across the box is within [`REL`] (next test).
 const BOX_AREA_REL_20: f64 = 0.055;
 
-#[test]
-fn box_volume_within_3_percent_and_area_within_edge_rounding() {
-    let particles = lattice::<3>(0.0);
-    let mesh = reconstruct(&particles, &SurfaceParams::new::<3>(DX)).unwrap();
+/// The 20-across box of `particles`: one closed surface, volume within [`REL`], area within
+/// [`BOX_AREA_REL_20`].
+fn check_box(particles: &[Vector<3>], name: &str) {
+    let mesh = reconstruct(particles, &SurfaceParams::new::<3>(DX)).unwrap();
     let half = ACROSS as f64 * DX / 2.0;
     assert_closed(&mesh, [half; 3]);
     let side = ACROSS as f64 * DX;
     let (v, a) = (mesh.enclosed_measure(), mesh.boundary_measure());
     eprintln!(
-        "box: volume {:.4} %, area {:.4} %",
+        "{name}: volume {:.4} %, area {:.4} %",
         100.0 * (v / side.powi(3) - 1.0),
         100.0 * (a / (6.0 * side * side) - 1.0)
     );
-    assert!(rel_err(v, side.powi(3)) < REL, "volume {v}");
-    assert!(rel_err(a, 6.0 * side * side) < BOX_AREA_REL_20, "area {a}");
+    assert!(rel_err(v, side.powi(3)) < REL, "{name}: volume {v}");
+    assert!(
+        rel_err(a, 6.0 * side * side) < BOX_AREA_REL_20,
+        "{name}: area {a}"
+    );
+}
+
+#[test]
+fn box_volume_within_3_percent_and_area_within_edge_rounding() {
+    check_box(&lattice::<3>(0.0), "box");
 }
 
 /// A realistic flow state: the box's particles each moved by up to 0.1 dx per axis. Still one
@@ -166,18 +174,7 @@ fn box_volume_within_3_percent_and_area_within_edge_rounding() {
 fn jittered_box_is_one_closed_surface_with_volume_within_3_percent() {
     let mut particles = lattice::<3>(0.0);
     jitter(&mut particles, 0.1 * DX, 12345);
-    let mesh = reconstruct(&particles, &SurfaceParams::new::<3>(DX)).unwrap();
-    let half = ACROSS as f64 * DX / 2.0;
-    assert_closed(&mesh, [half; 3]);
-    let side = ACROSS as f64 * DX;
-    let (v, a) = (mesh.enclosed_measure(), mesh.boundary_measure());
-    eprintln!(
-        "jittered box: volume {:.4} %, area {:.4} %",
-        100.0 * (v / side.powi(3) - 1.0),
-        100.0 * (a / (6.0 * side * side) - 1.0)
-    );
-    assert!(rel_err(v, side.powi(3)) < REL, "volume {v}");
-    assert!(rel_err(a, 6.0 * side * side) < BOX_AREA_REL_20, "area {a}");
+    check_box(&particles, "jittered box");
 }
 
 /// The support radius trades the box's edges against the sphere's smoothness: at R = 1.5 dx the

@@ -115,12 +115,8 @@ pub(crate) fn extract<const D: usize>(field: &SparseField<D>, iso: Real) -> Piec
             out
         })
         .collect();
-    let mut all = Pieces::default();
-    for p in parts {
-        all.vertices.extend(p.vertices);
-        all.elements.extend(p.elements);
-    }
-    all
+    // Blocks in order: the same mesh for any thread count.
+    parts.into_iter().collect()
 }
 
 #[cfg(test)]

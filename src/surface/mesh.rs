@@ -26,6 +26,18 @@ pub(crate) struct Pieces<const D: usize> {
     pub elements: Vec<[VertexKey<D>; D]>,
 }
 
+impl<const D: usize> FromIterator<Pieces<D>> for Pieces<D> {
+    /// The pieces of several blocks of cells, in order.
+    fn from_iter<I: IntoIterator<Item = Pieces<D>>>(parts: I) -> Self {
+        let mut all = Pieces::default();
+        for p in parts {
+            all.vertices.extend(p.vertices);
+            all.elements.extend(p.elements);
+        }
+        all
+    }
+}
+
 /// A reconstructed surface: triangles in 3D, line segments in 2D.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SurfaceMesh<const D: usize> {
