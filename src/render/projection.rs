@@ -89,15 +89,19 @@ impl Projection {
 
     /// Whether a solid point `p` [m] is cut away: it lies on the viewer's side of the fluid's
     /// bounding box `fluid_min`..`fluid_max` [m] along x or y (the horizontal axes of the
-    /// scenes, z up). Without the cut the near walls of a tank would hide the water; the top
-    /// view cuts nothing, so obstacles taller than the water stay visible from above.
+    /// scenes, z up), or, in a view from straight above, above the fluid (a closed tank's
+    /// lid). Without the cut the near walls of a tank would hide the water. Obstacles taller
+    /// than the water keep their part up to the water's top, which the top view shows.
     pub fn cuts_away(&self, p: [f32; 3], fluid_min: [f64; 3], fluid_max: [f64; 3]) -> bool {
         // Axes nearly across the line of sight face the viewer too little to hide anything.
         const FACING: f64 = 0.1;
-        (0..2).any(|k| {
+        // A view this close to vertical looks through the lid of a closed tank.
+        const FROM_ABOVE: f64 = 0.9;
+        let beside = (0..2).any(|k| {
             let (t, x) = (self.toward_viewer[k], f64::from(p[k]));
             (t < -FACING && x < fluid_min[k]) || (t > FACING && x > fluid_max[k])
-        })
+        });
+        beside || (self.toward_viewer[2] > FROM_ABOVE && f64::from(p[2]) > fluid_max[2])
     }
 }
 
@@ -164,7 +168,19 @@ mod tests {
         assert!(iso.cuts_away([-0.01, 0.2, 0.2], lo, hi));
         assert!(iso.cuts_away([0.5, -0.01, 0.2], lo, hi));
         assert!(!iso.cuts_away([1.01, 0.51, 0.2], lo, hi));
+        assert!(
+            !iso.cuts_away([1.01, 0.51, 0.9], lo, hi),
+            "iso keeps what rises above the water"
+        );
         let top = Projection::of_view(View::Top);
-        assert!(!top.cuts_away([0.5, -0.01, 0.9], lo, hi), "top view cuts nothing");
+        assert!(
+            !top.cuts_away([0.5, -0.01, 0.2], lo, hi),
+            "walls beside the water stay"
+        );
+        assert!(!top.cuts_away([0.5, 0.2, 0.5], lo, hi), "up to the water's top");
+        assert!(
+            top.cuts_away([0.5, 0.2, 0.51], lo, hi),
+            "a lid above the water goes"
+        );
     }
 }
