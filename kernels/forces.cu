@@ -1,14 +1,36 @@
 // Stage `forces`: eqs. (15)-(17) and (6), the acceleration of fluid particles; solids get zero.
-// Twin of `CpuBackend::forces` (`fluid_acceleration`). One body, four entry points: the terms a
+// Twin of `CpuBackend::forces` (`fluid_acceleration`). One body, eight entry points: the terms a
 // scene does not ask for are compiled out, as the CPU monomorphises them (`ForceTerms`):
 // `forces_p` (pressure), `forces_pv` (+ viscosity 17), `forces_pa` (+ artificial viscosity
-// [M92]), `forces_pva` (both).
+// [M92]), `forces_pva` (both), and each with the rotating frame's Coriolis and centrifugal
+// forces ([B67] 3.2): `forces_pr`, `forces_pvr`, `forces_par`, `forces_pvar`.
 #include "sph.cuh"
 #include "pair_forces.cuh"
 
+/// [B67] 3.2: Coriolis plus centrifugal acceleration, a = -Omega x (2 u + Omega x (x - x_c)),
+/// on (x, y, 0) in 2D with the third component dropped. Twin of
+/// `physics::rotating_frame::rotating_frame_acceleration`, same operations in the same order.
+__device__ __forceinline__ vec_t rotating_frame_acceleration(const StepParams& p, vec_t x, vec_t u) {
+    const float* w = p.angular_velocity;
+    float r[3] = {0.0f, 0.0f, 0.0f};
+    float v[3] = {0.0f, 0.0f, 0.0f};
+    for (int k = 0; k < D; ++k) {
+        r[k] = x.c[k] - p.rotation_centre[k];
+        v[k] = u.c[k];
+    }
+    const float wr[3] = {w[1] * r[2] - w[2] * r[1], w[2] * r[0] - w[0] * r[2],
+                         w[0] * r[1] - w[1] * r[0]};
+    const float s[3] = {2.0f * v[0] + wr[0], 2.0f * v[1] + wr[1], 2.0f * v[2] + wr[2]};
+    const float a[3] = {w[1] * s[2] - w[2] * s[1], w[2] * s[0] - w[0] * s[2],
+                        w[0] * s[1] - w[1] * s[0]};
+    vec_t out;
+    for (int k = 0; k < D; ++k) out.c[k] = -a[k];
+    return out;
+}
+
 /// Eqs. (15)-(17) and (6) for particle i: gravity plus the pair terms of every neighbour j != i,
 /// added per neighbour in the CPU's order (pressure, artificial viscosity, viscosity).
-template <bool VISCOUS, bool ARTIFICIAL>
+template <bool VISCOUS, bool ARTIFICIAL, bool ROTATING>
 __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const GridGeometry& g,
                                             const u32* __restrict__ cell_start,
                                             const u32* __restrict__ cell_key,
@@ -31,6 +53,7 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
     const float rho_i = density[i];
     vec_t a;
     for (int k = 0; k < D; ++k) a.c[k] = p.gravity[k];  // eq. (6)
+    if (ROTATING) a = vadd(a, rotating_frame_acceleration(p, x_i, u_i));  // [B67] 3.2
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         if (j == i) continue;
         vec_t d = vsub(x_i, vload(pos, j));
@@ -55,21 +78,29 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
     vstore(acc, i, a);
 }
 
-#define SPH_FORCES_ENTRY(name, VISCOUS, ARTIFICIAL)                                                \
+#define SPH_FORCES_ENTRY(name, VISCOUS, ARTIFICIAL, ROTATING)                                              \
     SPH_KERNEL(name)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,     \
                      const u32* __restrict__ cell_key, const float* __restrict__ pos,             \
                      const float* __restrict__ vel, const float* __restrict__ mass,               \
                      const float* __restrict__ density, const float* __restrict__ pressure,       \
                      const u32* __restrict__ kind, float* __restrict__ acc) {                     \
-        forces_body<VISCOUS, ARTIFICIAL>(n, p, g, cell_start, cell_key, pos, vel, mass, density, \
+        forces_body<VISCOUS, ARTIFICIAL, ROTATING>(n, p, g, cell_start, cell_key, pos, vel, mass, density, \
                                          pressure, kind, acc);                                    \
     }
 
 /// Pressure (16) and gravity only.
-SPH_FORCES_ENTRY(forces_p, false, false)
+SPH_FORCES_ENTRY(forces_p, false, false, false)
 /// Pressure and viscosity (17).
-SPH_FORCES_ENTRY(forces_pv, true, false)
+SPH_FORCES_ENTRY(forces_pv, true, false, false)
 /// Pressure and artificial viscosity ([M92]).
-SPH_FORCES_ENTRY(forces_pa, false, true)
+SPH_FORCES_ENTRY(forces_pa, false, true, false)
 /// Pressure, viscosity and artificial viscosity.
-SPH_FORCES_ENTRY(forces_pva, true, true)
+SPH_FORCES_ENTRY(forces_pva, true, true, false)
+/// Pressure and the rotating frame ([B67] 3.2).
+SPH_FORCES_ENTRY(forces_pr, false, false, true)
+/// Pressure, viscosity and the rotating frame.
+SPH_FORCES_ENTRY(forces_pvr, true, false, true)
+/// Pressure, artificial viscosity and the rotating frame.
+SPH_FORCES_ENTRY(forces_par, false, true, true)
+/// Pressure, viscosity, artificial viscosity and the rotating frame.
+SPH_FORCES_ENTRY(forces_pvar, true, true, true)

@@ -24,6 +24,8 @@ fn params<const D: usize>(h: f32) -> StepParams<D> {
         gravity: Vector::zeros(),
         domain_min: Vector::repeat(-1.0),
         domain_max: Vector::repeat(1.0),
+        angular_velocity: [0.0; 3],
+        rotation_centre: Vector::zeros(),
     }
 }
 
