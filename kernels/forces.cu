@@ -6,27 +6,7 @@
 // forces ([B67] 3.2): `forces_pr`, `forces_pvr`, `forces_par`, `forces_pvar`.
 #include "sph.cuh"
 #include "pair_forces.cuh"
-
-/// [B67] 3.2: Coriolis plus centrifugal acceleration, a = -Omega x (2 u + Omega x (x - x_c)),
-/// on (x, y, 0) in 2D with the third component dropped. Twin of
-/// `physics::rotating_frame::rotating_frame_acceleration`, same operations in the same order.
-__device__ __forceinline__ vec_t rotating_frame_acceleration(const StepParams& p, vec_t x, vec_t u) {
-    const float* w = p.angular_velocity;
-    float r[3] = {0.0f, 0.0f, 0.0f};
-    float v[3] = {0.0f, 0.0f, 0.0f};
-    for (int k = 0; k < D; ++k) {
-        r[k] = x.c[k] - p.rotation_centre[k];
-        v[k] = u.c[k];
-    }
-    const float wr[3] = {w[1] * r[2] - w[2] * r[1], w[2] * r[0] - w[0] * r[2],
-                         w[0] * r[1] - w[1] * r[0]};
-    const float s[3] = {2.0f * v[0] + wr[0], 2.0f * v[1] + wr[1], 2.0f * v[2] + wr[2]};
-    const float a[3] = {w[1] * s[2] - w[2] * s[1], w[2] * s[0] - w[0] * s[2],
-                        w[0] * s[1] - w[1] * s[0]};
-    vec_t out;
-    for (int k = 0; k < D; ++k) out.c[k] = -a[k];
-    return out;
-}
+#include "rotating_frame.cuh"
 
 /// Eqs. (15)-(17) and (6) for particle i: gravity plus the pair terms of every neighbour j != i,
 /// added per neighbour in the CPU's order (pressure, artificial viscosity, viscosity).

@@ -73,9 +73,9 @@ fn worst_distance_from_parabola(surface: &[(f64, f64)], curvature: f64) -> f64 {
 /// column 2 dx wide (one `h`: a column one `dx` wide sometimes misses the top layer's particle
 /// on the staggered surface and reads a spacing low):
 /// - the rise of the least-squares parabola `a + b x²` over the half-width, `b R²`, is within
-///   5 % of `Δ = Ω² R² / (2 g)` (measured: 2.0 % to 2.3 % low);
+///   5 % of `Δ = Ω² R² / (2 g)` (measured: 1.8 % to 2.2 % low);
 /// - every column is within 5 % of `Δ` of the exact parabola `y0 + Ω² x² / (2 g)` (`y0` fitted;
-///   measured: at most 4.1 %, at t = 3.9 s).
+///   measured: at most 3.3 %, at t = 4 s).
 #[test]
 fn rotating_tank_surface_settles_to_the_parabola_of_solid_body_rotation() {
     let scene = load_scene(Path::new("scenes/rotating_tank_2d.toml"), &[]).expect("shipped scene");

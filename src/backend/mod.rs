@@ -161,7 +161,8 @@ pub trait Backend<const D: usize> {
     );
     /// Boundary: pressure and density of solid particles ([A12] eq. 27). `wall_acceleration`
     /// holds each solid's acceleration [m/s²] (index `kind − 1`), which enters as `g − a_w`;
-    /// empty when no solid moves.
+    /// empty when no solid moves. With a rotating frame (`params.angular_velocity` not zero) the
+    /// centrifugal acceleration at the wall particle is added (`physics::rotating_frame`).
     fn wall_pressure(
         &mut self,
         fields: &mut Fields<D>,

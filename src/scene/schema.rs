@@ -188,13 +188,40 @@ pub struct FluidFile {
 }
 
 /// `fluid.angular_velocity`: a number (2D, about the out-of-plane axis) or a vector.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum AngularVelocityFile {
     /// `Ω` \[rad/s\] about the out-of-plane axis (2D only).
     Scalar(f64),
     /// `Ω` \[rad/s\] as a vector: 3 entries in 3D, 2 (in the plane) in 2D.
     Vector(Vec<f64>),
+}
+
+impl<'de> Deserialize<'de> for AngularVelocityFile {
+    /// A number or an array of numbers; anything else is an error saying so (an untagged enum
+    /// would only say that no variant matched).
+    fn deserialize<De: serde::Deserializer<'de>>(deserializer: De) -> Result<Self, De::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = AngularVelocityFile;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number [rad/s] (2D: about the out-of-plane axis) or an array of numbers")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Self::Value, E> {
+                Ok(AngularVelocityFile::Scalar(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Self::Value, E> {
+                Ok(AngularVelocityFile::Scalar(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Self::Value, E> {
+                Ok(AngularVelocityFile::Scalar(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+                Vec::<f64>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(AngularVelocityFile::Vector)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
 }
 
 /// `[[fluid_box]]`: a block of fluid particles on the lattice.

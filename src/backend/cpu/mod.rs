@@ -19,7 +19,7 @@ use crate::physics::{
     density::density_term,
     eos,
     pressure::{pressure_acceleration_from_terms, pressure_term},
-    rotating_frame::rotating_frame_acceleration,
+    rotating_frame::{centrifugal_acceleration, rotating_frame_acceleration},
     viscosity::viscous_acceleration,
 };
 use rayon::prelude::*;
@@ -230,6 +230,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let kernel = params.smoothing();
         let grid = &self.grid;
         let f = &*fields;
+        let rotating = params.angular_velocity != [0.0; 3];
         self.wall.clear();
         let dry = &self.dry;
         self.wall.par_extend((0..f.len()).into_par_iter().map(|w| {
@@ -251,10 +252,20 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 }
             });
             // [A12] eq. (27): the body acceleration in the wall's frame, `g − a_w`.
-            let body = match wall_acceleration.get(f.kind[w] as usize - 1) {
+            let mut body = match wall_acceleration.get(f.kind[w] as usize - 1) {
                 Some(a) => params.gravity - a,
                 None => params.gravity,
             };
+            if rotating {
+                // In a rotating frame the wall's body acceleration includes the centrifugal one
+                // at the wall particle ([B67] §3.2; the wall is at rest in the frame, so no
+                // Coriolis term).
+                body += centrifugal_acceleration(
+                    &params.angular_velocity,
+                    &params.rotation_centre,
+                    &f.position[w],
+                );
+            }
             let mut p = sums.pressure(&body);
             if model == WallModel::ExtrapolatedOrSummed {
                 p = p.max(eos::pressure(summed_density, params.rho0, params.c2));
