@@ -338,10 +338,12 @@ fn stages(c: &mut Criterion) {
     let pressure_only = ForceTerms {
         viscosity: false,
         artificial_viscosity: false,
+        rotating_frame: false,
     };
     let with_viscosity = ForceTerms {
         viscosity: true,
         artificial_viscosity: false,
+        rotating_frame: false,
     };
 
     let mut g = group(c, "sort_by_cell");

@@ -1,14 +1,16 @@
 // Stage `forces`: eqs. (15)-(17) and (6), the acceleration of fluid particles; solids get zero.
-// Twin of `CpuBackend::forces` (`fluid_acceleration`). One body, four entry points: the terms a
+// Twin of `CpuBackend::forces` (`fluid_acceleration`). One body, eight entry points: the terms a
 // scene does not ask for are compiled out, as the CPU monomorphises them (`ForceTerms`):
 // `forces_p` (pressure), `forces_pv` (+ viscosity 17), `forces_pa` (+ artificial viscosity
-// [M92]), `forces_pva` (both).
+// [M92]), `forces_pva` (both), and each with the rotating frame's Coriolis and centrifugal
+// forces ([B67] 3.2): `forces_pr`, `forces_pvr`, `forces_par`, `forces_pvar`.
 #include "sph.cuh"
 #include "pair_forces.cuh"
+#include "rotating_frame.cuh"
 
 /// Eqs. (15)-(17) and (6) for particle i: gravity plus the pair terms of every neighbour j != i,
 /// added per neighbour in the CPU's order (pressure, artificial viscosity, viscosity).
-template <bool VISCOUS, bool ARTIFICIAL>
+template <bool VISCOUS, bool ARTIFICIAL, bool ROTATING>
 __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const GridGeometry& g,
                                             const u32* __restrict__ cell_start,
                                             const u32* __restrict__ cell_key,
@@ -31,6 +33,7 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
     const float rho_i = density[i];
     vec_t a;
     for (int k = 0; k < D; ++k) a.c[k] = p.gravity[k];  // eq. (6)
+    if (ROTATING) a = vadd(a, rotating_frame_acceleration(p, x_i, u_i));  // [B67] 3.2
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         if (j == i) continue;
         vec_t d = vsub(x_i, vload(pos, j));
@@ -55,21 +58,29 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
     vstore(acc, i, a);
 }
 
-#define SPH_FORCES_ENTRY(name, VISCOUS, ARTIFICIAL)                                                \
+#define SPH_FORCES_ENTRY(name, VISCOUS, ARTIFICIAL, ROTATING)                                              \
     SPH_KERNEL(name)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,     \
                      const u32* __restrict__ cell_key, const float* __restrict__ pos,             \
                      const float* __restrict__ vel, const float* __restrict__ mass,               \
                      const float* __restrict__ density, const float* __restrict__ pressure,       \
                      const u32* __restrict__ kind, float* __restrict__ acc) {                     \
-        forces_body<VISCOUS, ARTIFICIAL>(n, p, g, cell_start, cell_key, pos, vel, mass, density, \
+        forces_body<VISCOUS, ARTIFICIAL, ROTATING>(n, p, g, cell_start, cell_key, pos, vel, mass, density, \
                                          pressure, kind, acc);                                    \
     }
 
 /// Pressure (16) and gravity only.
-SPH_FORCES_ENTRY(forces_p, false, false)
+SPH_FORCES_ENTRY(forces_p, false, false, false)
 /// Pressure and viscosity (17).
-SPH_FORCES_ENTRY(forces_pv, true, false)
+SPH_FORCES_ENTRY(forces_pv, true, false, false)
 /// Pressure and artificial viscosity ([M92]).
-SPH_FORCES_ENTRY(forces_pa, false, true)
+SPH_FORCES_ENTRY(forces_pa, false, true, false)
 /// Pressure, viscosity and artificial viscosity.
-SPH_FORCES_ENTRY(forces_pva, true, true)
+SPH_FORCES_ENTRY(forces_pva, true, true, false)
+/// Pressure and the rotating frame ([B67] 3.2).
+SPH_FORCES_ENTRY(forces_pr, false, false, true)
+/// Pressure, viscosity and the rotating frame.
+SPH_FORCES_ENTRY(forces_pvr, true, false, true)
+/// Pressure, artificial viscosity and the rotating frame.
+SPH_FORCES_ENTRY(forces_par, false, true, true)
+/// Pressure, viscosity, artificial viscosity and the rotating frame.
+SPH_FORCES_ENTRY(forces_pvar, true, true, true)

@@ -72,6 +72,8 @@ struct StepParams {
     float gravity[D];               // [m/s^2]
     float domain_min[D];            // [m]
     float domain_max[D];            // [m]
+    float angular_velocity[3];      // Omega of the rotating frame [rad/s] (0 without one)
+    float rotation_centre[D];       // a point on the rotation axis [m]
 };
 
 /// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of

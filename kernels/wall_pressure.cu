@@ -1,11 +1,13 @@
 // Stage `wall_pressure`: pressure and density of solid particles, [A12] (Adami et al. 2012)
 // eq. (27), extrapolated from the fluid neighbours with the body acceleration `g - a_w` in the
 // wall's frame (`wall_acc`: D floats per solid, the solid's acceleration [m/s^2]; zeros for walls
-// at rest, where `g - 0` is `g` bit for bit). Twin of
+// at rest, where `g - 0` is `g` bit for bit), plus the centrifugal acceleration at the wall in a
+// rotating frame (`rotating_frame.cuh`). Twin of
 // `CpuBackend::wall_pressure` and `boundary::wall_pressure::WallPressureSums`; fluid entries are
 // left as they are. Writing in place is safe: a solid reads only its fluid neighbours' pressure
 // and density, which this kernel never writes.
 #include "sph.cuh"
+#include "rotating_frame.cuh"
 
 /// [A12] eq. (27): p_w = max((sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf, 0)
 /// over fluid neighbours f (0 without any); with `extrapolated_or_summed` != 0
@@ -43,6 +45,10 @@ SPH_KERNEL(wall_pressure)(u32 n, StepParams p, GridGeometry g, const u32* __rest
         const vec_t a_w = vload(wall_acc, kind[w] - 1u);
         vec_t body;
         for (int k = 0; k < D; ++k) body.c[k] = p.gravity[k] - a_w.c[k];
+        // In a rotating frame: plus the centrifugal acceleration at the wall ([B67] 3.2).
+        const float* w_ = p.angular_velocity;
+        if (w_[0] != 0.0f || w_[1] != 0.0f || w_[2] != 0.0f)
+            body = vadd(body, rotating_frame_centrifugal(p, xw));
         pw = fmaxf((pressure_sum + vdot(body, density_offset)) / weight, 0.0f);
     }
     if (extrapolated_or_summed) pw = fmaxf(pw, fmaxf(p.c2 * (summed_density - p.rho0), 0.0f));

@@ -96,6 +96,12 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
             None
         },
         gravity_ramp: scene.gravity_ramp,
+        angular_velocity: if scene.has(Effect::RotatingFrame) {
+            scene.angular_velocity
+        } else {
+            None
+        },
+        rotation_centre: vector(&scene.rotation_centre),
         dt: scene.dt,
         cfl: scene.cfl,
         domain_min: vector(&scene.domain.min),
@@ -111,6 +117,7 @@ pub fn plan_inputs(scene: &Scene) -> crate::solver::plan::PlanInputs {
     crate::solver::plan::PlanInputs {
         viscosity: scene.has(Effect::Viscosity),
         artificial_viscosity: scene.has(Effect::ArtificialViscosity),
+        rotating_frame: scene.has(Effect::RotatingFrame),
         solids: !scene.solids.is_empty(),
         moving_solids: scene.solids.iter().any(|s| s.motion.is_some()),
         integrator: integrator(scene),

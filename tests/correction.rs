@@ -211,6 +211,8 @@ fn config<const D: usize>(
             g
         }),
         gravity_ramp: 0.0,
+        angular_velocity: None,
+        rotation_centre: Vector::zeros(),
         dt: Some(dt),
         cfl: 0.2,
         domain_min: Vector::<D>::repeat(-100.0),

@@ -24,6 +24,8 @@ fn params<const D: usize>(h: f32) -> StepParams<D> {
         gravity: Vector::zeros(),
         domain_min: Vector::repeat(-1.0),
         domain_max: Vector::repeat(1.0),
+        angular_velocity: [0.0; 3],
+        rotation_centre: Vector::zeros(),
     }
 }
 
@@ -751,6 +753,53 @@ fn check_wall_pressure<const D: usize>(k: &Kernels<D>, seed: u64) {
         changed > 10,
         "accelerating walls changed only {changed} wall pressures"
     );
+    // In a rotating frame the body acceleration adds the centrifugal one at each wall particle
+    // (`physics::rotating_frame`): Ω = (2, 3, 6) rad/s about an axis through the domain's
+    // centre, up to |Ω|² |x − x_c| ≈ 42 m/s² (2D: 2D embedding) over the unit domain.
+    for model in [WallModel::ExtrapolatedOrSummed, WallModel::Extrapolated] {
+        let mut params = s.params;
+        params.angular_velocity = [2.0, 3.0, 6.0];
+        params.rotation_centre = Vector::repeat(0.5);
+        let reach = 49.0 * (D as f32).sqrt() * 0.5; // |Ω|² times the farthest corner
+        let p_abs = p_abs + 1.0e-5 * 1.1 * params.rho0 * reach * params.h;
+        let rho_abs = rho_abs + p_abs / params.c2;
+        let mut cpu_fields = s.fields.clone();
+        let mut cpu = CpuBackend::<D>::new();
+        cpu.sort_by_cell(&mut cpu_fields, params.h)
+            .expect("finite positions");
+        cpu.wall_pressure(&mut cpu_fields, &params, model, &[]);
+        let mut f = s.fields.clone();
+        let grid = k.sort_on_shim(&mut f, s.geometry);
+        k.wall_pressure(&mut f, &params, &grid, model, &[Vector::<D>::zeros(); 2]);
+        let (cpu_p, cpu_rho) = (
+            by_id(&cpu_fields, &cpu_fields.pressure),
+            by_id(&cpu_fields, &cpu_fields.density),
+        );
+        let (p, rho) = (by_id(&f, &f.pressure), by_id(&f, &f.density));
+        for id in (0..p.len()).filter(|&id| solid(id)) {
+            assert!(
+                close(p[id], cpu_p[id], 1.0e-5, p_abs),
+                "rotating {model:?} p of {id}: cpu {} shim {}",
+                cpu_p[id],
+                p[id]
+            );
+            assert!(
+                close(rho[id], cpu_rho[id], 1.0e-5, rho_abs),
+                "rotating {model:?} density of {id}: cpu {} shim {}",
+                cpu_rho[id],
+                rho[id]
+            );
+        }
+        if model == WallModel::Extrapolated {
+            let changed = (0..p.len())
+                .filter(|&id| solid(id) && (p[id] - results[1][id]).abs() > 10.0 * p_abs)
+                .count();
+            assert!(
+                changed > 10,
+                "the rotating frame changed only {changed} wall pressures"
+            );
+        }
+    }
     // Not a trivial state: walls under the fluid are pressed, isolated solids are not, and the
     // summed density raises some walls above the extrapolation.
     let (summed, extrapolated) = (&results[0], &results[1]);

@@ -26,6 +26,7 @@ use sph::math::Vector;
 use sph::physics::artificial_viscosity::artificial_viscous_acceleration;
 use sph::physics::correction::MOMENTUM;
 use sph::physics::pressure::pressure_acceleration;
+use sph::physics::rotating_frame::rotating_frame_acceleration;
 use sph::physics::viscosity::viscous_acceleration;
 
 /// Relative tolerance of a neighbour sum, against the sum of its terms' magnitudes (module doc).
@@ -127,6 +128,9 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         gravity,
         domain_min,
         domain_max,
+        // Off every axis, so that both the in-plane and the out-of-plane part act in 2D.
+        angular_velocity: [1.5, -2.0, 7.0],
+        rotation_centre: Vector::from_fn(|k, _| 0.02 * (k as f32 + 1.0)),
     };
     (f, p)
 }
@@ -260,6 +264,14 @@ fn force_scale<const D: usize>(f: &Fields<D>, p: &StepParams<D>, terms: ForceTer
     let s = p.smoothing();
     let (p_i, rho_i, u_i) = (f.pressure[i], f.density[i], f.velocity[i]);
     let mut sum = norm(&p.gravity);
+    if terms.rotating_frame {
+        sum += norm(&rotating_frame_acceleration(
+            &p.angular_velocity,
+            &p.rotation_centre,
+            &f.position[i],
+            &u_i,
+        ));
+    }
     for (j, d, r) in neighbours(f, p.h, i) {
         let grad = s.grad_w_spiky(&d, r) * p.pressure_gradient_scale;
         let (m_j, rho_j) = (f.mass[j], f.density[j]);
@@ -320,11 +332,15 @@ fn forces_on_shim<const D: usize>(
             )
         };
     }
-    match (terms.viscosity, terms.artificial_viscosity) {
-        (false, false) => variant!(sph_shim_forces_p_2, sph_shim_forces_p_3),
-        (true, false) => variant!(sph_shim_forces_pv_2, sph_shim_forces_pv_3),
-        (false, true) => variant!(sph_shim_forces_pa_2, sph_shim_forces_pa_3),
-        (true, true) => variant!(sph_shim_forces_pva_2, sph_shim_forces_pva_3),
+    match (terms.viscosity, terms.artificial_viscosity, terms.rotating_frame) {
+        (false, false, false) => variant!(sph_shim_forces_p_2, sph_shim_forces_p_3),
+        (true, false, false) => variant!(sph_shim_forces_pv_2, sph_shim_forces_pv_3),
+        (false, true, false) => variant!(sph_shim_forces_pa_2, sph_shim_forces_pa_3),
+        (true, true, false) => variant!(sph_shim_forces_pva_2, sph_shim_forces_pva_3),
+        (false, false, true) => variant!(sph_shim_forces_pr_2, sph_shim_forces_pr_3),
+        (true, false, true) => variant!(sph_shim_forces_pvr_2, sph_shim_forces_pvr_3),
+        (false, true, true) => variant!(sph_shim_forces_par_2, sph_shim_forces_par_3),
+        (true, true, true) => variant!(sph_shim_forces_pvar_2, sph_shim_forces_pvar_3),
     }
     let at = dev.index_of_id();
     (0..at.len())
@@ -342,24 +358,24 @@ fn forces_on_cpu<const D: usize>(f: &Fields<D>, p: &StepParams<D>, terms: ForceT
     (0..at.len()).map(|id| cf.acceleration[at[id]]).collect()
 }
 
-const ALL_TERMS: [ForceTerms; 4] = [
-    ForceTerms {
+/// Every term set, in `ForceTerms::index` order.
+const ALL_TERMS: [ForceTerms; 8] = {
+    let mut all = [ForceTerms {
         viscosity: false,
         artificial_viscosity: false,
-    },
-    ForceTerms {
-        viscosity: true,
-        artificial_viscosity: false,
-    },
-    ForceTerms {
-        viscosity: false,
-        artificial_viscosity: true,
-    },
-    ForceTerms {
-        viscosity: true,
-        artificial_viscosity: true,
-    },
-];
+        rotating_frame: false,
+    }; 8];
+    let mut k = 0;
+    while k < 8 {
+        all[k] = ForceTerms {
+            viscosity: k & 1 != 0,
+            artificial_viscosity: k & 2 != 0,
+            rotating_frame: k & 4 != 0,
+        };
+        k += 1;
+    }
+    all
+};
 
 fn check_forces<const D: usize>(seed: u64) {
     let (f, p) = scene::<D>(seed);
@@ -389,7 +405,7 @@ fn check_forces<const D: usize>(seed: u64) {
             }
         }
         eprintln!("{D}D forces {terms:?}: largest |shim - cpu| / Σ|terms| = {worst:.2e}");
-        if terms.viscosity || terms.artificial_viscosity {
+        if terms.viscosity || terms.artificial_viscosity || terms.rotating_frame {
             assert!(
                 term_effect > 100.0 * SUM_ORDER,
                 "{terms:?} must be visible: {term_effect:.2e}"

@@ -190,6 +190,8 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             artificial_viscosity: Some(0.1),
             gravity: None,
             gravity_ramp: 0.0,
+            angular_velocity: None,
+            rotation_centre: Vector::zeros(),
             dt: None,
             cfl: 0.2,
             domain_min: Vector::<D>::repeat(-10.0),

@@ -186,3 +186,24 @@ fn moving_walls_show_move_solids() {
     let fixed = plan(&shipped("scenes/hydrostatic_2d.toml"), &[]);
     assert!(!stage_names(&String::from_utf8_lossy(&fixed.stdout)).contains(&"move_solids".to_string()));
 }
+
+#[test]
+fn rotating_frame_shows_in_the_forces_stage_only_when_asked_for() {
+    let out = plan(&shipped("scenes/rotating_tank_2d.toml"), &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("rotating_frame Omega = (0, 7, 0) rad/s about the axis through (0, 0) m"),
+        "{stdout}"
+    );
+    let forces = stdout
+        .lines()
+        .find(|l| l.contains(". forces "))
+        .expect("forces line");
+    assert!(forces.contains("[B67] 3.2"), "{forces}");
+    assert!(forces.contains("Coriolis and centrifugal"), "{forces}");
+    // A scene without the effect has no such term.
+    let plain = plan(&shipped("scenes/hydrostatic_2d.toml"), &[]);
+    let plain = String::from_utf8_lossy(&plain.stdout);
+    assert!(!plain.contains("[B67]") && !plain.contains("Coriolis"), "{plain}");
+}

@@ -922,3 +922,113 @@ fn moving_solid_must_stay_inside_the_domain() {
     let p = with_key(&problems(parse(&text)), "solid[0].motion.amplitude").clone();
     assert!(p.reason.contains("axis y"), "{}", p.reason);
 }
+
+/// `VALID_2D` with the `rotating_frame` effect and `lines` added to `[fluid]`.
+fn rotating_2d(lines: &str) -> String {
+    edit(
+        &edit(
+            VALID_2D,
+            "effects = [\"gravity\", \"viscosity\"]",
+            "effects = [\"gravity\", \"viscosity\", \"rotating_frame\"]",
+        ),
+        "gravity_ramp = 0.1\n",
+        &format!("gravity_ramp = 0.1\n{lines}"),
+    )
+}
+
+#[test]
+fn rotating_frame_resolves_to_three_components_in_2d_and_3d() {
+    // 2D, a number: about the out-of-plane axis; the centre defaults to the origin.
+    let s = parse(&rotating_2d("angular_velocity = 2.5\n")).expect("valid");
+    assert!(s.has(Effect::RotatingFrame));
+    assert_eq!(s.angular_velocity, Some([0.0, 0.0, 2.5]));
+    assert_eq!(s.rotation_centre, vec![0.0, 0.0]);
+    // 2D, two entries: an axis in the plane (the slice model).
+    let s = parse(&rotating_2d(
+        "angular_velocity = [0.0, 7.0]\nrotation_centre = [0.5, 0.0]\n",
+    ))
+    .expect("valid");
+    assert_eq!(s.angular_velocity, Some([0.0, 7.0, 0.0]));
+    assert_eq!(s.rotation_centre, vec![0.5, 0.0]);
+    // 3D.
+    let text = edit(
+        VALID_3D,
+        "effects = [\"gravity\"]",
+        "effects = [\"gravity\", \"rotating_frame\"]",
+    );
+    let text = edit(
+        &text,
+        "gravity = [0.0, 0.0, -9.81]\n",
+        "gravity = [0.0, 0.0, -9.81]\nangular_velocity = [0.0, 0.0, 3.0]\n",
+    );
+    let s = parse(&text).expect("valid");
+    assert_eq!(s.angular_velocity, Some([0.0, 0.0, 3.0]));
+    assert_eq!(s.rotation_centre, vec![0.0, 0.0, 0.0]);
+    // Off: no angular velocity.
+    assert_eq!(parse(VALID_2D).expect("valid").angular_velocity, None);
+}
+
+#[test]
+fn rotating_frame_bad_input_names_the_key() {
+    // The effect without its key.
+    let ps = problems(parse(&rotating_2d("")));
+    let p = with_key(&ps, "fluid.angular_velocity");
+    assert!(p.reason.contains("required"), "{}", p.reason);
+    // The keys without the effect.
+    let text = edit(
+        VALID_2D,
+        "gravity_ramp = 0.1\n",
+        "gravity_ramp = 0.1\nangular_velocity = 1.0\nrotation_centre = [0.0, 0.0]\n",
+    );
+    let ps = problems(parse(&text));
+    assert_eq!(ps.len(), 2, "{ps:#?}");
+    let p = with_key(&ps, "fluid.angular_velocity");
+    assert!(p.reason.contains("not enabled"), "{}", p.reason);
+    assert_eq!(line(p), line_of(&text, "angular_velocity", 0));
+    assert!(
+        with_key(&ps, "fluid.rotation_centre")
+            .reason
+            .contains("not enabled")
+    );
+    // Wrong lengths.
+    let ps = problems(parse(&rotating_2d("angular_velocity = [0.0, 1.0, 2.0]\n")));
+    assert!(
+        with_key(&ps, "fluid.angular_velocity")
+            .reason
+            .contains("expected 2 entries")
+    );
+    let ps = problems(parse(&rotating_2d(
+        "angular_velocity = 1.0\nrotation_centre = [0.0]\n",
+    )));
+    assert!(
+        with_key(&ps, "fluid.rotation_centre")
+            .reason
+            .contains("expected 2 entries")
+    );
+    // A number is for 2D only.
+    let text = edit(
+        VALID_3D,
+        "effects = [\"gravity\"]",
+        "effects = [\"gravity\", \"rotating_frame\"]",
+    );
+    let text = edit(
+        &text,
+        "gravity = [0.0, 0.0, -9.81]\n",
+        "gravity = [0.0, 0.0, -9.81]\nangular_velocity = 3.0\n",
+    );
+    let ps = problems(parse(&text));
+    let p = with_key(&ps, "fluid.angular_velocity");
+    assert!(p.reason.contains("2D only"), "{}", p.reason);
+    // Not a number or an array.
+    let ps = problems(parse(&rotating_2d("angular_velocity = \"fast\"\n")));
+    let p = with_key(&ps, "fluid.angular_velocity");
+    assert!(p.reason.contains("a number"), "{}", p.reason);
+    // Integers are numbers.
+    let s = parse(&rotating_2d("angular_velocity = [0, 7]\n")).expect("valid");
+    assert_eq!(s.angular_velocity, Some([0.0, 7.0, 0.0]));
+    let s = parse(&rotating_2d("angular_velocity = 2\n")).expect("valid");
+    assert_eq!(s.angular_velocity, Some([0.0, 0.0, 2.0]));
+    // Non-finite.
+    let ps = problems(parse(&rotating_2d("angular_velocity = [0.0, nan]\n")));
+    with_key(&ps, "fluid.angular_velocity[1]");
+}

@@ -20,6 +20,19 @@ pub struct ForceTerms {
     pub viscosity: bool,
     /// Monaghan's artificial viscosity ([M92]).
     pub artificial_viscosity: bool,
+    /// Coriolis and centrifugal forces of a rotating frame ([B67] §3.2,
+    /// `physics::rotating_frame`).
+    pub rotating_frame: bool,
+}
+
+impl ForceTerms {
+    /// The term set as a number in `0..8`: `viscosity + 2 artificial_viscosity + 4
+    /// rotating_frame`, for tables indexed by term set.
+    pub fn index(self) -> usize {
+        usize::from(self.viscosity)
+            + 2 * usize::from(self.artificial_viscosity)
+            + 4 * usize::from(self.rotating_frame)
+    }
 }
 
 /// How the pressure of solid particles is set (`Stage::WallPressure`).
@@ -148,7 +161,8 @@ pub trait Backend<const D: usize> {
     );
     /// Boundary: pressure and density of solid particles ([A12] eq. 27). `wall_acceleration`
     /// holds each solid's acceleration [m/s²] (index `kind − 1`), which enters as `g − a_w`;
-    /// empty when no solid moves.
+    /// empty when no solid moves. With a rotating frame (`params.angular_velocity` not zero) the
+    /// centrifugal acceleration at the wall particle is added (`physics::rotating_frame`).
     fn wall_pressure(
         &mut self,
         fields: &mut Fields<D>,

@@ -30,6 +30,12 @@ pub struct StepParams<const D: usize> {
     pub domain_min: Vector<D>,
     /// Upper corner of the domain [m].
     pub domain_max: Vector<D>,
+    /// Angular velocity `Ω` [rad/s] of the rotating frame (`physics::rotating_frame`), always 3
+    /// components (2D: `(0, 0, Ω)` about the out-of-plane axis, or in the plane); zero when the
+    /// scene has no `rotating_frame` effect.
+    pub angular_velocity: [Real; 3],
+    /// A point `x_c` [m] on the rotation axis; zero when the scene has no rotating frame.
+    pub rotation_centre: Vector<D>,
 }
 
 impl<const D: usize> StepParams<D> {

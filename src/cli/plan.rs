@@ -58,6 +58,11 @@ fn effect(scene: &Scene, e: Effect) -> String {
             "artificial_viscosity alpha = {}",
             scene.artificial_viscosity.unwrap_or(0.0)
         ),
+        Effect::RotatingFrame => format!(
+            "rotating_frame Omega = {} rad/s about the axis through {} m: Coriolis and centrifugal force",
+            vector(&scene.angular_velocity.unwrap_or_default()),
+            vector(&scene.rotation_centre)
+        ),
     }
 }
 

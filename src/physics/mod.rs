@@ -1,7 +1,8 @@
 //! The physical terms of the model, one file per term, as pure per-pair or per-particle math.
 //!
 //! Nothing here loops over particles or knows about backends; the backends call these functions
-//! inside their loops. Equations: (6), (15)–(19) of the paper ([P], PAPER.md section 1).
+//! inside their loops. Equations: (6), (15)–(19) of the paper ([P], PAPER.md section 1), and the
+//! rotating frame's Coriolis and centrifugal forces ([B67] §3.2).
 
 pub mod artificial_viscosity;
 pub mod correction;
@@ -10,4 +11,5 @@ pub mod eos;
 pub mod gravity;
 pub mod lattice;
 pub mod pressure;
+pub mod rotating_frame;
 pub mod viscosity;

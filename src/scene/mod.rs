@@ -61,6 +61,11 @@ pub struct Scene {
     pub gravity: Option<Vec<f64>>,
     /// Gravity ramp-in time \[s\] (0 = full gravity from t = 0).
     pub gravity_ramp: f64,
+    /// Angular velocity `Ω` \[rad/s\] of the rotating frame, always 3 components (2D: `(0, 0, Ω)`
+    /// from a number, `(Ω_x, Ω_y, 0)` from 2 entries); `Some` iff [`Effect::RotatingFrame`] is on.
+    pub angular_velocity: Option<[f64; 3]>,
+    /// A point on the rotation axis \[m\], `dimension` entries (the origin by default).
+    pub rotation_centre: Vec<f64>,
     /// Initial fluid blocks, in file order (non-empty, non-overlapping).
     pub fluid_boxes: Vec<FluidBox>,
     /// Solid bodies, in file order, with unique names.

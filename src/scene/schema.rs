@@ -16,6 +16,10 @@ pub enum Effect {
     Viscosity,
     /// Monaghan's artificial viscosity with coefficient `fluid.artificial_viscosity` (alpha).
     ArtificialViscosity,
+    /// Coriolis and centrifugal forces of a frame rotating at `fluid.angular_velocity`
+    /// \[rad/s\] about the axis through `fluid.rotation_centre` \[m\]
+    /// (`physics::rotating_frame`).
+    RotatingFrame,
 }
 
 impl Effect {
@@ -25,6 +29,7 @@ impl Effect {
             Effect::Gravity => "gravity",
             Effect::Viscosity => "viscosity",
             Effect::ArtificialViscosity => "artificial_viscosity",
+            Effect::RotatingFrame => "rotating_frame",
         }
     }
 }
@@ -172,6 +177,51 @@ pub struct FluidFile {
     pub gravity: Option<Vec<f64>>,
     /// Time over which gravity is ramped in \[s\], >= 0; only with the `gravity` effect.
     pub gravity_ramp: Option<f64>,
+    /// Angular velocity of the frame \[rad/s\]; required iff the `rotating_frame` effect is on.
+    /// 3D: 3 entries. 2D: a number (rotation about the out-of-plane axis) or 2 entries (an axis
+    /// in the plane: a vertical slice through the axis of a rotating tank, see
+    /// `physics::rotating_frame` for what the slice drops).
+    pub angular_velocity: Option<AngularVelocityFile>,
+    /// A point on the rotation axis \[m\], `dimension` entries; default the origin; only with the
+    /// `rotating_frame` effect.
+    pub rotation_centre: Option<Vec<f64>>,
+}
+
+/// `fluid.angular_velocity`: a number (2D, about the out-of-plane axis) or a vector.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AngularVelocityFile {
+    /// `Ω` \[rad/s\] about the out-of-plane axis (2D only).
+    Scalar(f64),
+    /// `Ω` \[rad/s\] as a vector: 3 entries in 3D, 2 (in the plane) in 2D.
+    Vector(Vec<f64>),
+}
+
+impl<'de> Deserialize<'de> for AngularVelocityFile {
+    /// A number or an array of numbers; anything else is an error saying so (an untagged enum
+    /// would only say that no variant matched).
+    fn deserialize<De: serde::Deserializer<'de>>(deserializer: De) -> Result<Self, De::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = AngularVelocityFile;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number [rad/s] (2D: about the out-of-plane axis) or an array of numbers")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Self::Value, E> {
+                Ok(AngularVelocityFile::Scalar(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Self::Value, E> {
+                Ok(AngularVelocityFile::Scalar(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Self::Value, E> {
+                Ok(AngularVelocityFile::Scalar(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+                Vec::<f64>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(AngularVelocityFile::Vector)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
 }
 
 /// `[[fluid_box]]`: a block of fluid particles on the lattice.

@@ -315,6 +315,9 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         (None, _) => Some(0.0),
     };
 
+    let (angular_velocity, rotation_centre) =
+        rotating_frame(&mut c, &fp, f, effects.contains(&Effect::RotatingFrame), dim);
+
     // [[fluid_box]]
     if file.fluid_box.is_empty() {
         c.err(
@@ -463,6 +466,8 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             artificial_viscosity,
             gravity,
             gravity_ramp: gravity_ramp?,
+            angular_velocity,
+            rotation_centre: rotation_centre?,
             fluid_boxes,
             solids,
             solver: solver?,
@@ -1093,4 +1098,60 @@ fn num(v: f64) -> String {
     } else {
         format!("{v:e}")
     }
+}
+
+/// `fluid.angular_velocity` as 3 components and `fluid.rotation_centre` (default the origin):
+/// required / allowed iff the `rotating_frame` effect is on (`schema::FluidFile`).
+fn rotating_frame(
+    c: &mut Checker,
+    fp: &KeyPath,
+    f: &crate::scene::schema::FluidFile,
+    on: bool,
+    dim: Option<usize>,
+) -> (Option<[f64; 3]>, Option<Vec<f64>>) {
+    use crate::scene::schema::AngularVelocityFile;
+    let key = fp.k("angular_velocity");
+    let omega = match (&f.angular_velocity, on, dim) {
+        (Some(_), false, _) => {
+            c.err(
+                key,
+                "given but effect \"rotating_frame\" is not enabled (add it to `effects` or remove this key)"
+                    .into(),
+            );
+            None
+        }
+        (None, true, _) => {
+            c.err(
+                key,
+                "required because effect \"rotating_frame\" is enabled".into(),
+            );
+            None
+        }
+        (None, false, _) | (Some(_), true, None) => None,
+        (Some(AngularVelocityFile::Scalar(w)), true, Some(2)) => c.finite(key, *w).map(|w| [0.0, 0.0, w]),
+        (Some(AngularVelocityFile::Scalar(_)), true, Some(d)) => {
+            c.err(
+                key,
+                format!(
+                    "expected {d} entries (dimension = {d}); a single number (about the out-of-plane axis) is for 2D only"
+                ),
+            );
+            None
+        }
+        (Some(AngularVelocityFile::Vector(v)), true, Some(d)) => c
+            .vector(key, v, Some(d))
+            .map(|v| [v[0], v[1], if d > 2 { v[2] } else { 0.0 }]),
+    };
+    let centre = match (&f.rotation_centre, on) {
+        (Some(_), false) => {
+            c.err(
+                fp.k("rotation_centre"),
+                "given but effect \"rotating_frame\" is not enabled".into(),
+            );
+            None
+        }
+        (Some(x), true) => c.vector(fp.k("rotation_centre"), x, dim),
+        (None, _) => dim.map(|d| vec![0.0; d]),
+    };
+    (omega, centre)
 }

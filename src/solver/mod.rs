@@ -110,6 +110,11 @@ pub struct SimConfig<const D: usize> {
     pub gravity: Option<Vector<D>>,
     /// Time over which gravity is ramped in [s] (0 = none).
     pub gravity_ramp: f64,
+    /// Angular velocity `Ω` [rad/s] of the rotating frame (3 components, also in 2D:
+    /// `physics::rotating_frame`); `None` when the scene has no `rotating_frame` effect.
+    pub angular_velocity: Option<[f64; 3]>,
+    /// A point `x_c` [m] on the rotation axis (unused without a rotating frame).
+    pub rotation_centre: Vector<D>,
     /// Fixed time step [s], or `None` for adaptive.
     pub dt: Option<f64>,
     /// CFL number of the adaptive step.
@@ -211,6 +216,7 @@ fn plan_inputs<const D: usize>(config: &SimConfig<D>, solids: bool, moving_solid
     plan::PlanInputs {
         viscosity: config.viscosity.is_some(),
         artificial_viscosity: config.artificial_viscosity.is_some(),
+        rotating_frame: config.angular_velocity.is_some(),
         solids,
         moving_solids,
         integrator: config.integrator,
@@ -655,6 +661,7 @@ impl<const D: usize> Simulation<D> {
         let terms = crate::backend::ForceTerms {
             viscosity: self.config.viscosity.is_some(),
             artificial_viscosity: self.config.artificial_viscosity.is_some(),
+            rotating_frame: self.config.angular_velocity.is_some(),
         };
         let (bk, f) = (&mut self.backend, &mut self.fields);
         bk.sort_by_cell(f, params.h)
@@ -722,6 +729,12 @@ impl<const D: usize> Simulation<D> {
             gravity: g,
             domain_min: c.domain_min,
             domain_max: c.domain_max,
+            angular_velocity: c.angular_velocity.map_or([0.0; 3], |w| w.map(|x| x as Real)),
+            rotation_centre: if c.angular_velocity.is_some() {
+                c.rotation_centre
+            } else {
+                Vector::zeros()
+            },
         }
     }
 

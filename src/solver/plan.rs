@@ -13,6 +13,8 @@ pub struct PlanInputs {
     pub viscosity: bool,
     /// The scene lists the `artificial_viscosity` effect.
     pub artificial_viscosity: bool,
+    /// The scene lists the `rotating_frame` effect.
+    pub rotating_frame: bool,
     /// The scene has at least one solid.
     pub solids: bool,
     /// At least one solid has a prescribed motion.
@@ -50,6 +52,7 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
     plan.push(Stage::Forces(ForceTerms {
         viscosity: inputs.viscosity,
         artificial_viscosity: inputs.artificial_viscosity,
+        rotating_frame: inputs.rotating_frame,
     }));
     if inputs.solids {
         plan.push(Stage::SolidForces);
@@ -76,6 +79,7 @@ mod tests {
         PlanInputs {
             viscosity: false,
             artificial_viscosity: false,
+            rotating_frame: false,
             solids: false,
             moving_solids: false,
             integrator: Integrator::SymplecticEuler,
@@ -92,15 +96,22 @@ mod tests {
         assert!(!bare.iter().any(|s| matches!(s, Stage::MoveSolids(_))));
         assert!(bare.contains(&Stage::Forces(ForceTerms {
             viscosity: false,
-            artificial_viscosity: false
+            artificial_viscosity: false,
+            rotating_frame: false,
         })));
         let full = plan(PlanInputs {
             viscosity: true,
             artificial_viscosity: true,
+            rotating_frame: true,
             solids: true,
             ..inputs()
         });
         assert_eq!(full.len(), 8);
+        assert!(full.contains(&Stage::Forces(ForceTerms {
+            viscosity: true,
+            artificial_viscosity: true,
+            rotating_frame: true,
+        })));
     }
 
     #[test]

@@ -79,12 +79,16 @@ impl Stage {
             Stage::Density => "(18)",
             Stage::EquationOfState => "(19)",
             Stage::WallPressure(_) => "[A12] (27)",
-            Stage::Forces(terms) => match (terms.viscosity, terms.artificial_viscosity) {
-                (false, false) => "(15): (16), (6)",
-                (true, false) => "(15): (16), (17), (6)",
-                (false, true) => "(15): (16), [M92], (6)",
-                (true, true) => "(15): (16), (17), [M92], (6)",
-            },
+            Stage::Forces(terms) => [
+                "(15): (16), (6)",
+                "(15): (16), (17), (6)",
+                "(15): (16), [M92], (6)",
+                "(15): (16), (17), [M92], (6)",
+                "(15): (16), (6), [B67] 3.2",
+                "(15): (16), (17), (6), [B67] 3.2",
+                "(15): (16), [M92], (6), [B67] 3.2",
+                "(15): (16), (17), [M92], (6), [B67] 3.2",
+            ][terms.index()],
             Stage::SolidForces => "Fig. 4",
             Stage::TimeStep => "CFL, [M92], [MFZ97]",
             Stage::Integrate => "(15)",
@@ -107,12 +111,16 @@ impl Stage {
                 "solid pressure: extrapolated from the fluid, or (19) of its own density if larger"
             }
             Stage::WallPressure(WallModel::Extrapolated) => "solid pressure extrapolated from the fluid",
-            Stage::Forces(terms) => match (terms.viscosity, terms.artificial_viscosity) {
-                (false, false) => "acceleration: pressure force, body force",
-                (true, false) => "acceleration: pressure force, viscosity, body force",
-                (false, true) => "acceleration: pressure force, artificial viscosity, body force",
-                (true, true) => "acceleration: pressure force, viscosity, artificial viscosity, body force",
-            },
+            Stage::Forces(terms) => [
+                "acceleration: pressure force, body force",
+                "acceleration: pressure force, viscosity, body force",
+                "acceleration: pressure force, artificial viscosity, body force",
+                "acceleration: pressure force, viscosity, artificial viscosity, body force",
+                "acceleration: pressure force, body force, Coriolis and centrifugal force",
+                "acceleration: pressure force, viscosity, body force, Coriolis and centrifugal force",
+                "acceleration: pressure force, artificial viscosity, body force, Coriolis and centrifugal force",
+                "acceleration: pressure force, viscosity, artificial viscosity, body force, Coriolis and centrifugal force",
+            ][terms.index()],
             Stage::SolidForces => "force of the fluid on each named solid: the forces stage's pair terms",
             Stage::TimeStep => {
                 "time step from sound, flow, forces and viscosity; state guards (first integrator stage only)"
@@ -131,7 +139,7 @@ impl Stage {
             Stage::Density => &[Position, Mass, Kind],
             Stage::EquationOfState => &[Density, Kind],
             Stage::WallPressure(_) => &[Position, Density, Pressure, Mass, Kind],
-            Stage::Forces(terms) if terms.viscosity || terms.artificial_viscosity => {
+            Stage::Forces(terms) if terms.viscosity || terms.artificial_viscosity || terms.rotating_frame => {
                 &[Position, Velocity, Density, Pressure, Mass, Kind]
             }
             Stage::Forces(_) => &[Position, Density, Pressure, Mass, Kind],

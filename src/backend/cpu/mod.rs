@@ -19,6 +19,7 @@ use crate::physics::{
     density::density_term,
     eos,
     pressure::{pressure_acceleration_from_terms, pressure_term},
+    rotating_frame::{centrifugal_acceleration, rotating_frame_acceleration},
     viscosity::viscous_acceleration,
 };
 use rayon::prelude::*;
@@ -99,9 +100,10 @@ impl<const D: usize> CpuBackend<D> {
     }
 }
 
-/// Eqs. (15)–(17) for fluid particle `i`, monomorphised on whether viscosity is on.
+/// Eqs. (15)–(17) and (6) for fluid particle `i`, monomorphised on the optional terms: viscosity
+/// (17), artificial viscosity ([M92]) and the rotating frame ([B67] §3.2).
 #[inline(always)]
-fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: bool>(
+fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: bool, const ROTATING: bool>(
     grid: &Grid<D>,
     fields: &Fields<D>,
     params: &StepParams<D>,
@@ -111,6 +113,15 @@ fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: boo
     let kernel = params.smoothing();
     let (q_i, rho_i, u_i) = (terms[i], fields.density[i], fields.velocity[i]);
     let mut a = params.gravity; // eq. (6)
+    if ROTATING {
+        // [B67] §3.2: Coriolis and centrifugal.
+        a += rotating_frame_acceleration(
+            &params.angular_velocity,
+            &params.rotation_centre,
+            &fields.position[i],
+            &u_i,
+        );
+    }
     grid.for_each_neighbour(&fields.position, i, |j, d, r2| {
         if j == i {
             return;
@@ -219,6 +230,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let kernel = params.smoothing();
         let grid = &self.grid;
         let f = &*fields;
+        let rotating = params.angular_velocity != [0.0; 3];
         self.wall.clear();
         let dry = &self.dry;
         self.wall.par_extend((0..f.len()).into_par_iter().map(|w| {
@@ -240,10 +252,20 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 }
             });
             // [A12] eq. (27): the body acceleration in the wall's frame, `g − a_w`.
-            let body = match wall_acceleration.get(f.kind[w] as usize - 1) {
+            let mut body = match wall_acceleration.get(f.kind[w] as usize - 1) {
                 Some(a) => params.gravity - a,
                 None => params.gravity,
             };
+            if rotating {
+                // In a rotating frame the wall's body acceleration includes the centrifugal one
+                // at the wall particle ([B67] §3.2; the wall is at rest in the frame, so no
+                // Coriolis term).
+                body += centrifugal_acceleration(
+                    &params.angular_velocity,
+                    &params.rotation_centre,
+                    &f.position[w],
+                );
+            }
             let mut p = sums.pressure(&body);
             if model == WallModel::ExtrapolatedOrSummed {
                 p = p.max(eos::pressure(summed_density, params.rho0, params.c2));
@@ -270,11 +292,23 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             *a = if f.kind[i] != FLUID {
                 Vector::zeros()
             } else {
-                match (terms.viscosity, terms.artificial_viscosity) {
-                    (false, false) => fluid_acceleration::<D, false, false>(grid, f, params, q, i),
-                    (true, false) => fluid_acceleration::<D, true, false>(grid, f, params, q, i),
-                    (false, true) => fluid_acceleration::<D, false, true>(grid, f, params, q, i),
-                    (true, true) => fluid_acceleration::<D, true, true>(grid, f, params, q, i),
+                match (terms.viscosity, terms.artificial_viscosity, terms.rotating_frame) {
+                    (false, false, false) => {
+                        fluid_acceleration::<D, false, false, false>(grid, f, params, q, i)
+                    }
+                    (true, false, false) => {
+                        fluid_acceleration::<D, true, false, false>(grid, f, params, q, i)
+                    }
+                    (false, true, false) => {
+                        fluid_acceleration::<D, false, true, false>(grid, f, params, q, i)
+                    }
+                    (true, true, false) => fluid_acceleration::<D, true, true, false>(grid, f, params, q, i),
+                    (false, false, true) => {
+                        fluid_acceleration::<D, false, false, true>(grid, f, params, q, i)
+                    }
+                    (true, false, true) => fluid_acceleration::<D, true, false, true>(grid, f, params, q, i),
+                    (false, true, true) => fluid_acceleration::<D, false, true, true>(grid, f, params, q, i),
+                    (true, true, true) => fluid_acceleration::<D, true, true, true>(grid, f, params, q, i),
                 }
             };
         });

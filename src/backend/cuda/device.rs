@@ -749,12 +749,16 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
     fn forces(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
-        let name = match (terms.viscosity, terms.artificial_viscosity) {
-            (false, false) => "forces_p",
-            (true, false) => "forces_pv",
-            (false, true) => "forces_pa",
-            (true, true) => "forces_pva",
-        };
+        let name = [
+            "forces_p",
+            "forces_pv",
+            "forces_pa",
+            "forces_pva",
+            "forces_pr",
+            "forces_pvr",
+            "forces_par",
+            "forces_pvar",
+        ][terms.index()];
         let cfg = launch_config(self.n);
         let mut b = self.stream.launch_builder(&self.kernels[name]);
         b.arg(&n)
@@ -1051,6 +1055,10 @@ const KERNEL_NAMES: &[&str] = &[
     "forces_pv",
     "forces_pa",
     "forces_pva",
+    "forces_pr",
+    "forces_pvr",
+    "forces_par",
+    "forces_pvar",
     "solid_forces",
     "state_extremes",
     "integrate",
