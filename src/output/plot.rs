@@ -206,18 +206,7 @@ pub fn write_png(figure: &Figure, path: &Path, size: (u32, u32)) -> Result<(), P
         (false, true) => render(figure, &tmp, size, ranges, x, y.log_scale()),
         (true, true) => render(figure, &tmp, size, ranges, x.log_scale(), y.log_scale()),
     };
-    if let Err(message) = drawn {
-        let _ = fs::remove_file(&tmp);
-        return Err(PlotError::Drawing {
-            path: path.to_path_buf(),
-            message,
-        });
-    }
-    if let Err(e) = fs::rename(&tmp, path) {
-        let _ = fs::remove_file(&tmp);
-        return Err(io_error(e));
-    }
-    Ok(())
+    finish_png(&tmp, path, drawn)
 }
 
 /// Writes an 8-bit RGB image (`pixels`: row-major from the top-left, 3 bytes per pixel, `size` =
@@ -247,18 +236,26 @@ pub fn write_rgb_png(pixels: &[u8], size: (u32, u32), path: &Path) -> Result<(),
             .map_err(|e| e.to_string())?;
         backend.present().map_err(|e| e.to_string())
     })();
-    if let Err(message) = drawn {
-        let _ = fs::remove_file(&tmp);
-        return Err(PlotError::Drawing {
+    finish_png(&tmp, path, drawn)
+}
+
+/// The end of an atomic PNG write: the temporary file `tmp` becomes `path` once `drawn`
+/// succeeded; on any failure `tmp` is removed and the error names `path`.
+fn finish_png(tmp: &Path, path: &Path, drawn: Result<(), String>) -> Result<(), PlotError> {
+    let result = match drawn {
+        Err(message) => Err(PlotError::Drawing {
             path: path.to_path_buf(),
             message,
-        });
+        }),
+        Ok(()) => fs::rename(tmp, path).map_err(|source| PlotError::Io {
+            path: path.to_path_buf(),
+            source,
+        }),
+    };
+    if result.is_err() {
+        let _ = fs::remove_file(tmp);
     }
-    if let Err(e) = fs::rename(&tmp, path) {
-        let _ = fs::remove_file(&tmp);
-        return Err(io_error(e));
-    }
-    Ok(())
+    result
 }
 
 /// The temporary sibling the image is drawn into: `fig.png` -> `fig.png.tmp.png`.
