@@ -115,7 +115,10 @@ fn wcsph_without_viscosity_has_no_viscosity_line() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(!stdout.contains("(17)"), "{stdout}");
     assert!(!stdout.contains("viscosity mu"), "{stdout}");
-    assert!(!stdout.contains("wall_velocity"), "no viscosity, no no-slip walls: {stdout}");
+    assert!(
+        !stdout.contains("wall_velocity"),
+        "no viscosity, no no-slip walls: {stdout}"
+    );
     let forces = stdout
         .lines()
         .find(|l| l.contains(". forces "))
@@ -148,7 +151,10 @@ fn no_slip_walls_show_with_viscosity_and_solids() {
     let names = stage_names(&stdout);
     let at = |n: &str| names.iter().position(|x| x == n);
     let wall = at("wall_velocity").unwrap_or_else(|| panic!("no wall_velocity: {names:?}"));
-    assert!(at("wall_pressure") < Some(wall) && Some(wall) < at("forces"), "{names:?}");
+    assert!(
+        at("wall_pressure") < Some(wall) && Some(wall) < at("forces"),
+        "{names:?}"
+    );
     assert!(stdout.contains("[A12] (22)-(23)"), "{stdout}");
     assert!(
         reads_of(&stdout, "wall_velocity").contains("writes wall_velocity"),

@@ -175,9 +175,8 @@ impl Stage {
     pub fn reads_in(&self, plan: &[Stage]) -> Vec<Field> {
         let mut fields = self.reads().to_vec();
         let no_slip = plan.contains(&Stage::WallVelocity);
-        if no_slip && matches!(self, Stage::Forces(t) if t.viscosity)
-            || no_slip && *self == Stage::SolidForces
-        {
+        let reader = matches!(self, Stage::Forces(t) if t.viscosity) || *self == Stage::SolidForces;
+        if no_slip && reader {
             fields.push(WallVelocity);
         }
         fields
