@@ -3,7 +3,9 @@
 // scene does not ask for are compiled out, as the CPU monomorphises them (`ForceTerms`):
 // `forces_p` (pressure), `forces_pv` (+ viscosity 17), `forces_pa` (+ artificial viscosity
 // [M92]), `forces_pva` (both), and each with the rotating frame's Coriolis and centrifugal
-// forces ([B67] 3.2): `forces_pr`, `forces_pvr`, `forces_par`, `forces_pvar`.
+// forces ([B67] 3.2): `forces_pr`, `forces_pvr`, `forces_par`, `forces_pvar`. In (17) a solid
+// neighbour j carries wall_vel[j], its no-slip velocity ([A12] eqs. 22-23, `wall_velocity.cu`);
+// where the scene has none the host passes `vel` itself, so j carries its own velocity.
 #include "sph.cuh"
 #include "pair_forces.cuh"
 #include "rotating_frame.cuh"
@@ -19,7 +21,9 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
                                             const float* __restrict__ mass,
                                             const float* __restrict__ density,
                                             const float* __restrict__ pressure,
-                                            const u32* __restrict__ kind, float* __restrict__ acc) {
+                                            const u32* __restrict__ kind,
+                                            const float* __restrict__ wall_vel,
+                                            float* __restrict__ acc) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     if (kind[i] != SPH_FLUID) {
@@ -31,6 +35,8 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
     const vec_t u_i = vload(vel, i);
     const float p_i = pressure[i];
     const float rho_i = density[i];
+    // Eq. (17) with the lattice's Laplacian moment undone (`physics::lattice`).
+    const float mu = p.mu * p.viscosity_scale;
     vec_t a;
     for (int k = 0; k < D; ++k) a.c[k] = p.gravity[k];  // eq. (6)
     if (ROTATING) a = vadd(a, rotating_frame_acceleration(p, x_i, u_i));  // [B67] 3.2
@@ -52,7 +58,8 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
         }
         if (VISCOUS) {
             const float lap = laplacian_w_viscosity(s, r);
-            a = vadd(a, viscous_acceleration(p.mu, u_i, vload(vel, j), rho_i, rho_j, m_j, lap));
+            const vec_t u_j = kind[j] == SPH_FLUID ? vload(vel, j) : vload(wall_vel, j);
+            a = vadd(a, viscous_acceleration(mu, u_i, u_j, rho_i, rho_j, m_j, lap));
         }
     });
     vstore(acc, i, a);
@@ -63,9 +70,10 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
                      const u32* __restrict__ cell_key, const float* __restrict__ pos,             \
                      const float* __restrict__ vel, const float* __restrict__ mass,               \
                      const float* __restrict__ density, const float* __restrict__ pressure,       \
-                     const u32* __restrict__ kind, float* __restrict__ acc) {                     \
+                     const u32* __restrict__ kind, const float* __restrict__ wall_vel,            \
+                     float* __restrict__ acc) {                                                   \
         forces_body<VISCOUS, ARTIFICIAL, ROTATING>(n, p, g, cell_start, cell_key, pos, vel, mass, density, \
-                                         pressure, kind, acc);                                    \
+                                         pressure, kind, wall_vel, acc);                          \
     }
 
 /// Pressure (16) and gravity only.

@@ -37,14 +37,18 @@ __device__ __forceinline__ vec_t artificial_viscous_acceleration(float alpha, fl
 
 /// Force [N] (per unit depth in 2D) on solid particle s from fluid particle f: m_s times the pair
 /// accelerations from the solid's side, with the solid's velocity u_s (zero for a fixed solid,
-/// d'(t) for a moving one). `offset = x_s - x_f`, `r2` its squared length, `grad_w` the scaled
-/// spiky gradient. Twin of `solid_force::force_on_solid`.
+/// d'(t) for a moving one) in the artificial viscosity and `uv_s` in (17) (its no-slip velocity,
+/// [A12] eqs. 22-23, or u_s), (17) scaled by `p.viscosity_scale`. `offset = x_s - x_f`, `r2` its
+/// squared length, `grad_w` the scaled spiky gradient. Twin of `solid_force::force_on_solid`.
 __device__ __forceinline__ vec_t force_on_solid(const StepParams& p, float m_s, float p_s, float rho_s,
                                                 float m_f, float p_f, float rho_f, vec_t offset,
-                                                float r2, vec_t u_s, vec_t u_f, vec_t grad_w,
-                                                float laplacian_w) {
+                                                float r2, vec_t u_s, vec_t u_f, vec_t uv_s,
+                                                vec_t grad_w, float laplacian_w) {
     vec_t a = pressure_acceleration(p_s, rho_s, p_f, rho_f, m_f, grad_w);
-    if (p.mu > 0.0f) a = vadd(a, viscous_acceleration(p.mu, u_s, u_f, rho_s, rho_f, m_f, laplacian_w));
+    if (p.mu > 0.0f) {
+        const float mu = p.mu * p.viscosity_scale;
+        a = vadd(a, viscous_acceleration(mu, uv_s, u_f, rho_s, rho_f, m_f, laplacian_w));
+    }
     if (p.alpha > 0.0f) {
         vec_t u_sf = vsub(u_s, u_f);
         a = vadd(a, artificial_viscous_acceleration(p.alpha, p.c, p.h, offset, r2, u_sf, rho_s, rho_f,

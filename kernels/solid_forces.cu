@@ -4,7 +4,9 @@
 // `out[3 (kind[s] - 1) + axis]` (z = 0 in 2D). The host zeroes `out` (3 doubles per solid; every
 // solid particle's kind must be at most the number of solids) and, for the correction's impulse
 // (`SolidForceSource::Correction`), passes `p` with `mu = alpha = 0` and the pressure increments
-// `delta_p` as `pressure`, as the CPU does.
+// `delta_p` as `pressure`, as the CPU does. In (17) solid particle s carries wall_vel[s], its
+// no-slip velocity ([A12] eqs. 22-23), as the forces stage does (`vel` itself where the scene has
+// none).
 #include "sph.cuh"
 #include "pair_forces.cuh"
 
@@ -12,7 +14,8 @@ SPH_KERNEL(solid_forces)(u32 n, StepParams p, GridGeometry g, const u32* __restr
                          const u32* __restrict__ cell_key, const float* __restrict__ pos,
                          const float* __restrict__ vel, const float* __restrict__ mass,
                          const float* __restrict__ density, const float* __restrict__ pressure,
-                         const u32* __restrict__ kind, double* __restrict__ out) {
+                         const u32* __restrict__ kind, const float* __restrict__ wall_vel,
+                         double* __restrict__ out) {
     // Grid-stride loop: the backend launches about n/8 threads, each summing its solid particles
     // per solid in registers and adding to the slots only when the solid changes and at the end
     // (the slots are a handful of addresses every thread would otherwise hit). The shim launches
@@ -26,6 +29,7 @@ SPH_KERNEL(solid_forces)(u32 n, StepParams p, GridGeometry g, const u32* __restr
         if (kind[i] == SPH_FLUID) continue;
         const vec_t x_s = vload(pos, i);
         const vec_t u_s = vload(vel, i);
+        const vec_t uv_s = vload(wall_vel, i);
         const float m_s = mass[i];
         const float p_s = pressure[i];
         const float rho_s = density[i];
@@ -40,7 +44,7 @@ SPH_KERNEL(solid_forces)(u32 n, StepParams p, GridGeometry g, const u32* __restr
             const float r = sqrtf(r2);
             const vec_t grad = vscale(grad_w_spiky(s, d, r), p.pressure_gradient_scale);
             force = vadd(force, force_on_solid(p, m_s, p_s, rho_s, mass[j], pressure[j], density[j], d,
-                                               r2, u_s, vload(vel, j), grad,
+                                               r2, u_s, vload(vel, j), uv_s, grad,
                                                laplacian_w_viscosity(s, r)));
             ++fluid_neighbours;
         });

@@ -74,6 +74,7 @@ struct StepParams {
     float domain_max[D];            // [m]
     float angular_velocity[3];      // Omega of the rotating frame [rad/s] (0 without one)
     float rotation_centre[D];       // a point on the rotation axis [m]
+    float viscosity_scale;          // 1/lambda of the viscosity Laplacian in eq. (17)
 };
 
 /// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of

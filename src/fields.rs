@@ -34,6 +34,11 @@ pub struct Fields<const D: usize> {
     pub position_start: Vec<Vector<D>>,
     /// Velocity at the start of the step [m/s] (SSP-RK3 only; empty otherwise).
     pub velocity_start: Vec<Vector<D>>,
+    /// Velocity [m/s] a solid particle carries in the viscous force (17): the no-slip
+    /// extrapolation `2 u_wall − ũ` of [A12] eqs. (22)–(23) (`boundary::wall_velocity`); unused
+    /// for fluid particles. Allocated only in scenes with the `viscosity` effect and solids
+    /// (empty otherwise: solids then carry their own velocity).
+    pub wall_velocity: Vec<Vector<D>>,
 }
 
 /// A field of [`Fields`] by name, for what a stage reads and writes (`Stage::reads`,
@@ -60,11 +65,13 @@ pub enum Field {
     PositionStart,
     /// [`Fields::velocity_start`].
     VelocityStart,
+    /// [`Fields::wall_velocity`].
+    WallVelocity,
 }
 
 impl Field {
     /// Every field, in the order of [`Fields`] (what a reorder writes).
-    pub const ALL: [Field; 10] = [
+    pub const ALL: [Field; 11] = [
         Field::Position,
         Field::Velocity,
         Field::Acceleration,
@@ -75,6 +82,7 @@ impl Field {
         Field::Id,
         Field::PositionStart,
         Field::VelocityStart,
+        Field::WallVelocity,
     ];
 
     /// The field's name in [`Fields`].
@@ -90,6 +98,7 @@ impl Field {
             Field::Id => "id",
             Field::PositionStart => "position_start",
             Field::VelocityStart => "velocity_start",
+            Field::WallVelocity => "wall_velocity",
         }
     }
 }
@@ -148,15 +157,21 @@ impl<const D: usize> Fields<D> {
             gather(&mut self.position_start, perm, &mut scratch.vector);
             gather(&mut self.velocity_start, perm, &mut scratch.vector);
         }
+        if !self.wall_velocity.is_empty() {
+            gather(&mut self.wall_velocity, perm, &mut scratch.vector);
+        }
     }
 
     /// Bytes per particle held by the always-present fields (for memory reports and scene
-    /// validation); SSP-RK3 adds `2 D · 4`.
+    /// validation); SSP-RK3 adds `2 D · 4`, no-slip walls (viscosity with solids) `D · 4`.
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
 
     /// Bytes held by the fields' arrays.
     pub fn heap_bytes(&self) -> usize {
-        (self.position.capacity() * 3 + self.position_start.capacity() + self.velocity_start.capacity())
+        (self.position.capacity() * 3
+            + self.position_start.capacity()
+            + self.velocity_start.capacity()
+            + self.wall_velocity.capacity())
             * D
             * 4
             + (self.density.capacity() * 3 + self.kind.capacity() * 2) * 4

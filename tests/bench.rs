@@ -61,12 +61,13 @@ fn one_cpu_row_is_measured_and_written() {
             "density",
             "equation_of_state",
             "wall_pressure",
+            "wall_velocity",
             "forces",
             "solid_forces",
             "time_step",
             "integrate"
         ],
-        "the wcsph plan with walls, in order"
+        "the wcsph plan with walls and viscosity (no-slip walls: wall_velocity), in order"
     );
     assert!(r.stages.iter().all(|(_, t)| *t >= 0.0));
     let csv = to_csv(&rows);

@@ -109,6 +109,12 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         };
         *f.pressure.last_mut().expect("just pushed") = p;
     }
+    // No-slip walls ([A12] eqs. 22-23): each solid particle's viscous velocity, random (the
+    // wall_velocity stage's own output is checked in tests/cuda_shim.rs), so (17) on both sides
+    // must read it rather than the wall's velocity.
+    f.wall_velocity = (0..f.len())
+        .map(|_| Vector::from_fn(|_, _| rng.sym(1.0)))
+        .collect();
     let mut gravity = Vector::<D>::zeros();
     gravity[1] = -9.81;
     let mut domain_min = Vector::<D>::zeros();
@@ -131,6 +137,7 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         // Off every axis, so that both the in-plane and the out-of-plane part act in 2D.
         angular_velocity: [1.5, -2.0, 7.0],
         rotation_centre: Vector::from_fn(|k, _| 0.02 * (k as f32 + 1.0)),
+        viscosity_scale: 1.17,
     };
     (f, p)
 }
@@ -164,6 +171,8 @@ struct Device<const D: usize> {
     cell_key: Vec<u32>,
     pos: Vec<f32>,
     vel: Vec<f32>,
+    /// `Fields::wall_velocity` ([A12] no-slip walls).
+    wall_vel: Vec<f32>,
     acc: Vec<f32>,
     density: Vec<f32>,
     pressure: Vec<f32>,
@@ -192,6 +201,12 @@ impl<const D: usize> Device<D> {
             cell_key: order.iter().map(|&i| keys[i]).collect(),
             pos: vectors(&f.position),
             vel: vectors(&f.velocity),
+            // Without no-slip walls the backend passes the velocities (a solid carries its own).
+            wall_vel: vectors(if f.wall_velocity.is_empty() {
+                &f.velocity
+            } else {
+                &f.wall_velocity
+            }),
             acc: vectors(&f.acceleration),
             density: order.iter().map(|&i| f.density[i]).collect(),
             pressure: order.iter().map(|&i| f.pressure[i]).collect(),
@@ -291,10 +306,15 @@ fn force_scale<const D: usize>(f: &Fields<D>, p: &StepParams<D>, terms: ForceTer
         }
         if terms.viscosity {
             let lap = s.laplacian_w_viscosity(r);
+            let u_j = if f.kind[j] == FLUID {
+                f.velocity[j]
+            } else {
+                f.wall_velocity[j]
+            };
             sum += norm(&viscous_acceleration(
-                p.mu,
+                p.mu * p.viscosity_scale,
                 &u_i,
-                &f.velocity[j],
+                &u_j,
                 rho_i,
                 rho_j,
                 m_j,
@@ -328,6 +348,7 @@ fn forces_on_shim<const D: usize>(
                 dev.density.as_ptr(),
                 dev.pressure.as_ptr(),
                 dev.kind.as_ptr(),
+                dev.wall_vel.as_ptr(),
                 dev.acc.as_mut_ptr(),
             )
         };
@@ -744,6 +765,7 @@ fn check_solid_forces<const D: usize>(seed: u64) {
             dev.density.as_ptr(),
             pressure.as_ptr(),
             dev.kind.as_ptr(),
+            dev.wall_vel.as_ptr(),
             out.as_mut_ptr(),
         );
         // Σ|terms| per solid, from the device's pressures in id order.
@@ -762,6 +784,7 @@ fn check_solid_forces<const D: usize>(seed: u64) {
                     [f.mass[j], pressure_by_id[j], f.density[j]],
                     &d,
                     [&f.velocity[s], &f.velocity[j]],
+                    &f.wall_velocity[s],
                     &grad,
                     kernel.laplacian_w_viscosity(r),
                 ));

@@ -34,7 +34,11 @@ fn inside_solid(scene: &Scene, x: &[f64], margin: f64) -> Option<String> {
                     outer_hi[d - 1] = hi[d - 1];
                 }
                 let in_shell = inside_box(&outer_lo, &outer_hi);
-                let in_water = (0..d).all(|k| x[k] > lo[k] - margin && x[k] < hi[k] + margin);
+                // The inner faces belong to the water: a particle exactly on one is 0 deep, not
+                // "more than margin" inside, as the guard (`KeepOutBox::push_out`) and the box
+                // case above count it (measured: jet_3d corrected, a particle at x = 1.0 exactly
+                // on the far wall's face after the no-slip walls changed its path).
+                let in_water = (0..d).all(|k| x[k] >= lo[k] - margin && x[k] <= hi[k] + margin);
                 in_shell && !in_water
             }
         };
@@ -480,7 +484,8 @@ fn viscous_low_3d_corrected() {
 /// end time (0.25 s, before the low-viscosity front reaches the far wall). Measured with
 /// `sph run` and a front probe: 0.52 (2D wcsph), 0.55 (2D corrected), 0.38 (3D wcsph), 0.44
 /// (3D corrected) at 10 Pa s; at 1 Pa s 0.86, 0.89, 0.76, 0.85, so the check fails if the
-/// viscous term were ten times too weak.
+/// viscous term were ten times too weak. With (17) scaled by 1/λ and no-slip walls (issue 7):
+/// 0.446, 0.464, 0.283 at 10 Pa s (this test's output; 3D corrected does not get that far).
 const VISCOUS_FRONT_SHARE: f64 = 0.7;
 
 /// 10 Pa s: the invariants with energy never above its start (viscosity only dissipates), and
@@ -494,6 +499,10 @@ fn viscous_high(high: &str, low: &str, solver: &str) {
         end - start
     };
     let (slow, fast) = (advance(&slow), advance(&fast));
+    println!(
+        "{high} ({solver}): front advance {:.3} of the 1e-6 Pa s run's",
+        slow / fast
+    );
     assert!(
         slow < VISCOUS_FRONT_SHARE * fast,
         "{high} ({solver}): front advanced {slow} m, against {fast} m at 1e-6 Pa s"
@@ -515,11 +524,13 @@ fn viscous_high_3d_wcsph() {
     viscous_high("viscous_high_3d.toml", "viscous_low_3d.toml", "wcsph");
 }
 
-/// Fails today: kinetic plus potential energy at step 2 is 0.99643 J, 1.6e-3 above the start's
-/// 0.99482 J (bound 1e-3): the corrected solver's first steps of the 10 Pa s dam break raise
-/// the column (the 1e-6 Pa s case stays below the bound). The front check is not reached.
+/// Fails today: kinetic plus potential energy at step 2 is 0.995857 J, 1.04e-3 above the start's
+/// 0.994819 J (bound 1e-3): the corrected solver's first steps of the 10 Pa s dam break raise
+/// the column (the 1e-6 Pa s case stays below the bound). The front check is not reached. (With
+/// the viscosity's zero-velocity walls and no lattice scale, before issue 7's viscosity fixes,
+/// the rise was 1.6e-3: 0.99643 J.)
 #[test]
-#[ignore = "known failure: energy 1.6e-3 above the start at step 2"]
+#[ignore = "known failure: energy 1.04e-3 above the start at step 2 (bound 1e-3)"]
 fn viscous_high_3d_corrected() {
     viscous_high("viscous_high_3d.toml", "viscous_low_3d.toml", "corrected");
 }

@@ -115,6 +115,10 @@ fn wcsph_without_viscosity_has_no_viscosity_line() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(!stdout.contains("(17)"), "{stdout}");
     assert!(!stdout.contains("viscosity mu"), "{stdout}");
+    assert!(
+        !stdout.contains("wall_velocity"),
+        "no viscosity, no no-slip walls: {stdout}"
+    );
     let forces = stdout
         .lines()
         .find(|l| l.contains(". forces "))
@@ -125,6 +129,42 @@ fn wcsph_without_viscosity_has_no_viscosity_line() {
     // The shipped scene, with viscosity, has it.
     let viscous = plan(&scene, &[]);
     assert!(String::from_utf8_lossy(&viscous.stdout).contains("(15): (16), (17), (6)"));
+}
+
+/// The stage's reads line (the line after its stage line).
+fn reads_of(stdout: &str, stage: &str) -> String {
+    let lines: Vec<&str> = stdout.lines().collect();
+    let at = lines
+        .iter()
+        .position(|l| l.contains(&format!(". {stage} ")))
+        .unwrap_or_else(|| panic!("no {stage} stage: {stdout}"));
+    lines[at + 1].to_string()
+}
+
+#[test]
+fn no_slip_walls_show_with_viscosity_and_solids() {
+    // [A12] eqs. (22)-(23): the wall_velocity stage between the wall pressure and the forces,
+    // writing the field that (17) in the forces stage and its reaction on the solids read.
+    let out = plan(&shipped("scenes/poiseuille_2d.toml"), &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let names = stage_names(&stdout);
+    let at = |n: &str| names.iter().position(|x| x == n);
+    let wall = at("wall_velocity").unwrap_or_else(|| panic!("no wall_velocity: {names:?}"));
+    assert!(
+        at("wall_pressure") < Some(wall) && Some(wall) < at("forces"),
+        "{names:?}"
+    );
+    assert!(stdout.contains("[A12] (22)-(23)"), "{stdout}");
+    assert!(
+        reads_of(&stdout, "wall_velocity").contains("writes wall_velocity"),
+        "{stdout}"
+    );
+    for reader in ["forces", "solid_forces"] {
+        let reads = reads_of(&stdout, reader);
+        let read = reads.split(" -> ").next().unwrap_or_default();
+        assert!(read.contains("wall_velocity"), "{reader}: {reads}");
+    }
 }
 
 #[test]

@@ -13,22 +13,28 @@
 //! t = 0.02, 0.05, 0.1, 0.2 and 0.6 s (t ν/L² the same numbers; at 0.6 the series is within
 //! 0.3 % of the steady parabola).
 //!
-//! Result (measured; README "Viscosity: what the Poiseuille test shows"): the paper's Laplacian
-//! viscosity (17) does **not** reach the 5 % target. The error grows to 29 % of u0 at the steady
-//! state (centreline 1.29 u0), from two causes that `laplacian_viscosity_error_is_the_lattice_
-//! deficit_and_the_wall_slip` separates:
+//! Result (measured; README "Viscosity: what the Poiseuille test shows"): with the two fixes
+//! below, the paper's Laplacian viscosity (17) follows the series within the 5 % target: worst
+//! bin 0.22, 0.23, 0.24, 0.48 and 0.91 % of u0 at t = 0.02, 0.05, 0.1, 0.2 and 0.6 s (L = 20 dx,
+//! h = 2 dx); at L = 40 dx (h = 2 dx) 0.06, 0.06, 0.07, 0.34 and 0.73 %. Without them the error grew to
+//! 29 % of u0 at the steady state (centreline 1.29 u0), from two causes:
 //! - the SPH Laplacian of (17) on the lattice at h = 2 dx is λ = 0.85 of the true one (the
 //!   second moment `Σ_j V_j r² ∇²W / (2D)`; 0.95 at h = 3 dx, 0.98 at 4 dx), so the fluid
-//!   feels ν λ: the parabola's curvature is 1/λ = 1.17 times the series';
-//! - the walls' particles carry zero velocity, which is not a no-slip condition at the wall
-//!   face: the fluid slips with a slip length b ≈ h/4 (fitted 0.30 h here; 0.27 h at h = 2 dx and
-//!   0.24 h at h = 4 dx with μ/λ in the scene), a uniform 4b/L ≈ 0.12 u0 on top of the profile. Adami, Hu & Adams (2012), whose
-//!   wall pressure the solver uses, give the wall particles the mirrored velocity
-//!   `2 u_wall − ũ` instead; that is not implemented.
+//!   felt ν λ and the parabola's curvature was 1/λ = 1.17 times the series'. Fix: (17) is
+//!   divided by λ computed on the initial lattice (`physics::lattice::lattice_laplacian_moment`,
+//!   `StepParams::viscosity_scale`), as the pressure force (16) is divided by κ;
+//! - wall particles carrying zero velocity are not a no-slip condition at the wall face: the
+//!   fluid slipped with a slip length b ≈ h/4 (fitted 0.30 h; 0.27 h at h = 2 dx and 0.24 h at
+//!   h = 4 dx with μ/λ), a uniform 4b/L ≈ 0.12 u0 on top of the profile. Fix: Adami, Hu & Adams
+//!   (2012) eqs. (22)–(23), the wall particles carry `2 u_wall − ũ` in (17), ũ the Shepard
+//!   average of the fluid velocity around them (`boundary::wall_velocity`, stage
+//!   `wall_velocity`).
 //!
-//! Refining dx at h = 2 dx does not help (L = 40 dx: 23 %, since λ stays 0.85); a larger h/dx
-//! fixes λ but not the slip (h = 4 dx: 21 %). The 5 % test is therefore `#[ignore]`d with the
-//! measured number; run it with `--ignored` to see it fail.
+//! `lattice_calibration_and_no_slip_walls_remove_the_curvature_and_slip_errors` checks each
+//! fix's share at the steady state (curvature, slip).
+//! `no_slip_wall_drag_is_the_reaction_and_follows_rayleigh` checks the walls on their own: the
+//! drag on a block sliding over a wall is Rayleigh's (Stokes' first problem) within 3 %, and the
+//! force on the wall is its exact reaction; a moving wall uses its prescribed velocity.
 //!
 //! Artificial viscosity instead of (17): with α chosen so that its continuum equivalent
 //! (`physics::artificial_viscosity::equivalent_viscosity`, Monaghan 2005) equals ν, the flow
@@ -174,12 +180,9 @@ fn fit_parabola_and_slip(p: &Profile) -> (f64, f64, f64) {
     (a, s, residual)
 }
 
-#[test]
-#[ignore = "fails: the Laplacian viscosity (17) with zero-velocity wall particles is 29 % of u0 \
-            off at the steady state (lattice Laplacian 0.85 at h = 2 dx, wall slip ≈ h/4); see \
-            the module doc"]
-fn start_up_profile_follows_the_series_within_5_percent_of_u0() {
-    let scene = scene(&[]);
+/// The worst bin error / u0 at each of [`TIMES`], for the shipped scene with `sets`.
+fn errors(sets: &[&str]) -> Vec<(f64, f64)> {
+    let scene = scene(sets);
     let (f, nu) = (
         body_force(&scene),
         scene.viscosity.expect("viscosity") / scene.rho0,
@@ -189,20 +192,43 @@ fn start_up_profile_follows_the_series_within_5_percent_of_u0() {
         .iter()
         .map(|p| (p.time, worst_error(p, f, nu, u0)))
         .collect();
+    println!("{sets:?}: worst bin / u0 at each time [s]: {errors:.4?}");
+    errors
+}
+
+/// The issue's target at the shipped resolution, L = 20 dx, h = 2 dx (measured: at most 0.91 %
+/// of u0, at t = 0.6 s).
+#[test]
+fn start_up_profile_follows_the_series_within_5_percent_of_u0() {
+    let errors = errors(&[]);
     assert!(
         errors.iter().all(|&(_, e)| e <= TARGET),
         "worst bin / u0 at each time [s] (target {TARGET}): {errors:.3?}"
     );
 }
 
-/// Measures why the 5 % target fails, so a change to the viscosity or the walls shows here.
-/// At t = 0.6 s (series within 0.3 % of steady) the profile is a parabola plus a uniform slip
-/// velocity, within 0.01 u0 (measured 0.0012 u0); its curvature is the series' times `1/λ`
-/// within 3 % (λ = 0.85 from the lattice sum; measured 0.5 %), and the slip length
-/// `b = s L/(4 u0)` lies in [0.2 h, 0.35 h] (measured 0.30 h; with μ/λ in the scene the whole
-/// error is a uniform +0.107 u0, b = 0.27 h).
+/// The same target at twice the resolution, L = 40 dx, h = 2 dx (measured: at most 0.73 % of u0,
+/// at t = 0.6 s).
 #[test]
-fn laplacian_viscosity_error_is_the_lattice_deficit_and_the_wall_slip() {
+#[ignore = "long: 4 times the particles at a quarter of the step (about 40 s in release)"]
+fn start_up_profile_follows_the_series_within_5_percent_of_u0_at_40_particles_across() {
+    let errors = errors(&["particles.spacing=0.0025"]);
+    assert!(
+        errors.iter().all(|&(_, e)| e <= TARGET),
+        "worst bin / u0 at each time [s] (target {TARGET}): {errors:.3?}"
+    );
+}
+
+/// Each fix's share at the steady state (t = 0.6 s, series within 0.3 % of steady), where the
+/// uncorrected operator had the profile's curvature 1/λ = 1.17 times the series' and a uniform
+/// slip of 0.12 u0 (slip length 0.30 h). Asserted: λ = 0.8516 at h = 2 dx, from this file's own
+/// lattice sum and from `physics::lattice` (whose inverse the simulation applies); the profile
+/// is a parabola plus a uniform slip within 0.01 u0 (measured 0.0014 u0), its curvature the
+/// series' within 2 % (measured 0.4 %; the uncorrected 17 % fails), and the slip length below
+/// 0.03 h (measured 0.005 h; the zero-velocity walls' 0.30 h fails). Before the walls' influence
+/// reaches the centre (t = 0.02 s) the core accelerates at F.
+#[test]
+fn lattice_calibration_and_no_slip_walls_remove_the_curvature_and_slip_errors() {
     let scene = scene(&[]);
     let (f, nu) = (
         body_force(&scene),
@@ -212,9 +238,20 @@ fn laplacian_viscosity_error_is_the_lattice_deficit_and_the_wall_slip() {
     let h = scene.smoothing_length;
     let lambda = lattice_laplacian_moment(h, scene.spacing);
     assert!((lambda - 0.8516).abs() < 1e-3, "λ = {lambda} at h = 2 dx");
+    let kernel = Smoothing::<2>::new(h as f32).expect("2D");
+    let library = sph::physics::lattice::lattice_laplacian_moment(&kernel, scene.spacing, 1000.0);
+    assert!(
+        (library - lambda).abs() < 1e-5,
+        "physics::lattice λ = {library}, here {lambda}"
+    );
+    let sim = simulation_from_scene::<2>(&scene).expect("the scene builds");
+    assert!(
+        (f64::from(sim.viscosity_scale()) * lambda - 1.0).abs() < 1e-6,
+        "the simulation scales (17) by 1/λ: {}",
+        sim.viscosity_scale()
+    );
     let all = profiles(&scene);
     let early = &all[0];
-    // Before the walls' influence reaches the centre (t = 0.02 s), the core accelerates at F.
     let centre = early.u[early.u.len() / 2];
     let expected = series(early.y[early.u.len() / 2], early.time, f, nu);
     assert!(
@@ -224,11 +261,12 @@ fn laplacian_viscosity_error_is_the_lattice_deficit_and_the_wall_slip() {
     let steady = all.last().expect("profiles");
     let (a, s, residual) = fit_parabola_and_slip(steady);
     let worst = worst_error(steady, f, nu, u0);
+    let b = s * WIDTH / (4.0 * u0);
     println!(
-        "t = 0.6 s: worst {worst:.3} u0, curvature {:.3} u0 (1/λ = {:.3}), slip {:.3} u0, fit residual {:.4} u0",
+        "t = 0.6 s: worst {worst:.4} u0, curvature {:.4} u0, slip {:.4} u0 (b = {:.4} h), fit residual {:.4} u0",
         a / u0,
-        1.0 / lambda,
         s / u0,
+        b / h,
         residual / u0
     );
     assert!(
@@ -236,17 +274,53 @@ fn laplacian_viscosity_error_is_the_lattice_deficit_and_the_wall_slip() {
         "not a parabola plus slip: residual {residual}"
     );
     assert!(
-        (a / u0 * lambda - 1.0).abs() <= 0.03,
-        "curvature {} u0, expected 1/λ = {}",
+        (a / u0 - 1.0).abs() <= 0.02,
+        "curvature {} u0, the series' is 1 (uncorrected: 1/λ = {})",
         a / u0,
         1.0 / lambda
     );
-    let b = s * WIDTH / (4.0 * u0);
-    assert!(
-        (0.2 * h..=0.35 * h).contains(&b),
-        "slip length {b} m = {} h",
-        b / h
-    );
+    assert!(b.abs() <= 0.03 * h, "slip length {b} m = {} h", b / h);
+}
+
+/// Why the artificial viscosity gets no lattice scale like (17)'s `1/λ`: its continuum
+/// equivalent (Monaghan 2005) rests on the isotropic fourth moment of the kernel gradient,
+/// `∫ x_a x_b x_c x_d W'(r)/r³ dV = −(δ_ab δ_cd + δ_ac δ_bd + δ_ad δ_bc)/(D + 2)`, and on the
+/// lattice at h = 2 dx that moment (with the `1/κ`-scaled spiky gradient the force stage uses)
+/// is not a multiple of the isotropic one: measured 0.65 of it for `xxyy` (a shear along a
+/// lattice axis) and 1.12 for `xxxx` (a compression along it), so no single factor calibrates
+/// it, and its switch (approaching pairs only) removes more. It stays as it is: a numerical
+/// damping with a tuned α, whose continuum equivalent serves only the time-step bound, where the
+/// continuum value is the larger one for shear (a shorter, safer step). Asserted: the two ratios
+/// within 0.02 of the measured values.
+#[test]
+fn artificial_viscosity_has_no_single_lattice_scale() {
+    let reference = scene(&[]);
+    let (h, dx) = (reference.smoothing_length, reference.spacing);
+    let kernel = Smoothing::<2>::new(h as f32).expect("2D");
+    let volume = lattice_mass(&kernel, dx, 1.0);
+    let kappa = sph::physics::lattice::lattice_gradient_moment(&kernel, dx, 1.0);
+    let n = (h / dx).ceil() as i64;
+    let (mut xxyy, mut xxxx) = (0.0, 0.0);
+    for i in -n..=n {
+        for j in -n..=n {
+            let (x, y) = (i as f64 * dx, j as f64 * dx);
+            let r2 = x * x + y * y;
+            if r2 == 0.0 || r2 >= h * h {
+                continue;
+            }
+            // W'(r)/r from the gradient's x component (offset along x), scaled by 1/κ.
+            let r = r2.sqrt();
+            let mut along = sph::math::Vector::<2>::zeros();
+            along[0] = r as f32;
+            let dw_over_r = f64::from(kernel.grad_w_spiky(&along, r as f32)[0]) / r / kappa;
+            xxyy += volume * x * x * y * y * dw_over_r / r2;
+            xxxx += volume * x.powi(4) * dw_over_r / r2;
+        }
+    }
+    let (shear, normal) = (xxyy / (-1.0 / 4.0), xxxx / (-3.0 / 4.0));
+    println!("artificial viscosity's lattice moment / continuum: xxyy {shear:.4}, xxxx {normal:.4}");
+    assert!((shear - 0.65).abs() < 0.02, "xxyy {shear}");
+    assert!((normal - 1.12).abs() < 0.02, "xxxx {normal}");
 }
 
 /// The inviscid alternative: artificial viscosity alone, with α set so that its continuum
@@ -286,5 +360,129 @@ fn artificial_viscosity_is_not_a_shear_viscosity() {
         "still accelerating: {} -> {} u0",
         at_02 / u0,
         at_06 / u0
+    );
+}
+
+/// A fluid block (0.2 m × 0.1 m, μ = 10 Pa s, ν = 0.01 m²/s, no gravity) sliding at U = 0.5 m/s
+/// over a wall `floor_motion` (the scene's `motion` table or nothing), the first `end` seconds.
+fn sliding_block(floor_motion: &str, end: f64) -> sph::solver::Simulation<2> {
+    let text = format!(
+        r#"
+        dimension = 2
+        effects = ["viscosity"]
+        [domain]
+        min = [-0.1, -0.1]
+        max = [0.6, 0.3]
+        [particles]
+        spacing = 0.005
+        smoothing_ratio = 2.0
+        [fluid]
+        rho0 = 1000.0
+        sound_speed = 5.0
+        viscosity = 10.0
+        [[fluid_box]]
+        min = [0.1, 0.0]
+        max = [0.3, 0.1]
+        velocity = [0.5, 0.0]
+        [[solid]]
+        name = "floor"
+        shape = "box"
+        min = [-0.05, -0.015]
+        max = [0.55, 0.0]
+        {floor_motion}
+        [solver]
+        kind = "wcsph"
+        end_time = {end}
+    "#
+    );
+    let scene = parse_scene(&text, "sliding_block", &[]).expect("valid scene");
+    simulation_from_scene::<2>(&scene).expect("builds")
+}
+
+/// No-slip walls ([A12] eqs. 22–23) and the force on the solid: the wall's viscous drag on a
+/// sliding block is the exact reaction of what the fluid feels, `ΔP_fluid = −Σ F_wall dt`
+/// (1e-4 of the initial momentum: f32 over ~400 steps), and it is Rayleigh's (Stokes' first
+/// problem): a wall shear stress `μ U / sqrt(π ν t)`, impulse `2 μ U W sqrt(t / (π ν))` over
+/// the block's length W by t = 0.1 s, when the diffusion depth sqrt(ν t) = 0.03 m is a third
+/// of the block's height. Asserted within 10 % (measured 0.97: 3.469 against 3.568 N s/m; the
+/// block lost 35 % of its momentum).
+#[test]
+fn no_slip_wall_drag_is_the_reaction_and_follows_rayleigh() {
+    let end = 0.1;
+    let mut sim = sliding_block("", end);
+    let p0 = sim.fluid_momentum();
+    let mut impulse = [0.0f64; 3];
+    while sim.clock().time < end - 1e-12 {
+        let r = sim.step(end).expect("stable");
+        for k in 0..3 {
+            impulse[k] += sim.solid_forces()[0][k] * r.dt;
+        }
+    }
+    let p1 = sim.fluid_momentum();
+    for k in 0..2 {
+        let change = p1[k] - p0[k];
+        assert!(
+            (change + impulse[k]).abs() <= 1e-4 * p0[0],
+            "axis {k}: fluid momentum change {change:.6e}, wall impulse {:.6e}",
+            impulse[k]
+        );
+    }
+    let (mu, nu, u, w) = (10.0, 0.01, 0.5, 0.2);
+    let rayleigh = 2.0 * mu * u * w * (end / (std::f64::consts::PI * nu)).sqrt();
+    println!(
+        "wall impulse {:.4} N s/m, Rayleigh {rayleigh:.4} (ratio {:.3}); momentum {:.3} -> {:.3}",
+        impulse[0],
+        impulse[0] / rayleigh,
+        p0[0],
+        p1[0]
+    );
+    assert!(
+        (impulse[0] / rayleigh - 1.0).abs() <= 0.1,
+        "wall impulse {} N s/m, Rayleigh {rayleigh}",
+        impulse[0]
+    );
+}
+
+/// A moving wall's no-slip velocity uses its prescribed velocity `d'(t)` as `u_wall`
+/// (`boundary::motion`): on the first step the fluid is at rest, so every floor particle with
+/// fluid neighbours carries exactly `2 d'(0)` in (17) and the others their own `d'(0)`.
+#[test]
+fn moving_wall_carries_twice_its_velocity_next_to_fluid_at_rest() {
+    let mut sim = sliding_block(
+        "motion = { amplitude = [0.01, 0.0], period = 0.2, ramp = 0.0 }",
+        1.0,
+    );
+    // Fluid at rest, so that the Shepard average ũ is exactly zero on the first step.
+    for i in 0..sim.fields.len() {
+        if sim.fields.kind[i] == FLUID {
+            sim.fields.velocity[i] = sph::math::Vector::<2>::zeros();
+        }
+    }
+    sim.step(1.0).expect("one step");
+    sim.sync_fields().expect("CPU fields");
+    let f = &sim.fields;
+    let u_wall = 0.01 * 2.0 * std::f64::consts::PI / 0.2;
+    let (mut wet, mut dry) = (0, 0);
+    for i in (0..f.len()).filter(|&i| f.kind[i] != FLUID) {
+        assert!(
+            (f64::from(f.velocity[i][0]) - u_wall).abs() < 1e-5,
+            "the floor moves at d'(0): {}",
+            f.velocity[i][0]
+        );
+        if f.wall_velocity[i] == f.velocity[i] * 2.0 {
+            wet += 1;
+        } else {
+            assert_eq!(
+                f.wall_velocity[i], f.velocity[i],
+                "particle {i}: {:?}",
+                f.wall_velocity[i]
+            );
+            dry += 1;
+        }
+    }
+    // The top layer under the block's 40 columns (the next layer lies h below the fluid).
+    assert!(
+        wet >= 40 && dry > 0,
+        "{wet} floor particles by the fluid, {dry} away from it"
     );
 }

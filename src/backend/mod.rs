@@ -170,7 +170,15 @@ pub trait Backend<const D: usize> {
         model: WallModel,
         wall_acceleration: &[Vector<D>],
     );
-    /// Eqs. (15)–(17) and (6): acceleration of fluid particles.
+    /// Boundary, no-slip walls ([A12] eqs. 22–23, `boundary::wall_velocity`): every solid
+    /// particle's `Fields::wall_velocity` becomes `2 u_wall − ũ`, `ũ` the Shepard average (poly6
+    /// weights) of its fluid neighbours' velocities and `u_wall` its own velocity; a solid
+    /// without fluid neighbours gets its own velocity. Fluid entries are left as they are. Only
+    /// in scenes with the `viscosity` effect and solids (the field is allocated there).
+    fn wall_velocity(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
+    /// Eqs. (15)–(17) and (6): acceleration of fluid particles. With viscosity, a solid
+    /// neighbour carries its `Fields::wall_velocity` in (17) when that field is allocated (its
+    /// own velocity otherwise), and (17) is scaled by `params.viscosity_scale`.
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms);
     /// Fig. 4: total force [N] (per unit depth in 2D) of the fluid on each of `solids` solids.
     fn solid_forces(

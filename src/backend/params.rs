@@ -36,6 +36,10 @@ pub struct StepParams<const D: usize> {
     pub angular_velocity: [Real; 3],
     /// A point `x_c` [m] on the rotation axis; zero when the scene has no rotating frame.
     pub rotation_centre: Vector<D>,
+    /// `1/λ`: scale of the viscous force (17), see
+    /// `physics::lattice::lattice_laplacian_moment`; multiplies `mu` wherever (17) is evaluated
+    /// (1 when the scene has no viscosity).
+    pub viscosity_scale: Real,
 }
 
 impl<const D: usize> StepParams<D> {

@@ -14,6 +14,9 @@
 //!   no pressure and the particle walks through it; [C07] makes the wall push back as soon as
 //!   any fluid comes within `h`.
 //!
+//! In the viscous force (17) a solid particle carries the velocity extrapolated from the fluid
+//! ([A12] eqs. 22–23, [`wall_velocity`]), so the wall is a no-slip wall.
+//!
 //! Their velocity is zero for fixed walls; a solid with a prescribed motion ([`motion`]) has all
 //! its particles placed at `x0 + d(t)` with velocity `d'(t)` before each integrator stage, and its
 //! wall pressure uses `g − d''(t)` ([A12] eq. 27 with the wall's acceleration).
@@ -31,3 +34,4 @@ pub mod keep_out;
 pub mod motion;
 pub mod solid_force;
 pub mod wall_pressure;
+pub mod wall_velocity;

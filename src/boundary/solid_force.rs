@@ -14,9 +14,13 @@ use crate::physics::{
 ///
 /// `solid` and `fluid` are `[m, p, ρ]` ([kg], [Pa], [kg/m³]); `offset = x_s − x_f` [m];
 /// `velocity = [u_s, u_f]` the solid's and the fluid's velocities [m/s] (`u_s` is zero for a
-/// fixed solid and `d'(t)` for a moving one, `boundary::motion`: the viscous terms see the
-/// relative velocity, as the fluid's own force stage does); `grad_w` the (scaled) spiky gradient
-/// at `offset`; `laplacian_w` the viscosity-kernel Laplacian.
+/// fixed solid and `d'(t)` for a moving one, `boundary::motion`: the artificial viscosity sees
+/// the relative velocity, as the fluid's own force stage does); `viscous_u_s` [m/s] the velocity
+/// the solid carries in the viscous term (17), the no-slip `Fields::wall_velocity` where the
+/// scene has it ([A12] eqs. 22–23), else `u_s`: the fluid's force stage uses the same one, so
+/// the pair stays antisymmetric; `grad_w` the (scaled) spiky gradient at `offset`;
+/// `laplacian_w` the viscosity-kernel Laplacian; (17) is scaled by `params.viscosity_scale`.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn force_on_solid<const D: usize>(
     params: &StepParams<D>,
@@ -24,6 +28,7 @@ pub fn force_on_solid<const D: usize>(
     fluid: [Real; 3],
     offset: &Vector<D>,
     velocity: [&Vector<D>; 2],
+    viscous_u_s: &Vector<D>,
     grad_w: &Vector<D>,
     laplacian_w: Real,
 ) -> Vector<D> {
@@ -32,7 +37,8 @@ pub fn force_on_solid<const D: usize>(
     let [u_s, u_f] = velocity;
     let mut a = pressure_acceleration(p_s, rho_s, p_f, rho_f, m_f, grad_w);
     if params.mu > 0.0 {
-        a += viscous_acceleration(params.mu, u_s, u_f, rho_s, rho_f, m_f, laplacian_w);
+        let mu = params.mu * params.viscosity_scale;
+        a += viscous_acceleration(mu, viscous_u_s, u_f, rho_s, rho_f, m_f, laplacian_w);
     }
     if params.alpha > 0.0 {
         let u_sf = u_s - u_f;

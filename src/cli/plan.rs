@@ -131,7 +131,7 @@ pub fn render(scene: &Scene, origin: &str) -> String {
     }
     let _ = writeln!(out, "\neach integrator stage ({rounds} per step), in order:");
     for (k, stage) in stages.iter().enumerate() {
-        stage_lines(&mut out, k + 1, stage);
+        stage_lines(&mut out, k + 1, stage, &stages);
         let subs = stage.sub_stages(solids);
         if subs.is_empty() {
             continue;
@@ -194,7 +194,7 @@ pub fn render(scene: &Scene, origin: &str) -> String {
 }
 
 /// The lines of one plan stage: number, name, equation, description, fields.
-fn stage_lines(out: &mut String, number: usize, stage: &Stage) {
+fn stage_lines(out: &mut String, number: usize, stage: &Stage, plan: &[Stage]) {
     let _ = writeln!(
         out,
         "  {number:>2}. {:<18} {:<28} {}",
@@ -205,7 +205,7 @@ fn stage_lines(out: &mut String, number: usize, stage: &Stage) {
     let _ = writeln!(
         out,
         "      reads {} -> writes {}",
-        fields(stage.reads()),
+        fields(&stage.reads_in(plan)),
         fields(stage.writes())
     );
 }

@@ -61,6 +61,29 @@ pub fn lattice_gradient_moment<const D: usize>(kernel: &Smoothing<D>, dx: f64, r
     sum / D as f64
 }
 
+/// Second moment of the viscosity kernel's Laplacian (22) on the lattice,
+/// `λ = Σ_{j≠i} V_j r_ij² ∇²W^visc(r_ij) / (2D)` with `V_j = m/ρ0` the lattice particle volume
+/// [m^D]; dimensionless.
+///
+/// The SPH Laplacian of eq. (17), `Σ_j V_j (u_j − u_i) ∇²W^visc(r_ij)`, applied to a quadratic
+/// field on the lattice is `λ ∇²u` (the continuum integral `∫ r² ∇²W dV = 2D ∫ W dV` makes it
+/// `∇²u` exactly; the linear part cancels by symmetry), so the viscous force (17) is divided by
+/// `λ` to give the fluid the scene's viscosity on the lattice, as the pressure force (16) is
+/// divided by `κ` ([`lattice_gradient_moment`]). Measured: λ = 0.85 at h = 2dx in 2D (0.95 at
+/// 3dx, 0.98 at 4dx); the missing 15 % made the Poiseuille profile 1.17 times too curved
+/// (`tests/poiseuille.rs`). Deviation (README "Viscosity"): the paper uses (17) unscaled.
+pub fn lattice_laplacian_moment<const D: usize>(kernel: &Smoothing<D>, dx: f64, rho0: f64) -> f64 {
+    let volume = lattice_mass(kernel, dx, rho0) / rho0;
+    let mut sum = 0.0f64;
+    for_each_lattice_offset::<D>(f64::from(kernel.h), dx, |r2| {
+        let r = r2.sqrt();
+        if r > 0.0 {
+            sum += volume * r2 * f64::from(kernel.laplacian_w_viscosity(r as Real));
+        }
+    });
+    sum / (2 * D) as f64
+}
+
 /// The step scale of the position correction (PAPER.md note 5), `K = ρ0² / (2 m² S)` with
 /// `S = Σ_j ∇W(x_ij) · ∇W^press(x_ij)/κ` over a full lattice neighbourhood (poly6 gradient of
 /// the density (18) dotted with the scaled spiky gradient of the force (16)).

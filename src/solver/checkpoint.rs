@@ -102,6 +102,7 @@ impl<const D: usize> Simulation<D> {
         let mut fields = self.fields.clone();
         fields.position_start.clear();
         fields.velocity_start.clear();
+        fields.wall_velocity.clear();
         Ok(Checkpoint {
             header: Header {
                 clock: self.clock,
@@ -157,7 +158,12 @@ impl<const D: usize> Simulation<D> {
             }
         }
         let kind = self.backend_kind();
+        let no_slip = !self.fields.wall_velocity.is_empty();
         self.fields = checkpoint.fields;
+        if no_slip {
+            // Recomputed by every stage before use: allocated again, not stored.
+            self.fields.wall_velocity = vec![Vector::zeros(); self.fields.len()];
+        }
         self.clock = checkpoint.header.clock;
         // A checkpoint after the first step holds the settled state (a settle at step 0 that
         // was checkpointed before stepping runs again: it finds nothing left to move).
@@ -321,6 +327,7 @@ impl<const D: usize> Checkpoint<D> {
                 id: id.to_vec(),
                 position_start: Vec::new(),
                 velocity_start: Vec::new(),
+                wall_velocity: Vec::new(),
             },
         })
     }

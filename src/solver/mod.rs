@@ -17,7 +17,9 @@ use crate::boundary::motion::{SolidKinematics, SolidReference, Sway};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::physics::gravity::gravity_at;
-use crate::physics::lattice::{correction_stiffness, lattice_gradient_moment, lattice_mass};
+use crate::physics::lattice::{
+    correction_stiffness, lattice_gradient_moment, lattice_laplacian_moment, lattice_mass,
+};
 use crate::smoothing::{Smoothing, UnsupportedDimension};
 use stage::Stage;
 use timestep::TimeStepLimit;
@@ -308,6 +310,9 @@ pub struct Simulation<const D: usize> {
     solid_names: Vec<String>,
     /// `1/κ` of the pressure gradient (see `physics::lattice`).
     pressure_gradient_scale: Real,
+    /// `1/λ` of the viscous force (17) (`physics::lattice::lattice_laplacian_moment`); 1 when
+    /// the scene has no viscosity.
+    viscosity_scale: Real,
     clock: Clock,
     stats: RunStats,
     /// Force of the fluid on each named solid at the last step [N] (2D: [N/m]).
@@ -372,6 +377,11 @@ impl<const D: usize> Simulation<D> {
         let mass = lattice_mass(&kernel, config.spacing, config.rho0) as Real;
         let kappa = lattice_gradient_moment(&kernel, config.spacing, config.rho0);
         let stiffness = correction_stiffness(&kernel, config.spacing, config.rho0, kappa);
+        let viscosity_scale = if config.viscosity.is_some() {
+            (1.0 / lattice_laplacian_moment(&kernel, config.spacing, config.rho0)) as Real
+        } else {
+            1.0
+        };
         if let Some(c) = &config.correction {
             positive("solver.delta", c.delta)?;
             positive("solver.relaxation", c.relaxation)?;
@@ -393,6 +403,10 @@ impl<const D: usize> Simulation<D> {
             }
         }
         let plan = plan::plan(plan_inputs(&config, !solids.is_empty(), false));
+        if plan.contains(&Stage::WallVelocity) {
+            // [A12] no-slip walls: the viscous velocity of solids, only where it is used.
+            fields.wall_velocity = vec![Vector::zeros(); fields.len()];
+        }
         Ok(Self {
             fields,
             backend: Box::new(CpuBackend::new()),
@@ -401,6 +415,7 @@ impl<const D: usize> Simulation<D> {
             plan,
             solid_names: solids.iter().map(|(n, _)| n.clone()).collect(),
             pressure_gradient_scale: (1.0 / kappa) as Real,
+            viscosity_scale,
             clock: Clock::default(),
             stats: RunStats::default(),
             solid_force: vec![[0.0; 3]; solids.len()],
@@ -735,7 +750,14 @@ impl<const D: usize> Simulation<D> {
             } else {
                 Vector::zeros()
             },
+            viscosity_scale: self.viscosity_scale,
         }
+    }
+
+    /// `1/λ`, the scale of the viscous force (17) on this scene's lattice
+    /// (`physics::lattice::lattice_laplacian_moment`); 1 without viscosity.
+    pub fn viscosity_scale(&self) -> Real {
+        self.viscosity_scale
     }
 
     /// Total fluid mass [kg] (per unit depth in 2D), summed in f64.

@@ -48,6 +48,10 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         } else {
             WallModel::ExtrapolatedOrSummed
         }));
+        if inputs.viscosity {
+            // [A12] eqs. (22)-(23): no-slip walls for the viscous force (17).
+            plan.push(Stage::WallVelocity);
+        }
     }
     plan.push(Stage::Forces(ForceTerms {
         viscosity: inputs.viscosity,
@@ -106,7 +110,24 @@ mod tests {
             solids: true,
             ..inputs()
         });
-        assert_eq!(full.len(), 8);
+        assert_eq!(full.len(), 9, "with viscosity and solids: wall_velocity");
+        assert!(full.contains(&Stage::WallVelocity));
+        assert!(
+            !plan(PlanInputs {
+                solids: true,
+                ..inputs()
+            })
+            .contains(&Stage::WallVelocity),
+            "no viscosity, no wall velocity"
+        );
+        assert!(
+            !plan(PlanInputs {
+                viscosity: true,
+                ..inputs()
+            })
+            .contains(&Stage::WallVelocity),
+            "no solids, no wall velocity"
+        );
         assert!(full.contains(&Stage::Forces(ForceTerms {
             viscosity: true,
             artificial_viscosity: true,

@@ -11,6 +11,7 @@ use crate::backend::{ForceTerms, WallModel};
 use crate::fields::Field;
 use Field::{
     Acceleration, Density, Id, Kind, Mass, Position, PositionStart, Pressure, Velocity, VelocityStart,
+    WallVelocity,
 };
 
 /// When in an integrator stage [`Stage::MoveSolids`] places the moving solids.
@@ -39,6 +40,9 @@ pub enum Stage {
     EquationOfState,
     /// Boundary: solid-particle pressure ([A12] eq. 27). Only in scenes with solids.
     WallPressure(WallModel),
+    /// Boundary: the no-slip velocity solid particles carry in the viscous force (17) ([A12]
+    /// eqs. 22–23, `boundary::wall_velocity`). Only in scenes with viscosity and solids.
+    WallVelocity,
     /// Eqs. (15)–(17), (6): fluid acceleration, with the terms the scene asks for.
     Forces(ForceTerms),
     /// Fig. 4: force of the fluid on each named solid. Only in scenes with solids.
@@ -62,6 +66,7 @@ impl Stage {
             Stage::Density => "density",
             Stage::EquationOfState => "equation_of_state",
             Stage::WallPressure(_) => "wall_pressure",
+            Stage::WallVelocity => "wall_velocity",
             Stage::Forces(_) => "forces",
             Stage::SolidForces => "solid_forces",
             Stage::TimeStep => "time_step",
@@ -79,6 +84,7 @@ impl Stage {
             Stage::Density => "(18)",
             Stage::EquationOfState => "(19)",
             Stage::WallPressure(_) => "[A12] (27)",
+            Stage::WallVelocity => "[A12] (22)-(23)",
             Stage::Forces(terms) => [
                 "(15): (16), (6)",
                 "(15): (16), (17), (6)",
@@ -111,6 +117,9 @@ impl Stage {
                 "solid pressure: extrapolated from the fluid, or (19) of its own density if larger"
             }
             Stage::WallPressure(WallModel::Extrapolated) => "solid pressure extrapolated from the fluid",
+            Stage::WallVelocity => {
+                "no-slip walls: solid velocity in (17) is 2 u_wall minus the fluid's Shepard average"
+            }
             Stage::Forces(terms) => [
                 "acceleration: pressure force, body force",
                 "acceleration: pressure force, viscosity, body force",
@@ -139,6 +148,7 @@ impl Stage {
             Stage::Density => &[Position, Mass, Kind],
             Stage::EquationOfState => &[Density, Kind],
             Stage::WallPressure(_) => &[Position, Density, Pressure, Mass, Kind],
+            Stage::WallVelocity => &[Position, Velocity, Kind],
             Stage::Forces(terms) if terms.viscosity || terms.artificial_viscosity || terms.rotating_frame => {
                 &[Position, Velocity, Density, Pressure, Mass, Kind]
             }
@@ -158,6 +168,20 @@ impl Stage {
         }
     }
 
+    /// The particle fields the stage reads within `plan`: [`Stage::reads`], and the no-slip
+    /// velocity of solids (`Field::WallVelocity`) where the plan computes it
+    /// ([`Stage::WallVelocity`], scenes with viscosity and solids): the viscous force (17) of
+    /// the forces stage and its reaction on the solids read it.
+    pub fn reads_in(&self, plan: &[Stage]) -> Vec<Field> {
+        let mut fields = self.reads().to_vec();
+        let no_slip = plan.contains(&Stage::WallVelocity);
+        let reader = matches!(self, Stage::Forces(t) if t.viscosity) || *self == Stage::SolidForces;
+        if no_slip && reader {
+            fields.push(WallVelocity);
+        }
+        fields
+    }
+
     /// The particle fields the stage writes.
     pub fn writes(&self) -> &'static [Field] {
         match self {
@@ -166,6 +190,7 @@ impl Stage {
             Stage::Density => &[Density],
             Stage::EquationOfState => &[Pressure],
             Stage::WallPressure(_) => &[Density, Pressure],
+            Stage::WallVelocity => &[WallVelocity],
             Stage::Forces(_) => &[Acceleration],
             Stage::SolidForces | Stage::TimeStep => &[],
             Stage::Integrate => &[Position, Velocity],

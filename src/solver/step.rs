@@ -93,6 +93,7 @@ impl<const D: usize> Simulation<D> {
                     Stage::WallPressure(model) => {
                         bk.wall_pressure(f, &params, model, &self.wall_acceleration); // [A12] eq. (27)
                     }
+                    Stage::WallVelocity => bk.wall_velocity(f, &params), // [A12] eqs. (22)-(23)
                     Stage::Forces(terms) => bk.forces(f, &params, terms), // eqs. (15)-(17), (6)
                     Stage::SolidForces => {
                         let part = bk.solid_forces(f, &params, solids, SolidForceSource::Forces); // Fig. 4
@@ -265,7 +266,9 @@ impl<const D: usize> Simulation<D> {
             // A moving wall sweeps through the fluid like a flow of its speed.
             max_speed: e.max_speed.max(self.wall_speed),
             max_acceleration: e.max_acceleration,
-            kinematic_viscosity: c.viscosity.unwrap_or(0.0) / c.rho0
+            // (17) acts with mu/lambda (`physics::lattice::lattice_laplacian_moment`): the
+            // operator's stiffness, which bounds the explicit step, is that of nu/lambda.
+            kinematic_viscosity: c.viscosity.unwrap_or(0.0) / c.rho0 * f64::from(self.viscosity_scale)
                 + crate::physics::artificial_viscosity::equivalent_viscosity(
                     c.artificial_viscosity.unwrap_or(0.0),
                     c.sound_speed,

@@ -7,7 +7,9 @@ use super::params::StepParams;
 use super::{Backend, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel};
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
-use crate::boundary::{solid_force::force_on_solid, wall_pressure::WallPressureSums};
+use crate::boundary::{
+    solid_force::force_on_solid, wall_pressure::WallPressureSums, wall_velocity::WallVelocitySums,
+};
 use crate::fields::{FLUID, Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
 use crate::math::{
@@ -112,6 +114,8 @@ fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: boo
 ) -> Vector<D> {
     let kernel = params.smoothing();
     let (q_i, rho_i, u_i) = (terms[i], fields.density[i], fields.velocity[i]);
+    // Eq. (17) with the lattice's Laplacian moment undone (`physics::lattice`).
+    let mu = params.mu * params.viscosity_scale;
     let mut a = params.gravity; // eq. (6)
     if ROTATING {
         // [B67] §3.2: Coriolis and centrifugal.
@@ -146,7 +150,13 @@ fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: boo
         }
         if VISCOUS {
             let lap = kernel.laplacian_w_viscosity(r);
-            a += viscous_acceleration(params.mu, &u_i, &fields.velocity[j], rho_i, rho_j, m_j, lap);
+            // A solid carries its no-slip velocity ([A12] eqs. 22-23) where the scene has one.
+            let u_j = if fields.kind[j] == FLUID {
+                &fields.velocity[j]
+            } else {
+                fields.wall_velocity.get(j).unwrap_or(&fields.velocity[j])
+            };
+            a += viscous_acceleration(mu, &u_i, u_j, rho_i, rho_j, m_j, lap);
         }
     });
     a
@@ -283,6 +293,29 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             });
     }
 
+    fn wall_velocity(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        let kernel = params.smoothing();
+        let n = fields.len();
+        fields.wall_velocity.resize(n, Vector::zeros());
+        let mut out = std::mem::take(&mut fields.wall_velocity);
+        let (grid, f) = (&self.grid, &*fields);
+        out.par_iter_mut().enumerate().for_each(|(w, v)| {
+            if f.kind[w] == FLUID {
+                return;
+            }
+            let mut sums = WallVelocitySums::<D>::default();
+            if !self.is_dry(w) {
+                grid.for_each_neighbour(&f.position, w, |j, _, r2| {
+                    if f.kind[j] == FLUID {
+                        sums.add(&f.velocity[j], kernel.w(r2));
+                    }
+                });
+            }
+            *v = sums.viscous_velocity(&f.velocity[w]); // [A12] eqs. (22)-(23)
+        });
+        fields.wall_velocity = out;
+    }
+
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
         fill_pressure_terms(&mut self.pressure_terms, &fields.pressure, &fields.density);
         let (grid, q) = (&self.grid, &self.pressure_terms);
@@ -351,6 +384,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     [f.mass[j], pressure[j], f.density[j]],
                     &d,
                     [&f.velocity[s], &f.velocity[j]],
+                    f.wall_velocity.get(s).unwrap_or(&f.velocity[s]),
                     &(kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale),
                     kernel.laplacian_w_viscosity(r),
                 );

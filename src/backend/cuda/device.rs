@@ -82,6 +82,9 @@ struct DeviceFields {
     mass: CudaSlice<f32>,
     kind: CudaSlice<u32>,
     id: CudaSlice<u32>,
+    /// `Fields::wall_velocity` ([A12] no-slip walls): only where the host allocated it (viscosity
+    /// with solids), or once the `wall_velocity` stage runs.
+    wall_velocity: Option<CudaSlice<f32>>,
 }
 
 /// The dense cell grid and the sort's buffers.
@@ -217,6 +220,15 @@ impl<const D: usize> CudaBackend<D> {
             mass: stream.clone_htod(&fields.mass).map_err(|e| up("uploading", e))?,
             kind: stream.clone_htod(&fields.kind).map_err(|e| up("uploading", e))?,
             id: stream.clone_htod(&fields.id).map_err(|e| up("uploading", e))?,
+            wall_velocity: if fields.wall_velocity.len() == n {
+                Some(
+                    stream
+                        .clone_htod(floats(&fields.wall_velocity))
+                        .map_err(|e| up("uploading", e))?,
+                )
+            } else {
+                None
+            },
         };
         let zeros_f32 = |len: usize| {
             stream
@@ -300,6 +312,10 @@ impl<const D: usize> CudaBackend<D> {
             VecField::Acceleration => &mut self.f.acceleration,
             VecField::PositionStart => &mut self.f.position_start,
             VecField::VelocityStart => &mut self.f.velocity_start,
+            VecField::WallVelocity => match self.f.wall_velocity.as_mut() {
+                Some(b) => b,
+                None => return,
+            },
         };
         let f = &self.kernels["gather_vec"];
         // SAFETY: perm, src and scratch hold n entries (times D for vectors).
@@ -456,7 +472,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             + self.solid_out.num_bytes()
             + self.keep_out_boxes.num_bytes()
             + self.keep_out_out.num_bytes()
-            + self.solid_reference.as_ref().map_or(0, |b| b.num_bytes());
+            + self.solid_reference.as_ref().map_or(0, |b| b.num_bytes())
+            + self.f.wall_velocity.as_ref().map_or(0, |b| b.num_bytes());
         if let Some(g) = &self.grid {
             bytes += [
                 &g.key,
@@ -514,6 +531,14 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         }
         fields.kind.truncate(n);
         fields.id.truncate(n);
+        match &self.f.wall_velocity {
+            Some(b) => {
+                fields.wall_velocity.resize(n, Vector::zeros());
+                s.memcpy_dtoh(b, floats_mut(&mut fields.wall_velocity))
+                    .map_err(e)?;
+            }
+            None => fields.wall_velocity.clear(),
+        }
         // The step-start copies are the backend's scratch of SSP-RK3; the host keeps none.
         fields.position_start.clear();
         fields.velocity_start.clear();
@@ -653,6 +678,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             VecField::Acceleration,
             VecField::PositionStart,
             VecField::VelocityStart,
+            VecField::WallVelocity,
         ] {
             self.gather_vec(v);
         }
@@ -746,6 +772,34 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             &self.f.kind, &self.wall_acc, &summed, &mut self.f.pressure, &mut self.f.density);
     }
 
+    fn wall_velocity(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
+        if self.error.is_some() {
+            return;
+        }
+        if self.f.wall_velocity.is_none() {
+            let r = self.stream.alloc_zeros::<f32>((self.n * D).max(1));
+            self.f.wall_velocity = record(&mut self.error, "allocating the wall velocity", r);
+        }
+        let (Some(g), Some(out)) = (self.grid.as_ref(), self.f.wall_velocity.as_mut()) else {
+            return;
+        };
+        let n = self.n as u32;
+        let cfg = launch_config(self.n);
+        let mut b = self.stream.launch_builder(&self.kernels["wall_velocity"]);
+        b.arg(&n)
+            .arg(params)
+            .arg(&g.geometry)
+            .arg(&g.cell_start)
+            .arg(&g.cell_key)
+            .arg(&self.f.position)
+            .arg(&self.f.velocity)
+            .arg(&self.f.kind)
+            .arg(out);
+        // SAFETY: as in `launch!`; wall_velocity holds n D floats.
+        let r = unsafe { b.launch(cfg) };
+        record(&mut self.error, "extrapolating the wall velocity", r);
+    }
+
     fn forces(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
@@ -772,6 +826,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             .arg(&self.f.density)
             .arg(&self.f.pressure)
             .arg(&self.f.kind)
+            // Without no-slip walls a solid carries its own velocity in (17).
+            .arg(self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity))
             .arg(&mut self.f.acceleration);
         // SAFETY: as in `launch!`.
         let r = unsafe { b.launch(cfg) };
@@ -821,6 +877,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             .arg(&self.f.density)
             .arg(pressure)
             .arg(&self.f.kind)
+            .arg(self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity))
             .arg(&mut self.solid_out);
         // SAFETY: as in `launch!`; solid_out holds 3 doubles per solid.
         let r = unsafe { b.launch(cfg) };
@@ -1020,6 +1077,7 @@ enum VecField {
     Acceleration,
     PositionStart,
     VelocityStart,
+    WallVelocity,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -1050,6 +1108,7 @@ const KERNEL_NAMES: &[&str] = &[
     "density",
     "equation_of_state",
     "wall_pressure",
+    "wall_velocity",
     "move_solids",
     "forces_p",
     "forces_pv",

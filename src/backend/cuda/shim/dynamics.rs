@@ -25,6 +25,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pv_2(
@@ -39,6 +40,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pa_2(
@@ -53,6 +55,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pva_2(
@@ -67,6 +70,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pr_2(
@@ -81,6 +85,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pvr_2(
@@ -95,6 +100,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_par_2(
@@ -109,6 +115,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pvar_2(
@@ -123,6 +130,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_solid_forces_2(
@@ -137,6 +145,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         out: *mut f64,
     );
     pub fn sph_shim_move_solids_2(
@@ -277,6 +286,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pv_3(
@@ -291,6 +301,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pa_3(
@@ -305,6 +316,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pva_3(
@@ -319,6 +331,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pr_3(
@@ -333,6 +346,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pvr_3(
@@ -347,6 +361,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_par_3(
@@ -361,6 +376,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_forces_pvar_3(
@@ -375,6 +391,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         acc: *mut f32,
     );
     pub fn sph_shim_solid_forces_3(
@@ -389,6 +406,7 @@ unsafe extern "C" {
         density: *const f32,
         pressure: *const f32,
         kind: *const u32,
+        wall_vel: *const f32,
         out: *mut f64,
     );
     pub fn sph_shim_move_solids_3(

@@ -1,6 +1,6 @@
 //! Launchers of the neighbour-search and density-side kernels (`kernels/shim/exports_neighbours.inc`):
 //! `sort_by_cell` (`cell_hash`, `scan_chunks`, `scan_chunk_sums`, `scan_add`, `scatter`,
-//! `order_cells`, `gather_*`), `density`, `equation_of_state`, `wall_pressure`, and the test-only
+//! `order_cells`, `gather_*`), `density`, `equation_of_state`, `wall_pressure`, `wall_velocity`, and the test-only
 //! `neighbour_list`. Vectors are `D` floats per particle; `GridGeometry` and `StepParams` come by
 //! pointer.
 #![allow(missing_docs)]
@@ -62,6 +62,17 @@ unsafe extern "C" {
         extrapolated_or_summed: i32,
         pressure: *mut f32,
         density: *mut f32,
+    );
+    pub fn sph_shim_wall_velocity_2(
+        n: u32,
+        p: *const StepParams<2>,
+        g: *const GridGeometry<2>,
+        cell_start: *const u32,
+        cell_key: *const u32,
+        pos: *const f32,
+        vel: *const f32,
+        kind: *const u32,
+        wall_vel: *mut f32,
     );
     /// Test only: the neighbours `SPH_FOR_EACH_CANDIDATE` yields with `r < h`; `count[i]` of
     /// them, the first `max` in `list[i * max ..]`.
@@ -132,6 +143,17 @@ unsafe extern "C" {
         extrapolated_or_summed: i32,
         pressure: *mut f32,
         density: *mut f32,
+    );
+    pub fn sph_shim_wall_velocity_3(
+        n: u32,
+        p: *const StepParams<3>,
+        g: *const GridGeometry<3>,
+        cell_start: *const u32,
+        cell_key: *const u32,
+        pos: *const f32,
+        vel: *const f32,
+        kind: *const u32,
+        wall_vel: *mut f32,
     );
     /// Test only: the neighbours `SPH_FOR_EACH_CANDIDATE` yields with `r < h`; `count[i]` of
     /// them, the first `max` in `list[i * max ..]`.
