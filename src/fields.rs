@@ -162,6 +162,27 @@ impl<const D: usize> Fields<D> {
         }
     }
 
+    /// Whether `field` has storage (one entry per particle). The optional fields are allocated
+    /// only when a stage of the plan needs them (`solver::plan::needed_fields`, checked on
+    /// every shipped scene by `tests/field_allocation.rs`).
+    pub fn is_allocated(&self, field: Field) -> bool {
+        let n = self.len();
+        n > 0
+            && match field {
+                Field::Position => self.position.len() == n,
+                Field::Velocity => self.velocity.len() == n,
+                Field::Acceleration => self.acceleration.len() == n,
+                Field::Density => self.density.len() == n,
+                Field::Pressure => self.pressure.len() == n,
+                Field::Mass => self.mass.len() == n,
+                Field::Kind => self.kind.len() == n,
+                Field::Id => self.id.len() == n,
+                Field::PositionStart => self.position_start.len() == n,
+                Field::VelocityStart => self.velocity_start.len() == n,
+                Field::WallVelocity => self.wall_velocity.len() == n,
+            }
+    }
+
     /// Bytes per particle held by the always-present fields (for memory reports and scene
     /// validation); SSP-RK3 adds `2 D · 4`, no-slip walls (viscosity with solids) `D · 4`.
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;

@@ -3,8 +3,9 @@
 //! compiled out of the force loop), so it costs nothing.
 
 use super::Integrator;
-use super::stage::{SolidsAt, Stage};
+use super::stage::{SolidsAt, Stage, SubStage};
 use crate::backend::{ForceTerms, WallModel};
+use crate::fields::Field;
 
 /// What the plan depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,6 +74,24 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         plan.push(Stage::Correction);
     }
     plan
+}
+
+/// The particle fields `plan` needs: everything a stage or a sub-stage reads or writes, plus the
+/// identity every output and checkpoint carries. A field outside this list is not allocated
+/// (`Fields::is_allocated`). The sort is left out: it permutes whatever is allocated.
+pub fn needed_fields(plan: &[Stage], solids: bool) -> Vec<Field> {
+    let mut needed = vec![Field::Id];
+    for stage in plan.iter().filter(|s| **s != Stage::SortByCell) {
+        needed.extend(stage.reads_in(plan));
+        needed.extend_from_slice(stage.writes());
+        for sub in stage.sub_stages(solids) {
+            if sub != SubStage::SortByCell {
+                needed.extend_from_slice(sub.reads());
+                needed.extend_from_slice(sub.writes());
+            }
+        }
+    }
+    Field::ALL.into_iter().filter(|f| needed.contains(f)).collect()
 }
 
 #[cfg(test)]
