@@ -74,6 +74,7 @@ struct StepParams {
     float domain_max[D];            // [m]
     float angular_velocity[3];      // Omega of the rotating frame [rad/s] (0 without one)
     float rotation_centre[D];       // a point on the rotation axis [m]
+    float surface_tension_gamma;    // [AAT13] gamma of the surface tension (0 without it)
 };
 
 /// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of

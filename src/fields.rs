@@ -34,6 +34,10 @@ pub struct Fields<const D: usize> {
     pub position_start: Vec<Vector<D>>,
     /// Velocity at the start of the step [m/s] (SSP-RK3 only; empty otherwise).
     pub velocity_start: Vec<Vector<D>>,
+    /// Surface normal `n = h Σ_j (m_j/ρ_j) ∇W` of [AAT13] eq. (3), dimensionless, pointing into
+    /// the fluid (`physics::surface_tension`); allocated by the `surface_normals` stage, so empty
+    /// unless the scene has the `surface_tension` effect.
+    pub normal: Vec<Vector<D>>,
 }
 
 /// A field of [`Fields`] by name, for what a stage reads and writes (`Stage::reads`,
@@ -60,11 +64,13 @@ pub enum Field {
     PositionStart,
     /// [`Fields::velocity_start`].
     VelocityStart,
+    /// [`Fields::normal`].
+    Normal,
 }
 
 impl Field {
     /// Every field, in the order of [`Fields`] (what a reorder writes).
-    pub const ALL: [Field; 10] = [
+    pub const ALL: [Field; 11] = [
         Field::Position,
         Field::Velocity,
         Field::Acceleration,
@@ -75,6 +81,7 @@ impl Field {
         Field::Id,
         Field::PositionStart,
         Field::VelocityStart,
+        Field::Normal,
     ];
 
     /// The field's name in [`Fields`].
@@ -90,6 +97,7 @@ impl Field {
             Field::Id => "id",
             Field::PositionStart => "position_start",
             Field::VelocityStart => "velocity_start",
+            Field::Normal => "normal",
         }
     }
 }
@@ -148,15 +156,21 @@ impl<const D: usize> Fields<D> {
             gather(&mut self.position_start, perm, &mut scratch.vector);
             gather(&mut self.velocity_start, perm, &mut scratch.vector);
         }
+        if !self.normal.is_empty() {
+            gather(&mut self.normal, perm, &mut scratch.vector);
+        }
     }
 
     /// Bytes per particle held by the always-present fields (for memory reports and scene
-    /// validation); SSP-RK3 adds `2 D · 4`.
+    /// validation); SSP-RK3 adds `2 D · 4`, surface tension `D · 4`.
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
 
     /// Bytes held by the fields' arrays.
     pub fn heap_bytes(&self) -> usize {
-        (self.position.capacity() * 3 + self.position_start.capacity() + self.velocity_start.capacity())
+        (self.position.capacity() * 3
+            + self.position_start.capacity()
+            + self.velocity_start.capacity()
+            + self.normal.capacity())
             * D
             * 4
             + (self.density.capacity() * 3 + self.kind.capacity() * 2) * 4

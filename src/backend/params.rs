@@ -36,6 +36,9 @@ pub struct StepParams<const D: usize> {
     pub angular_velocity: [Real; 3],
     /// A point `x_c` [m] on the rotation axis; zero when the scene has no rotating frame.
     pub rotation_centre: Vector<D>,
+    /// [AAT13]'s `γ` of the surface tension (`physics::surface_tension`), in the units that make
+    /// each of its terms a force; 0 when the scene has no `surface_tension` effect.
+    pub surface_tension_gamma: Real,
 }
 
 impl<const D: usize> StepParams<D> {

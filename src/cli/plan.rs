@@ -63,6 +63,10 @@ fn effect(scene: &Scene, e: Effect) -> String {
             vector(&scene.angular_velocity.unwrap_or_default()),
             vector(&scene.rotation_centre)
         ),
+        Effect::SurfaceTension => format!(
+            "surface_tension sigma = {} N/m: [AAT13] cohesion and curvature between fluid particles (no adhesion to solids)",
+            scene.surface_tension.unwrap_or(0.0)
+        ),
     }
 }
 

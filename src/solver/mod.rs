@@ -18,6 +18,7 @@ use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::physics::gravity::gravity_at;
 use crate::physics::lattice::{correction_stiffness, lattice_gradient_moment, lattice_mass};
+use crate::physics::surface_tension::gamma_for_surface_tension;
 use crate::smoothing::{Smoothing, UnsupportedDimension};
 use stage::Stage;
 use timestep::TimeStepLimit;
@@ -115,6 +116,9 @@ pub struct SimConfig<const D: usize> {
     pub angular_velocity: Option<[f64; 3]>,
     /// A point `x_c` [m] on the rotation axis (unused without a rotating frame).
     pub rotation_centre: Vector<D>,
+    /// Surface tension `σ` [N/m] (2D: per unit depth, [N]) of [AAT13]'s model
+    /// (`physics::surface_tension`); `None` when the scene has no `surface_tension` effect.
+    pub surface_tension: Option<f64>,
     /// Fixed time step [s], or `None` for adaptive.
     pub dt: Option<f64>,
     /// CFL number of the adaptive step.
@@ -217,6 +221,7 @@ fn plan_inputs<const D: usize>(config: &SimConfig<D>, solids: bool, moving_solid
         viscosity: config.viscosity.is_some(),
         artificial_viscosity: config.artificial_viscosity.is_some(),
         rotating_frame: config.angular_velocity.is_some(),
+        surface_tension: config.surface_tension.is_some(),
         solids,
         moving_solids,
         integrator: config.integrator,
@@ -308,6 +313,9 @@ pub struct Simulation<const D: usize> {
     solid_names: Vec<String>,
     /// `1/κ` of the pressure gradient (see `physics::lattice`).
     pressure_gradient_scale: Real,
+    /// [AAT13]'s `γ` for the scene's `σ`, calibrated on the lattice at set-up
+    /// (`physics::surface_tension::gamma_for_surface_tension`); 0 without surface tension.
+    surface_tension_gamma: Real,
     clock: Clock,
     stats: RunStats,
     /// Force of the fluid on each named solid at the last step [N] (2D: [N/m]).
@@ -362,6 +370,9 @@ impl<const D: usize> Simulation<D> {
         positive("fluid.rho0", config.rho0)?;
         positive("fluid.sound_speed", config.sound_speed)?;
         positive("solver.cfl", config.cfl)?;
+        if let Some(sigma) = config.surface_tension {
+            positive("fluid.surface_tension", sigma)?;
+        }
         if fluid_position.len() != fluid_velocity.len() {
             return Err(SetupError::Invalid {
                 key: "fluid_box",
@@ -372,6 +383,9 @@ impl<const D: usize> Simulation<D> {
         let mass = lattice_mass(&kernel, config.spacing, config.rho0) as Real;
         let kappa = lattice_gradient_moment(&kernel, config.spacing, config.rho0);
         let stiffness = correction_stiffness(&kernel, config.spacing, config.rho0, kappa);
+        let surface_tension_gamma = config.surface_tension.map_or(0.0, |sigma| {
+            gamma_for_surface_tension(&kernel, config.spacing, config.rho0, f64::from(mass), sigma) as Real
+        });
         if let Some(c) = &config.correction {
             positive("solver.delta", c.delta)?;
             positive("solver.relaxation", c.relaxation)?;
@@ -401,6 +415,7 @@ impl<const D: usize> Simulation<D> {
             plan,
             solid_names: solids.iter().map(|(n, _)| n.clone()).collect(),
             pressure_gradient_scale: (1.0 / kappa) as Real,
+            surface_tension_gamma,
             clock: Clock::default(),
             stats: RunStats::default(),
             solid_force: vec![[0.0; 3]; solids.len()],
@@ -525,6 +540,12 @@ impl<const D: usize> Simulation<D> {
     /// The plan each step walks.
     pub fn plan(&self) -> &[Stage] {
         &self.plan
+    }
+
+    /// [AAT13]'s `γ` the run uses for the scene's `σ` (`physics::surface_tension`); 0 without
+    /// surface tension.
+    pub fn surface_tension_gamma(&self) -> Real {
+        self.surface_tension_gamma
     }
 
     /// The settings of the run.
@@ -666,10 +687,15 @@ impl<const D: usize> Simulation<D> {
         let (bk, f) = (&mut self.backend, &mut self.fields);
         bk.sort_by_cell(f, params.h)
             .map_err(|source| StepError::Grid { step, source })?;
+        let surface_tension = self.config.surface_tension.is_some();
         let sweep = |bk: &mut Box<dyn Backend<D> + Send>, f: &mut Fields<D>| {
             bk.density(f, &params);
             bk.equation_of_state(f, &params);
             bk.forces(f, &params, terms);
+            if surface_tension {
+                bk.surface_normals(f, &params);
+                bk.surface_tension(f, &params);
+            }
         };
         sweep(bk, f);
         bk.synchronize();
@@ -735,6 +761,7 @@ impl<const D: usize> Simulation<D> {
             } else {
                 Vector::zeros()
             },
+            surface_tension_gamma: self.surface_tension_gamma,
         }
     }
 
