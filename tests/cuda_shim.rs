@@ -26,6 +26,7 @@ fn params<const D: usize>(h: f32) -> StepParams<D> {
         domain_max: Vector::repeat(1.0),
         angular_velocity: [0.0; 3],
         rotation_centre: Vector::zeros(),
+        surface_tension_gamma: 0.0,
     }
 }
 

@@ -131,6 +131,7 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         // Off every axis, so that both the in-plane and the out-of-plane part act in 2D.
         angular_velocity: [1.5, -2.0, 7.0],
         rotation_centre: Vector::from_fn(|k, _| 0.02 * (k as f32 + 1.0)),
+        surface_tension_gamma: 0.0,
     };
     (f, p)
 }

@@ -28,6 +28,7 @@ use std::path::Path;
 
 /// What one droplet run measured.
 #[derive(Debug)]
+#[allow(dead_code)] // WIP: printed by the measurement
 struct Droplet {
     /// Laplace pressure `σ/R` [Pa] with `R = sqrt(A0/π)`, `A0` the initial area.
     laplace: f64,
@@ -98,7 +99,10 @@ fn core_pressure(sim: &Simulation<2>, radius: f64) -> (f64, f64) {
     let pressure: Vec<Real> = rho.iter().map(|&r| eos::pressure(r, p.rho0, p.c2)).collect();
     let mut normal = vec![Vector::<2>::zeros(); n];
     for (i, nrm) in normal.iter_mut().enumerate() {
-        neighbours(i, Box::new(|j, d, _| *nrm += normal_term(&kernel, f.mass[j], rho[j], &d)));
+        neighbours(
+            i,
+            Box::new(|j, d, _| *nrm += normal_term(&kernel, f.mass[j], rho[j], &d)),
+        );
         *nrm *= p.h;
     }
     let c = centre(f);
@@ -166,7 +170,11 @@ fn run_droplet(sets: &[&str], average: f64) -> Droplet {
             next += frame;
             let (pm, pe) = core_pressure(&sim, 0.5 * r);
             if std::env::var("DROPLET_TRACE").is_ok() {
-                eprintln!("t = {:.3}: mechanical {pm:.3} eos {pe:.3} spread {:.3}", sim.clock().time, radius_spread(&sim.fields));
+                eprintln!(
+                    "t = {:.3}: mechanical {pm:.3} eos {pe:.3} spread {:.3}",
+                    sim.clock().time,
+                    radius_spread(&sim.fields)
+                );
             }
             mechanical += pm;
             eos_p += pe;
@@ -188,7 +196,11 @@ fn run_droplet(sets: &[&str], average: f64) -> Droplet {
 
 #[test]
 fn measure_droplet() {
-    let sets: Vec<String> = std::env::var("DROPLET_SETS").unwrap_or_default().split_whitespace().map(String::from).collect();
+    let sets: Vec<String> = std::env::var("DROPLET_SETS")
+        .unwrap_or_default()
+        .split_whitespace()
+        .map(String::from)
+        .collect();
     let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
     let d = run_droplet(&sets, 0.3);
     eprintln!("{d:#?}");

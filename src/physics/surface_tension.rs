@@ -69,7 +69,12 @@ pub fn cohesion_kernel<const D: usize>(r: Real, h: Real) -> Real {
 /// [AAT13] eq. (3), one neighbour's share of the normal: `(m_j/ρ_j) ∇W(x_ij)` [1/m] (poly6
 /// gradient (20)); the normal is `h` times the sum over fluid neighbours (dimensionless).
 #[inline(always)]
-pub fn normal_term<const D: usize>(kernel: &Smoothing<D>, m_j: Real, rho_j: Real, d: &Vector<D>) -> Vector<D> {
+pub fn normal_term<const D: usize>(
+    kernel: &Smoothing<D>,
+    m_j: Real,
+    rho_j: Real,
+    d: &Vector<D>,
+) -> Vector<D> {
     kernel.grad_w(d) * (m_j / rho_j)
 }
 
@@ -110,7 +115,12 @@ pub fn surface_tension_acceleration<const D: usize>(
 /// Not included: the pressure (16) and viscous forces (the pressure of the relaxed interface is
 /// not known before a run), and the relaxation of the surface layers (tests/surface_tension.rs
 /// measures what that leaves).
-pub fn surface_tension_per_gamma<const D: usize>(kernel: &Smoothing<D>, dx: f64, rho0: f64, mass: f64) -> f64 {
+pub fn surface_tension_per_gamma<const D: usize>(
+    kernel: &Smoothing<D>,
+    dx: f64,
+    rho0: f64,
+    mass: f64,
+) -> f64 {
     let h = f64::from(kernel.h);
     let n = (h / dx).ceil() as i64;
     let layers = 4 * n + 2;
@@ -228,7 +238,10 @@ mod tests {
             let three = cohesion_integral::<3>(h);
             // f32 kernel values summed in f64: 1e-5 relative.
             assert!((two / COHESION_INTEGRAL - 1.0).abs() < 1e-5, "2D h = {h}: {two}");
-            assert!((three / COHESION_INTEGRAL - 1.0).abs() < 1e-5, "3D h = {h}: {three}");
+            assert!(
+                (three / COHESION_INTEGRAL - 1.0).abs() < 1e-5,
+                "3D h = {h}: {three}"
+            );
         }
     }
 
@@ -249,7 +262,10 @@ mod tests {
     fn a_pair_feels_equal_and_opposite_forces() {
         // Equal masses (every particle of a run has the lattice mass): F_ij = −F_ji exactly.
         let (gamma, rho0, h, m) = (0.7, 1000.0, 0.02, 0.4);
-        let (x_i, x_j) = (Vector3::new(0.003, -0.001, 0.002), Vector3::new(-0.004, 0.006, 0.001));
+        let (x_i, x_j) = (
+            Vector3::new(0.003, -0.001, 0.002),
+            Vector3::new(-0.004, 0.006, 0.001),
+        );
         let (n_i, n_j) = (Vector3::new(0.2, -0.5, 0.1), Vector3::new(-0.3, 0.05, 0.4));
         let (rho_i, rho_j) = (990.0, 1013.0);
         let d = x_i - x_j;

@@ -137,7 +137,10 @@ mod tests {
                     .iter()
                     .position(|s| matches!(s, Stage::Forces(_)))
                     .expect("a force stage");
-                assert_eq!(&p[at + 1..at + 3], &[Stage::SurfaceNormals, Stage::SurfaceTension]);
+                assert_eq!(
+                    &p[at + 1..at + 3],
+                    &[Stage::SurfaceNormals, Stage::SurfaceTension]
+                );
             }
         }
     }

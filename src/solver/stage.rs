@@ -11,8 +11,7 @@
 use crate::backend::{ForceTerms, WallModel};
 use crate::fields::Field;
 use Field::{
-    Acceleration, Density, Id, Kind, Mass, Normal, Position, PositionStart, Pressure, Velocity,
-    VelocityStart,
+    Acceleration, Density, Id, Kind, Mass, Normal, Position, PositionStart, Pressure, Velocity, VelocityStart,
 };
 
 /// When in an integrator stage [`Stage::MoveSolids`] places the moving solids.
