@@ -24,6 +24,7 @@ use sph::run::simulation_from_scene;
 use sph::scene::load_scene;
 use sph::smoothing::{Smoothing, pair_offset};
 use sph::solver::Simulation;
+use sph::solver::stage::Stage;
 use std::path::Path;
 
 /// What one droplet run measured.
@@ -398,5 +399,51 @@ fn laplace_jump_goes_as_one_over_r() {
     assert!(
         (ratio / 2.0 - 1.0).abs() <= 0.10,
         "ratio {ratio:.3} (tolerance 2 ± 10 %)"
+    );
+}
+
+/// A restart is exact with the effect on: the normals are not saved (`Checkpoint` clears them,
+/// the `surface_normals` stage recomputes them before every use), so a run restored from a
+/// checkpoint after 200 steps takes the next 100 bit for bit as the run that went on.
+#[test]
+fn a_restart_with_surface_tension_is_bit_identical() {
+    let scene = load_scene(Path::new("scenes/droplet_2d.toml"), &[]).expect("shipped scene");
+    let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+    for _ in 0..200 {
+        sim.step(scene.end_time).expect("stable step");
+    }
+    let saved = sim.checkpoint(serde_json::Value::Null).expect("cpu checkpoint");
+    assert!(saved.fields.normal.is_empty(), "normals are not saved");
+    assert_eq!(
+        sim.fields.normal.len(),
+        sim.fields.len(),
+        "the stage allocated them"
+    );
+    let mut restored = simulation_from_scene::<2>(&scene).expect("builds");
+    restored.restore(saved).expect("same scene");
+    for _ in 0..100 {
+        sim.step(scene.end_time).expect("stable step");
+        restored.step(scene.end_time).expect("stable step");
+    }
+    assert_eq!(sim.fields.position, restored.fields.position);
+    assert_eq!(sim.fields.velocity, restored.fields.velocity);
+    assert_eq!(sim.clock(), restored.clock());
+}
+
+/// A scene without the effect never allocates the normals (issue 7: a field no stage needs is
+/// not allocated) and has neither stage in its plan.
+#[test]
+fn without_the_effect_there_is_no_normal_field() {
+    let scene = load_scene(Path::new("scenes/hydrostatic_2d.toml"), &[]).expect("shipped scene");
+    let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+    for _ in 0..5 {
+        sim.step(scene.end_time).expect("stable step");
+    }
+    assert!(sim.fields.normal.is_empty());
+    assert_eq!(sim.surface_tension_gamma(), 0.0);
+    assert!(
+        !sim.plan()
+            .iter()
+            .any(|s| matches!(s, Stage::SurfaceNormals | Stage::SurfaceTension))
     );
 }
