@@ -282,16 +282,17 @@ fn square_droplet_relaxes_to_a_circle_of_the_same_area() {
 /// Issue 7: the Laplace jump. The mechanical pressure of the core (within R/2 of the centre,
 /// averaged over t = 1.5–2 s) against `σ/R` for σ = 0.072 and 0.144 N/m, within 10 %.
 ///
-/// Measured (dx = 1 mm, h = 2 dx, R = 11.3 dx): 1.33–1.40 σ/R for σ = 0.072 N/m (t = 1.7–3 s,
-/// still creeping up as the drop's packing ages), and 1.38 σ/R at R = 22.6 dx: the model's
-/// surface tension is 35–40 % above the scene's σ at any resolution, so the γ calibration
-/// (`physics::surface_tension::surface_tension_per_gamma`, a square-lattice slab with
-/// cohesion and curvature forces only) misses what the relaxed surface adds: the pressure
-/// force's share of the interface's stress anisotropy and the surface layers' rearrangement.
-/// The 1/R dependence itself holds (next test). The EOS pressure of the core is 27 σ/R (the
-/// cohesion's bulk pressure `P0`, module doc).
+/// Measured (dx = 1 mm, h = 2 dx): at R = 11.3 dx, 1.32 σ/R for σ = 0.072 N/m and 1.42 σ/R for
+/// 0.144 N/m (averaged over t = 1.5–2 s; the first still creeps up as the drop's packing ages,
+/// 1.40 σ/R at t = 3 s), and 1.39 σ/R at R = 22.6 dx: the model's surface tension is 32–42 %
+/// above the scene's σ at both resolutions, so the γ calibration
+/// (`physics::surface_tension::surface_tension_per_gamma`, a square-lattice slab with its
+/// cohesion and curvature forces only) misses what the relaxed interface adds or removes: the
+/// pressure force's share of the interface's stress anisotropy and the rearrangement of the
+/// surface layers. Laplace's dependence holds: linear in σ and in 1/R (the tests below).
+/// The EOS pressure of the core is 27 σ/R (the cohesion's bulk pressure `P0`, module doc).
 #[test]
-#[ignore = "measured 1.33-1.40 sigma/R (R = 11 and 23 dx): the lattice-slab calibration of gamma misses the relaxed interface's share; see the doc comment"]
+#[ignore = "measured 1.32-1.42 sigma/R (R = 11 and 23 dx, two sigma): the lattice-slab calibration of gamma misses the relaxed interface; see the doc comment"]
 fn laplace_jump_is_sigma_over_r_within_10_percent() {
     for sigma in ["0.072", "0.144"] {
         let d = run_droplet(
@@ -375,7 +376,7 @@ fn cube_droplet_becomes_a_ball_in_3d() {
 
 /// The jump goes as 1/R: the square of side 2 cm (R = 11.3 dx) against 4 cm (R = 22.6 dx), the
 /// core's mechanical pressure averaged over t = 1.5–2 s, ratio R2/R1 = 2 within 10 % (measured
-/// 8.4 Pa and 4.40 Pa). Long: the large drop has 1,600 particles.
+/// 8.45 Pa and 4.44 Pa, ratio 1.90). Long: the large drop has 1,600 particles.
 #[test]
 #[ignore = "long: about 1 min in release"]
 fn laplace_jump_goes_as_one_over_r() {
