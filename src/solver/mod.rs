@@ -670,7 +670,8 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Times `count` sweeps (one density pass, the equation of state and one force pass, the
-    /// unit of the paper's Fig. 5) on the current state after one untimed warm-up sweep, and
+    /// unit of the paper's Fig. 5, plus the surface-tension stages when the scene has them) on
+    /// the current state after one untimed warm-up sweep, and
     /// returns the seconds per sweep. The fields keep the last sweep's density, pressure and
     /// acceleration; positions and velocities are unchanged.
     ///
