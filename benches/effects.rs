@@ -13,6 +13,7 @@
 //! | `no_viscosity`      | base without viscosity (17)                       |
 //! | `no_artificial`     | base without artificial viscosity                 |
 //! | `+rotating_frame`   | base + Coriolis/centrifugal at Ω = 0.5 rad/s (z)  |
+//! | `+surface_tension`  | base + [AAT13] surface tension, σ = 0.072 N/m     |
 //! | `base_again`        | base, measured last: turning effects off returns here |
 //!
 //! Each variant is built, stepped [`WARM_STEPS`] times, then `Simulation::step` is timed (ids
@@ -86,6 +87,13 @@ const VARIANTS: &[Variant] = &[
             switch_on(doc, "rotating_frame");
             let omega = toml::Value::Array(vec![0.0.into(), 0.0.into(), 0.5.into()]);
             fluid(doc).insert("angular_velocity".into(), omega);
+        },
+    },
+    Variant {
+        label: "+surface_tension",
+        edit: |doc| {
+            switch_on(doc, "surface_tension");
+            fluid(doc).insert("surface_tension".into(), 0.072.into());
         },
     },
     Variant {

@@ -75,6 +75,7 @@ struct StepParams {
     float angular_velocity[3];      // Omega of the rotating frame [rad/s] (0 without one)
     float rotation_centre[D];       // a point on the rotation axis [m]
     float viscosity_scale;          // 1/lambda of the viscosity Laplacian in eq. (17)
+    float surface_tension_gamma;    // [AAT13] gamma of the surface tension (0 without it)
 };
 
 /// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of

@@ -39,6 +39,10 @@ pub struct Fields<const D: usize> {
     /// for fluid particles. Allocated only in scenes with the `viscosity` effect and solids
     /// (empty otherwise: solids then carry their own velocity).
     pub wall_velocity: Vec<Vector<D>>,
+    /// Surface normal `n = h Σ_j (m_j/ρ_j) ∇W` of [AAT13] eq. (3), dimensionless, pointing into
+    /// the fluid (`physics::surface_tension`); allocated by the `surface_normals` stage, so empty
+    /// unless the scene has the `surface_tension` effect.
+    pub normal: Vec<Vector<D>>,
 }
 
 /// A field of [`Fields`] by name, for what a stage reads and writes (`Stage::reads`,
@@ -67,11 +71,13 @@ pub enum Field {
     VelocityStart,
     /// [`Fields::wall_velocity`].
     WallVelocity,
+    /// [`Fields::normal`].
+    Normal,
 }
 
 impl Field {
     /// Every field, in the order of [`Fields`] (what a reorder writes).
-    pub const ALL: [Field; 11] = [
+    pub const ALL: [Field; 12] = [
         Field::Position,
         Field::Velocity,
         Field::Acceleration,
@@ -83,6 +89,7 @@ impl Field {
         Field::PositionStart,
         Field::VelocityStart,
         Field::WallVelocity,
+        Field::Normal,
     ];
 
     /// The field's name in [`Fields`].
@@ -99,6 +106,7 @@ impl Field {
             Field::PositionStart => "position_start",
             Field::VelocityStart => "velocity_start",
             Field::WallVelocity => "wall_velocity",
+            Field::Normal => "normal",
         }
     }
 }
@@ -160,6 +168,9 @@ impl<const D: usize> Fields<D> {
         if !self.wall_velocity.is_empty() {
             gather(&mut self.wall_velocity, perm, &mut scratch.vector);
         }
+        if !self.normal.is_empty() {
+            gather(&mut self.normal, perm, &mut scratch.vector);
+        }
     }
 
     /// Whether `field` has storage (one entry per particle). The optional fields are allocated
@@ -180,11 +191,13 @@ impl<const D: usize> Fields<D> {
                 Field::PositionStart => self.position_start.len() == n,
                 Field::VelocityStart => self.velocity_start.len() == n,
                 Field::WallVelocity => self.wall_velocity.len() == n,
+                Field::Normal => self.normal.len() == n,
             }
     }
 
     /// Bytes per particle held by the always-present fields (for memory reports and scene
-    /// validation); SSP-RK3 adds `2 D · 4`, no-slip walls (viscosity with solids) `D · 4`.
+    /// validation); SSP-RK3 adds `2 D · 4`, no-slip walls (viscosity with solids) `D · 4`,
+    /// surface tension `D · 4`.
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
 
     /// Bytes held by the fields' arrays.
@@ -192,7 +205,8 @@ impl<const D: usize> Fields<D> {
         (self.position.capacity() * 3
             + self.position_start.capacity()
             + self.velocity_start.capacity()
-            + self.wall_velocity.capacity())
+            + self.wall_velocity.capacity()
+            + self.normal.capacity())
             * D
             * 4
             + (self.density.capacity() * 3 + self.kind.capacity() * 2) * 4

@@ -102,6 +102,11 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
             None
         },
         rotation_centre: vector(&scene.rotation_centre),
+        surface_tension: if scene.has(Effect::SurfaceTension) {
+            scene.surface_tension
+        } else {
+            None
+        },
         dt: scene.dt,
         cfl: scene.cfl,
         domain_min: vector(&scene.domain.min),
@@ -118,6 +123,7 @@ pub fn plan_inputs(scene: &Scene) -> crate::solver::plan::PlanInputs {
         viscosity: scene.has(Effect::Viscosity),
         artificial_viscosity: scene.has(Effect::ArtificialViscosity),
         rotating_frame: scene.has(Effect::RotatingFrame),
+        surface_tension: scene.has(Effect::SurfaceTension),
         solids: !scene.solids.is_empty(),
         moving_solids: scene.solids.iter().any(|s| s.motion.is_some()),
         integrator: integrator(scene),

@@ -213,6 +213,7 @@ fn config<const D: usize>(
         gravity_ramp: 0.0,
         angular_velocity: None,
         rotation_centre: Vector::zeros(),
+        surface_tension: None,
         dt: Some(dt),
         cfl: 0.2,
         domain_min: Vector::<D>::repeat(-100.0),

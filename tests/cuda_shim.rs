@@ -27,6 +27,7 @@ fn params<const D: usize>(h: f32) -> StepParams<D> {
         angular_velocity: [0.0; 3],
         rotation_centre: Vector::zeros(),
         viscosity_scale: 1.0,
+        surface_tension_gamma: 0.0,
     }
 }
 

@@ -138,6 +138,7 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         angular_velocity: [1.5, -2.0, 7.0],
         rotation_centre: Vector::from_fn(|k, _| 0.02 * (k as f32 + 1.0)),
         viscosity_scale: 1.17,
+        surface_tension_gamma: 0.0,
     };
     (f, p)
 }

@@ -333,6 +333,7 @@ fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
         f.position_start.push(vec(i, 3.0e4));
         f.velocity_start.push(vec(i, 4.0e4));
         f.wall_velocity.push(vec(i, 5.0e4));
+        f.normal.push(vec(i, 5.0e4));
     }
     f
 }
@@ -353,6 +354,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         position_start,
         velocity_start,
         wall_velocity,
+        normal,
     } = f;
     let n = original.len();
     for field_len in [
@@ -367,6 +369,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         position_start.len(),
         velocity_start.len(),
         wall_velocity.len(),
+        normal.len(),
     ] {
         assert_eq!(field_len, n);
     }
@@ -395,6 +398,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
             wall_velocity[i], original.wall_velocity[o],
             "wall_velocity of {i}"
         );
+        assert_eq!(normal[i], original.normal[o], "normal of {i}");
     }
 }
 

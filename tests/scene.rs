@@ -1032,3 +1032,56 @@ fn rotating_frame_bad_input_names_the_key() {
     let ps = problems(parse(&rotating_2d("angular_velocity = [0.0, nan]\n")));
     with_key(&ps, "fluid.angular_velocity[1]");
 }
+
+/// `VALID_2D` with the `surface_tension` effect and `lines` added to `[fluid]`.
+fn surface_tension_2d(lines: &str) -> String {
+    edit(
+        &edit(
+            VALID_2D,
+            "effects = [\"gravity\", \"viscosity\"]",
+            "effects = [\"gravity\", \"viscosity\", \"surface_tension\"]",
+        ),
+        "gravity_ramp = 0.1\n",
+        &format!("gravity_ramp = 0.1\n{lines}"),
+    )
+}
+
+#[test]
+fn surface_tension_resolves_with_its_effect_only() {
+    let s = parse(&surface_tension_2d("surface_tension = 0.072\n")).expect("valid");
+    assert!(s.has(Effect::SurfaceTension));
+    assert_eq!(s.surface_tension, Some(0.072));
+    assert_eq!(parse(VALID_2D).expect("valid").surface_tension, None);
+}
+
+#[test]
+fn surface_tension_bad_input_names_the_key() {
+    // The effect without its key.
+    let ps = problems(parse(&surface_tension_2d("")));
+    let p = with_key(&ps, "fluid.surface_tension");
+    assert!(p.reason.contains("required"), "{}", p.reason);
+    // The key without the effect, on its line.
+    let text = edit(
+        VALID_2D,
+        "gravity_ramp = 0.1\n",
+        "gravity_ramp = 0.1\nsurface_tension = 0.072\n",
+    );
+    let ps = problems(parse(&text));
+    assert_eq!(ps.len(), 1, "{ps:#?}");
+    let p = with_key(&ps, "fluid.surface_tension");
+    assert!(p.reason.contains("not enabled"), "{}", p.reason);
+    assert_eq!(line(p), line_of(&text, "surface_tension", 0));
+    // Zero, negative, non-finite.
+    for bad in ["0.0", "-0.072", "nan", "inf"] {
+        let ps = problems(parse(&surface_tension_2d(&format!("surface_tension = {bad}\n"))));
+        let p = with_key(&ps, "fluid.surface_tension");
+        assert!(
+            p.reason.contains("> 0") || p.reason.contains("finite"),
+            "{bad}: {}",
+            p.reason
+        );
+    }
+    // Not a number.
+    let ps = problems(parse(&surface_tension_2d("surface_tension = \"strong\"\n")));
+    with_key(&ps, "fluid.surface_tension");
+}

@@ -6,12 +6,14 @@ use sph::run::{RunOptions, run_scene, simulation_from_scene};
 use sph::scene::{count_particles, load_scene};
 use std::path::{Path, PathBuf};
 
-const SHIPPED: [&str; 6] = [
+const SHIPPED: [&str; 8] = [
     "scenes/dam_break_2d.toml",
+    "scenes/droplet_2d.toml",
     "scenes/hydrostatic_2d.toml",
     "scenes/poiseuille_2d.toml",
     "scenes/rotating_tank_2d.toml",
     "scenes/dam_break_column_3d.toml",
+    "scenes/droplet_3d.toml",
     "scenes/yeh_petroff_3d.toml",
 ];
 

@@ -180,6 +180,15 @@ pub trait Backend<const D: usize> {
     /// neighbour carries its `Fields::wall_velocity` in (17) when that field is allocated (its
     /// own velocity otherwise), and (17) is scaled by `params.viscosity_scale`.
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms);
+    /// [AAT13] eq. (3): the surface normal `n_i = h Σ_j (m_j/ρ_j) ∇W(x_ij)` of fluid particles
+    /// over fluid neighbours (`physics::surface_tension`), into `Fields::normal` (allocated here
+    /// on first use: only scenes with the `surface_tension` effect run this stage); zero for
+    /// solids.
+    fn surface_normals(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
+    /// [AAT13] eqs. (1)–(5): adds the cohesion and curvature accelerations of the fluid
+    /// neighbours to the acceleration of fluid particles, with `γ = params.surface_tension_gamma`
+    /// and the normals of the `surface_normals` stage. Runs after `forces`.
+    fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Fig. 4: total force [N] (per unit depth in 2D) of the fluid on each of `solids` solids.
     fn solid_forces(
         &mut self,

@@ -40,6 +40,9 @@ pub struct StepParams<const D: usize> {
     /// `physics::lattice::lattice_laplacian_moment`; multiplies `mu` wherever (17) is evaluated
     /// (1 when the scene has no viscosity).
     pub viscosity_scale: Real,
+    /// [AAT13]'s `γ` of the surface tension (`physics::surface_tension`), in the units that make
+    /// each of its terms a force; 0 when the scene has no `surface_tension` effect.
+    pub surface_tension_gamma: Real,
 }
 
 impl<const D: usize> StepParams<D> {

@@ -42,6 +42,24 @@ fn vector(v: &[f64]) -> String {
     format!("({})", parts.join(", "))
 }
 
+/// [AAT13]'s `γ` the run will use for `sigma` (`physics::surface_tension`), as
+/// `Simulation::new` calibrates it; NaN where the scene's kernel cannot be built.
+fn surface_tension_gamma(scene: &Scene, sigma: f64) -> f64 {
+    use crate::physics::{lattice::lattice_mass, surface_tension::gamma_for_surface_tension};
+    use crate::smoothing::Smoothing;
+    let (dx, h, rho0) = (scene.spacing, scene.smoothing_length as f32, scene.rho0);
+    match scene.dimension {
+        2 => Smoothing::<2>::new(h).map_or(f64::NAN, |k| {
+            let m = f64::from(lattice_mass(&k, dx, rho0) as f32);
+            gamma_for_surface_tension(&k, dx, rho0, m, sigma)
+        }),
+        _ => Smoothing::<3>::new(h).map_or(f64::NAN, |k| {
+            let m = f64::from(lattice_mass(&k, dx, rho0) as f32);
+            gamma_for_surface_tension(&k, dx, rho0, m, sigma)
+        }),
+    }
+}
+
 /// One effect with its parameters.
 fn effect(scene: &Scene, e: Effect) -> String {
     match e {
@@ -63,6 +81,13 @@ fn effect(scene: &Scene, e: Effect) -> String {
             vector(&scene.angular_velocity.unwrap_or_default()),
             vector(&scene.rotation_centre)
         ),
+        Effect::SurfaceTension => {
+            let sigma = scene.surface_tension.unwrap_or(0.0);
+            format!(
+                "surface_tension sigma = {sigma} N/m: [AAT13] cohesion and curvature between fluid particles (no adhesion to solids), gamma = {:.4e} from the lattice slab",
+                surface_tension_gamma(scene, sigma)
+            )
+        }
     }
 }
 

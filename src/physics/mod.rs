@@ -2,7 +2,8 @@
 //!
 //! Nothing here loops over particles or knows about backends; the backends call these functions
 //! inside their loops. Equations: (6), (15)–(19) of the paper ([P], PAPER.md section 1), and the
-//! rotating frame's Coriolis and centrifugal forces ([B67] §3.2).
+//! rotating frame's Coriolis and centrifugal forces ([B67] §3.2), and surface tension by
+//! cohesion and curvature ([AAT13] Akinci, Akinci & Teschner 2013).
 
 pub mod artificial_viscosity;
 pub mod correction;
@@ -12,4 +13,5 @@ pub mod gravity;
 pub mod lattice;
 pub mod pressure;
 pub mod rotating_frame;
+pub mod surface_tension;
 pub mod viscosity;

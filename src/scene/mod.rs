@@ -66,6 +66,9 @@ pub struct Scene {
     pub angular_velocity: Option<[f64; 3]>,
     /// A point on the rotation axis \[m\], `dimension` entries (the origin by default).
     pub rotation_centre: Vec<f64>,
+    /// Surface tension `σ` \[N/m\] (2D: per unit depth); `Some` iff [`Effect::SurfaceTension`]
+    /// is on.
+    pub surface_tension: Option<f64>,
     /// Initial fluid blocks, in file order (non-empty, non-overlapping).
     pub fluid_boxes: Vec<FluidBox>,
     /// Solid bodies, in file order, with unique names.

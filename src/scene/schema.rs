@@ -20,6 +20,9 @@ pub enum Effect {
     /// \[rad/s\] about the axis through `fluid.rotation_centre` \[m\]
     /// (`physics::rotating_frame`).
     RotatingFrame,
+    /// Surface tension `fluid.surface_tension` \[N/m\] by [AAT13]'s cohesion and curvature
+    /// forces between fluid particles (`physics::surface_tension`).
+    SurfaceTension,
 }
 
 impl Effect {
@@ -30,6 +33,7 @@ impl Effect {
             Effect::Viscosity => "viscosity",
             Effect::ArtificialViscosity => "artificial_viscosity",
             Effect::RotatingFrame => "rotating_frame",
+            Effect::SurfaceTension => "surface_tension",
         }
     }
 }
@@ -185,6 +189,9 @@ pub struct FluidFile {
     /// A point on the rotation axis \[m\], `dimension` entries; default the origin; only with the
     /// `rotating_frame` effect.
     pub rotation_centre: Option<Vec<f64>>,
+    /// Surface tension σ \[N/m\] (2D: per unit depth), > 0; required iff the `surface_tension`
+    /// effect is on.
+    pub surface_tension: Option<f64>,
 }
 
 /// `fluid.angular_velocity`: a number (2D, about the out-of-plane axis) or a vector.

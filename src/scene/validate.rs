@@ -317,6 +317,25 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
 
     let (angular_velocity, rotation_centre) =
         rotating_frame(&mut c, &fp, f, effects.contains(&Effect::RotatingFrame), dim);
+    let surface_tension = match (f.surface_tension, effects.contains(&Effect::SurfaceTension)) {
+        (Some(sigma), true) => c.positive(fp.k("surface_tension"), sigma),
+        (None, true) => {
+            c.err(
+                fp.k("surface_tension"),
+                "required because effect \"surface_tension\" is enabled".into(),
+            );
+            None
+        }
+        (Some(_), false) => {
+            c.err(
+                fp.k("surface_tension"),
+                "given but effect \"surface_tension\" is not enabled (add it to `effects` or remove this key)"
+                    .into(),
+            );
+            None
+        }
+        (None, false) => None,
+    };
 
     // [[fluid_box]]
     if file.fluid_box.is_empty() {
@@ -468,6 +487,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             gravity_ramp: gravity_ramp?,
             angular_velocity,
             rotation_centre: rotation_centre?,
+            surface_tension,
             fluid_boxes,
             solids,
             solver: solver?,

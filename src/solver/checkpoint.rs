@@ -41,7 +41,8 @@ pub struct Checkpoint<const D: usize> {
     /// Scalars.
     pub header: Header,
     /// Particle fields, in the simulation's current order (`position_start` and
-    /// `velocity_start` are empty: they only live inside a step).
+    /// `velocity_start` are empty: they only live inside a step; so is `normal`, recomputed by
+    /// the `surface_normals` stage before every use).
     pub fields: Fields<D>,
 }
 
@@ -103,6 +104,8 @@ impl<const D: usize> Simulation<D> {
         fields.position_start.clear();
         fields.velocity_start.clear();
         fields.wall_velocity.clear();
+        // Recomputed by the `surface_normals` stage before every use.
+        fields.normal.clear();
         Ok(Checkpoint {
             header: Header {
                 clock: self.clock,
@@ -328,6 +331,7 @@ impl<const D: usize> Checkpoint<D> {
                 position_start: Vec::new(),
                 velocity_start: Vec::new(),
                 wall_velocity: Vec::new(),
+                normal: Vec::new(),
             },
         })
     }

@@ -20,6 +20,7 @@ use crate::physics::gravity::gravity_at;
 use crate::physics::lattice::{
     correction_stiffness, lattice_gradient_moment, lattice_laplacian_moment, lattice_mass,
 };
+use crate::physics::surface_tension::gamma_for_surface_tension;
 use crate::smoothing::{Smoothing, UnsupportedDimension};
 use stage::Stage;
 use timestep::TimeStepLimit;
@@ -117,6 +118,9 @@ pub struct SimConfig<const D: usize> {
     pub angular_velocity: Option<[f64; 3]>,
     /// A point `x_c` [m] on the rotation axis (unused without a rotating frame).
     pub rotation_centre: Vector<D>,
+    /// Surface tension `σ` [N/m] (2D: per unit depth, [N]) of [AAT13]'s model
+    /// (`physics::surface_tension`); `None` when the scene has no `surface_tension` effect.
+    pub surface_tension: Option<f64>,
     /// Fixed time step [s], or `None` for adaptive.
     pub dt: Option<f64>,
     /// CFL number of the adaptive step.
@@ -219,6 +223,7 @@ fn plan_inputs<const D: usize>(config: &SimConfig<D>, solids: bool, moving_solid
         viscosity: config.viscosity.is_some(),
         artificial_viscosity: config.artificial_viscosity.is_some(),
         rotating_frame: config.angular_velocity.is_some(),
+        surface_tension: config.surface_tension.is_some(),
         solids,
         moving_solids,
         integrator: config.integrator,
@@ -313,6 +318,9 @@ pub struct Simulation<const D: usize> {
     /// `1/λ` of the viscous force (17) (`physics::lattice::lattice_laplacian_moment`); 1 when
     /// the scene has no viscosity.
     viscosity_scale: Real,
+    /// [AAT13]'s `γ` for the scene's `σ`, calibrated on the lattice at set-up
+    /// (`physics::surface_tension::gamma_for_surface_tension`); 0 without surface tension.
+    surface_tension_gamma: Real,
     clock: Clock,
     stats: RunStats,
     /// Force of the fluid on each named solid at the last step [N] (2D: [N/m]).
@@ -367,6 +375,9 @@ impl<const D: usize> Simulation<D> {
         positive("fluid.rho0", config.rho0)?;
         positive("fluid.sound_speed", config.sound_speed)?;
         positive("solver.cfl", config.cfl)?;
+        if let Some(sigma) = config.surface_tension {
+            positive("fluid.surface_tension", sigma)?;
+        }
         if fluid_position.len() != fluid_velocity.len() {
             return Err(SetupError::Invalid {
                 key: "fluid_box",
@@ -382,6 +393,9 @@ impl<const D: usize> Simulation<D> {
         } else {
             1.0
         };
+        let surface_tension_gamma = config.surface_tension.map_or(0.0, |sigma| {
+            gamma_for_surface_tension(&kernel, config.spacing, config.rho0, f64::from(mass), sigma) as Real
+        });
         if let Some(c) = &config.correction {
             positive("solver.delta", c.delta)?;
             positive("solver.relaxation", c.relaxation)?;
@@ -416,6 +430,7 @@ impl<const D: usize> Simulation<D> {
             solid_names: solids.iter().map(|(n, _)| n.clone()).collect(),
             pressure_gradient_scale: (1.0 / kappa) as Real,
             viscosity_scale,
+            surface_tension_gamma,
             clock: Clock::default(),
             stats: RunStats::default(),
             solid_force: vec![[0.0; 3]; solids.len()],
@@ -542,6 +557,12 @@ impl<const D: usize> Simulation<D> {
         &self.plan
     }
 
+    /// [AAT13]'s `γ` the run uses for the scene's `σ` (`physics::surface_tension`); 0 without
+    /// surface tension.
+    pub fn surface_tension_gamma(&self) -> Real {
+        self.surface_tension_gamma
+    }
+
     /// The settings of the run.
     pub fn config(&self) -> &SimConfig<D> {
         &self.config
@@ -664,7 +685,8 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Times `count` sweeps (one density pass, the equation of state and one force pass, the
-    /// unit of the paper's Fig. 5) on the current state after one untimed warm-up sweep, and
+    /// unit of the paper's Fig. 5, plus the surface-tension stages when the scene has them) on
+    /// the current state after one untimed warm-up sweep, and
     /// returns the seconds per sweep. The fields keep the last sweep's density, pressure and
     /// acceleration; positions and velocities are unchanged.
     ///
@@ -681,10 +703,15 @@ impl<const D: usize> Simulation<D> {
         let (bk, f) = (&mut self.backend, &mut self.fields);
         bk.sort_by_cell(f, params.h)
             .map_err(|source| StepError::Grid { step, source })?;
+        let surface_tension = self.config.surface_tension.is_some();
         let sweep = |bk: &mut Box<dyn Backend<D> + Send>, f: &mut Fields<D>| {
             bk.density(f, &params);
             bk.equation_of_state(f, &params);
             bk.forces(f, &params, terms);
+            if surface_tension {
+                bk.surface_normals(f, &params);
+                bk.surface_tension(f, &params);
+            }
         };
         sweep(bk, f);
         bk.synchronize();
@@ -751,6 +778,7 @@ impl<const D: usize> Simulation<D> {
                 Vector::zeros()
             },
             viscosity_scale: self.viscosity_scale,
+            surface_tension_gamma: self.surface_tension_gamma,
         }
     }
 

@@ -16,6 +16,8 @@ pub struct PlanInputs {
     pub artificial_viscosity: bool,
     /// The scene lists the `rotating_frame` effect.
     pub rotating_frame: bool,
+    /// The scene lists the `surface_tension` effect.
+    pub surface_tension: bool,
     /// The scene has at least one solid.
     pub solids: bool,
     /// At least one solid has a prescribed motion.
@@ -59,6 +61,10 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         artificial_viscosity: inputs.artificial_viscosity,
         rotating_frame: inputs.rotating_frame,
     }));
+    if inputs.surface_tension {
+        // [AAT13]: after the force stage, which sets the acceleration they add to.
+        plan.extend([Stage::SurfaceNormals, Stage::SurfaceTension]);
+    }
     if inputs.solids {
         plan.push(Stage::SolidForces);
     }
@@ -103,6 +109,7 @@ mod tests {
             viscosity: false,
             artificial_viscosity: false,
             rotating_frame: false,
+            surface_tension: false,
             solids: false,
             moving_solids: false,
             integrator: Integrator::SymplecticEuler,
@@ -117,6 +124,7 @@ mod tests {
         assert!(!bare.contains(&Stage::SolidForces));
         assert!(!bare.contains(&Stage::Correction));
         assert!(!bare.iter().any(|s| matches!(s, Stage::MoveSolids(_))));
+        assert!(!bare.contains(&Stage::SurfaceNormals) && !bare.contains(&Stage::SurfaceTension));
         assert!(bare.contains(&Stage::Forces(ForceTerms {
             viscosity: false,
             artificial_viscosity: false,
@@ -152,6 +160,29 @@ mod tests {
             artificial_viscosity: true,
             rotating_frame: true,
         })));
+    }
+
+    #[test]
+    fn surface_tension_runs_its_two_stages_right_after_the_forces() {
+        for integrator in [Integrator::SymplecticEuler, Integrator::Rk3] {
+            for corrected in [false, true] {
+                let p = plan(PlanInputs {
+                    surface_tension: true,
+                    solids: true,
+                    integrator,
+                    corrected,
+                    ..inputs()
+                });
+                let at = p
+                    .iter()
+                    .position(|s| matches!(s, Stage::Forces(_)))
+                    .expect("a force stage");
+                assert_eq!(
+                    &p[at + 1..at + 3],
+                    &[Stage::SurfaceNormals, Stage::SurfaceTension]
+                );
+            }
+        }
     }
 
     #[test]

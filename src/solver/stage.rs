@@ -2,7 +2,8 @@
 //! CUDA backend, as kernel names), so timers and benchmark rows line up by construction.
 //!
 //! Each stage also says what it implements (PAPER.md equation numbers; [A12] Adami, Hu & Adams,
-//! J. Comput. Phys. 231 (2012); [M92] Monaghan 1992; [MFZ97] Morris, Fox & Zhu 1997) and which particle fields it reads and
+//! J. Comput. Phys. 231 (2012); [M92] Monaghan 1992; [MFZ97] Morris, Fox & Zhu 1997; [AAT13]
+//! Akinci, Akinci & Teschner 2013) and which particle fields it reads and
 //! writes, one function per piece (`sph plan` prints them), next to the stage itself so the two
 //! cannot drift apart. [`SubStage`] does the same for the steps the driver (`solver::step`) runs
 //! inside a stage: the correction loop and the no-penetration guard.
@@ -10,8 +11,8 @@
 use crate::backend::{ForceTerms, WallModel};
 use crate::fields::Field;
 use Field::{
-    Acceleration, Density, Id, Kind, Mass, Position, PositionStart, Pressure, Velocity, VelocityStart,
-    WallVelocity,
+    Acceleration, Density, Id, Kind, Mass, Normal, Position, PositionStart, Pressure, Velocity,
+    VelocityStart, WallVelocity,
 };
 
 /// When in an integrator stage [`Stage::MoveSolids`] places the moving solids.
@@ -45,6 +46,12 @@ pub enum Stage {
     WallVelocity,
     /// Eqs. (15)–(17), (6): fluid acceleration, with the terms the scene asks for.
     Forces(ForceTerms),
+    /// [AAT13] eq. (3): surface normals of fluid particles. Only with the `surface_tension`
+    /// effect.
+    SurfaceNormals,
+    /// [AAT13] eqs. (1)–(5): cohesion and curvature forces added to the fluid acceleration. Only
+    /// with the `surface_tension` effect.
+    SurfaceTension,
     /// Fig. 4: force of the fluid on each named solid. Only in scenes with solids.
     SolidForces,
     /// Time step from the state (or the scene's fixed step), and the state guards.
@@ -68,6 +75,8 @@ impl Stage {
             Stage::WallPressure(_) => "wall_pressure",
             Stage::WallVelocity => "wall_velocity",
             Stage::Forces(_) => "forces",
+            Stage::SurfaceNormals => "surface_normals",
+            Stage::SurfaceTension => "surface_tension",
             Stage::SolidForces => "solid_forces",
             Stage::TimeStep => "time_step",
             Stage::Integrate => "integrate",
@@ -95,6 +104,8 @@ impl Stage {
                 "(15): (16), [M92], (6), [B67] 3.2",
                 "(15): (16), (17), [M92], (6), [B67] 3.2",
             ][terms.index()],
+            Stage::SurfaceNormals => "[AAT13] (3)",
+            Stage::SurfaceTension => "[AAT13] (1)-(5)",
             Stage::SolidForces => "Fig. 4",
             Stage::TimeStep => "CFL, [M92], [MFZ97]",
             Stage::Integrate => "(15)",
@@ -130,6 +141,10 @@ impl Stage {
                 "acceleration: pressure force, artificial viscosity, body force, Coriolis and centrifugal force",
                 "acceleration: pressure force, viscosity, artificial viscosity, body force, Coriolis and centrifugal force",
             ][terms.index()],
+            Stage::SurfaceNormals => "surface normals h sum (m/rho) grad W over fluid neighbours (fluid)",
+            Stage::SurfaceTension => {
+                "acceleration += cohesion and curvature forces of fluid neighbours, gamma from sigma (fluid)"
+            }
             Stage::SolidForces => "force of the fluid on each named solid: the forces stage's pair terms",
             Stage::TimeStep => {
                 "time step from sound, flow, forces and viscosity; state guards (first integrator stage only)"
@@ -153,6 +168,8 @@ impl Stage {
                 &[Position, Velocity, Density, Pressure, Mass, Kind]
             }
             Stage::Forces(_) => &[Position, Density, Pressure, Mass, Kind],
+            Stage::SurfaceNormals => &[Position, Density, Mass, Kind],
+            Stage::SurfaceTension => &[Position, Density, Mass, Kind, Normal, Acceleration],
             Stage::SolidForces => &[Position, Velocity, Density, Pressure, Mass, Kind],
             Stage::TimeStep => &[Position, Velocity, Acceleration, Density, Kind],
             Stage::Integrate => &[Velocity, Acceleration, Kind],
@@ -192,6 +209,8 @@ impl Stage {
             Stage::WallPressure(_) => &[Density, Pressure],
             Stage::WallVelocity => &[WallVelocity],
             Stage::Forces(_) => &[Acceleration],
+            Stage::SurfaceNormals => &[Normal],
+            Stage::SurfaceTension => &[Acceleration],
             Stage::SolidForces | Stage::TimeStep => &[],
             Stage::Integrate => &[Position, Velocity],
             Stage::RkStage => &[Position, Velocity, PositionStart, VelocityStart],

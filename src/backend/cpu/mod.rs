@@ -22,6 +22,7 @@ use crate::physics::{
     eos,
     pressure::{pressure_acceleration_from_terms, pressure_term},
     rotating_frame::{centrifugal_acceleration, rotating_frame_acceleration},
+    surface_tension::{normal_term, surface_tension_acceleration},
     viscosity::viscous_acceleration,
 };
 use rayon::prelude::*;
@@ -344,6 +345,60 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     (true, true, true) => fluid_acceleration::<D, true, true, true>(grid, f, params, q, i),
                 }
             };
+        });
+        fields.acceleration = acceleration;
+    }
+
+    fn surface_normals(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        let kernel = params.smoothing();
+        let grid = &self.grid;
+        let mut normal = std::mem::take(&mut fields.normal);
+        normal.resize(fields.len(), Vector::zeros());
+        let f = &*fields;
+        normal.par_iter_mut().enumerate().for_each(|(i, n)| {
+            let mut sum = Vector::zeros();
+            if f.kind[i] == FLUID {
+                grid.for_each_neighbour(&f.position, i, |j, d, _| {
+                    if f.kind[j] == FLUID {
+                        sum += normal_term(&kernel, f.mass[j], f.density[j], &d); // [AAT13] (3)
+                    }
+                });
+            }
+            *n = sum * params.h;
+        });
+        fields.normal = normal;
+    }
+
+    fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        let grid = &self.grid;
+        let mut acceleration = std::mem::take(&mut fields.acceleration);
+        let f = &*fields;
+        let (gamma, rho0, h) = (params.surface_tension_gamma, params.rho0, params.h);
+        acceleration.par_iter_mut().enumerate().for_each(|(i, a)| {
+            if f.kind[i] != FLUID {
+                return;
+            }
+            let (rho_i, n_i) = (f.density[i], f.normal[i]);
+            let mut sum = Vector::zeros();
+            grid.for_each_neighbour(&f.position, i, |j, d, r2| {
+                if j == i || f.kind[j] != FLUID {
+                    return;
+                }
+                // [AAT13] (1)-(5): cohesion and curvature, fluid neighbours only.
+                sum += surface_tension_acceleration(
+                    gamma,
+                    rho0,
+                    h,
+                    f.mass[j],
+                    rho_i,
+                    f.density[j],
+                    &n_i,
+                    &f.normal[j],
+                    &d,
+                    r2.sqrt(),
+                );
+            });
+            *a += sum;
         });
         fields.acceleration = acceleration;
     }

@@ -134,6 +134,10 @@ pub struct CudaBackend<const D: usize> {
     /// Per solid acceleration `d''` (`D` floats), uploaded by `wall_pressure`; zeros while
     /// nothing moves.
     wall_acc: CudaSlice<f32>,
+    /// Surface normals [AAT13] (`D` floats per particle), allocated by the first
+    /// `surface_normals` (only scenes with the `surface_tension` effect run it). Recomputed after
+    /// every sort before use, so the sort does not gather it.
+    normal: Option<CudaSlice<f32>>,
     error: Option<BackendError>,
     device_name: String,
 }
@@ -262,6 +266,7 @@ impl<const D: usize> CudaBackend<D> {
             keep_out_host: Vec::new(),
             keep_out_boxes: stream.alloc_zeros::<f32>(1).map_err(|e| up("allocating", e))?,
             keep_out_out: stream.alloc_zeros::<f64>(4).map_err(|e| up("allocating", e))?,
+            normal: None,
             error: None,
             device_name,
             stream,
@@ -473,7 +478,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             + self.keep_out_boxes.num_bytes()
             + self.keep_out_out.num_bytes()
             + self.solid_reference.as_ref().map_or(0, |b| b.num_bytes())
-            + self.f.wall_velocity.as_ref().map_or(0, |b| b.num_bytes());
+            + self.f.wall_velocity.as_ref().map_or(0, |b| b.num_bytes())
+            + self.normal.as_ref().map_or(0, |b| b.num_bytes());
         if let Some(g) = &self.grid {
             bytes += [
                 &g.key,
@@ -542,6 +548,13 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         // The step-start copies are the backend's scratch of SSP-RK3; the host keeps none.
         fields.position_start.clear();
         fields.velocity_start.clear();
+        match &self.normal {
+            Some(normal) => {
+                fields.normal.resize(n, Vector::zeros());
+                s.memcpy_dtoh(normal, floats_mut(&mut fields.normal)).map_err(e)?;
+            }
+            None => fields.normal.clear(),
+        }
         Ok(())
     }
 
@@ -834,6 +847,40 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         record(&mut self.error, "computing the forces", r);
     }
 
+    fn surface_normals(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
+        if self.error.is_some() {
+            return;
+        }
+        let Some(g) = self.grid.as_ref() else { return };
+        if self.normal.is_none() {
+            let r = self.stream.alloc_zeros::<f32>((self.n * D).max(1));
+            match record(&mut self.error, "allocating the surface normals", r) {
+                Some(b) => self.normal = Some(b),
+                None => return,
+            }
+        }
+        let n = self.n as u32;
+        let Some(normal) = self.normal.as_mut() else {
+            return;
+        };
+        launch!(self, "computing the surface normals", "surface_normals", self.n;
+            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
+            &self.f.density, &self.f.kind, normal);
+    }
+
+    fn surface_tension(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
+        if self.error.is_some() {
+            return;
+        }
+        let (Some(g), Some(normal)) = (self.grid.as_ref(), self.normal.as_ref()) else {
+            return;
+        };
+        let n = self.n as u32;
+        launch!(self, "computing the surface tension", "surface_tension", self.n;
+            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
+            &self.f.density, &self.f.kind, normal, &mut self.f.acceleration);
+    }
+
     fn solid_forces(
         &mut self,
         _fields: &Fields<D>,
@@ -1118,6 +1165,8 @@ const KERNEL_NAMES: &[&str] = &[
     "forces_pvr",
     "forces_par",
     "forces_pvar",
+    "surface_normals",
+    "surface_tension",
     "solid_forces",
     "state_extremes",
     "integrate",

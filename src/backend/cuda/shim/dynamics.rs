@@ -3,8 +3,8 @@
 //! `forces_pvar`, `solid_forces`, `state_extremes`,
 //! `integrate`, `store_step_start`, `rk_stage`, `correction_error`, `correction_pressure_fluid`,
 //! `correction_pressure_wall`, `correction_pressure_apply`, `correction_displacement`,
-//! `apply_displacement`, `keep_out`, `move_solids`. Same arguments as the kernels, `StepParams` and
-//! `GridGeometry` by pointer.
+//! `apply_displacement`, `keep_out`, `move_solids`, `surface_normals`, `surface_tension`. Same
+//! arguments as the kernels, `StepParams` and `GridGeometry` by pointer.
 #![allow(missing_docs)]
 
 use crate::backend::cuda::extremes::DeviceExtremes;
@@ -147,6 +147,31 @@ unsafe extern "C" {
         kind: *const u32,
         wall_vel: *const f32,
         out: *mut f64,
+    );
+    pub fn sph_shim_surface_normals_2(
+        n: u32,
+        p: *const StepParams<2>,
+        g: *const GridGeometry<2>,
+        cell_start: *const u32,
+        cell_key: *const u32,
+        pos: *const f32,
+        mass: *const f32,
+        density: *const f32,
+        kind: *const u32,
+        normal: *mut f32,
+    );
+    pub fn sph_shim_surface_tension_2(
+        n: u32,
+        p: *const StepParams<2>,
+        g: *const GridGeometry<2>,
+        cell_start: *const u32,
+        cell_key: *const u32,
+        pos: *const f32,
+        mass: *const f32,
+        density: *const f32,
+        kind: *const u32,
+        normal: *const f32,
+        acc: *mut f32,
     );
     pub fn sph_shim_move_solids_2(
         n: u32,
@@ -408,6 +433,31 @@ unsafe extern "C" {
         kind: *const u32,
         wall_vel: *const f32,
         out: *mut f64,
+    );
+    pub fn sph_shim_surface_normals_3(
+        n: u32,
+        p: *const StepParams<3>,
+        g: *const GridGeometry<3>,
+        cell_start: *const u32,
+        cell_key: *const u32,
+        pos: *const f32,
+        mass: *const f32,
+        density: *const f32,
+        kind: *const u32,
+        normal: *mut f32,
+    );
+    pub fn sph_shim_surface_tension_3(
+        n: u32,
+        p: *const StepParams<3>,
+        g: *const GridGeometry<3>,
+        cell_start: *const u32,
+        cell_key: *const u32,
+        pos: *const f32,
+        mass: *const f32,
+        density: *const f32,
+        kind: *const u32,
+        normal: *const f32,
+        acc: *mut f32,
     );
     pub fn sph_shim_move_solids_3(
         n: u32,
