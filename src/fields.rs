@@ -34,6 +34,10 @@ pub struct Fields<const D: usize> {
     pub position_start: Vec<Vector<D>>,
     /// Velocity at the start of the step [m/s] (SSP-RK3 only; empty otherwise).
     pub velocity_start: Vec<Vector<D>>,
+    /// Rest density `ρ0` of the particle's phase [kg/m³] (the `multiphase` effect only; empty
+    /// otherwise). Solids carry the scene's `fluid.rho0`. Its presence selects the multiphase
+    /// variants of the stages (`physics::multiphase`).
+    pub rest_density: Vec<Real>,
 }
 
 /// A field of [`Fields`] by name, for what a stage reads and writes (`Stage::reads`,
@@ -60,11 +64,13 @@ pub enum Field {
     PositionStart,
     /// [`Fields::velocity_start`].
     VelocityStart,
+    /// [`Fields::rest_density`].
+    RestDensity,
 }
 
 impl Field {
     /// Every field, in the order of [`Fields`] (what a reorder writes).
-    pub const ALL: [Field; 10] = [
+    pub const ALL: [Field; 11] = [
         Field::Position,
         Field::Velocity,
         Field::Acceleration,
@@ -75,6 +81,7 @@ impl Field {
         Field::Id,
         Field::PositionStart,
         Field::VelocityStart,
+        Field::RestDensity,
     ];
 
     /// The field's name in [`Fields`].
@@ -90,6 +97,7 @@ impl Field {
             Field::Id => "id",
             Field::PositionStart => "position_start",
             Field::VelocityStart => "velocity_start",
+            Field::RestDensity => "rest_density",
         }
     }
 }
@@ -148,10 +156,13 @@ impl<const D: usize> Fields<D> {
             gather(&mut self.position_start, perm, &mut scratch.vector);
             gather(&mut self.velocity_start, perm, &mut scratch.vector);
         }
+        if !self.rest_density.is_empty() {
+            gather(&mut self.rest_density, perm, &mut scratch.real);
+        }
     }
 
     /// Bytes per particle held by the always-present fields (for memory reports and scene
-    /// validation); SSP-RK3 adds `2 D · 4`.
+    /// validation); SSP-RK3 adds `2 D · 4`, the `multiphase` effect 4.
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
 
     /// Bytes held by the fields' arrays.
@@ -159,7 +170,7 @@ impl<const D: usize> Fields<D> {
         (self.position.capacity() * 3 + self.position_start.capacity() + self.velocity_start.capacity())
             * D
             * 4
-            + (self.density.capacity() * 3 + self.kind.capacity() * 2) * 4
+            + (self.density.capacity() * 3 + self.kind.capacity() * 2 + self.rest_density.capacity()) * 4
     }
 }
 

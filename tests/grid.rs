@@ -332,6 +332,7 @@ fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
         f.pressure[i] = -5.0 - i as Real;
         f.position_start.push(vec(i, 3.0e4));
         f.velocity_start.push(vec(i, 4.0e4));
+        f.rest_density.push(500.0 + 3.0 * i as Real);
     }
     f
 }
@@ -351,6 +352,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         id,
         position_start,
         velocity_start,
+        rest_density,
     } = f;
     let n = original.len();
     for field_len in [
@@ -364,6 +366,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         id.len(),
         position_start.len(),
         velocity_start.len(),
+        rest_density.len(),
     ] {
         assert_eq!(field_len, n);
     }
@@ -388,6 +391,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
             velocity_start[i], original.velocity_start[o],
             "velocity_start of {i}"
         );
+        assert_eq!(rest_density[i], original.rest_density[o], "rest_density of {i}");
     }
 }
 

@@ -12,7 +12,7 @@ use crate::run::{correction, plan_inputs};
 use crate::scene::{Effect, Scene, load_scene};
 use crate::solver::Integrator;
 use crate::solver::plan::plan;
-use crate::solver::stage::{Stage, SubStage};
+use crate::solver::stage::{MultiphaseVariant, Stage, SubStage};
 use crate::solver::step::RESORT_DRIFT;
 use anyhow::Context;
 use std::fmt::Write;
@@ -63,6 +63,30 @@ fn effect(scene: &Scene, e: Effect) -> String {
             vector(&scene.angular_velocity.unwrap_or_default()),
             vector(&scene.rotation_centre)
         ),
+        Effect::Multiphase => {
+            let mut phases: Vec<f64> = vec![scene.rho0];
+            for fb in &scene.fluid_boxes {
+                if let Some(r) = fb.rho0 {
+                    if !phases.contains(&r) {
+                        phases.push(r);
+                    }
+                }
+            }
+            let used: Vec<String> = phases
+                .iter()
+                .filter(|&&r| {
+                    scene
+                        .fluid_boxes
+                        .iter()
+                        .any(|fb| fb.rho0.unwrap_or(scene.rho0) == r)
+                })
+                .map(|r| format!("{r}"))
+                .collect();
+            format!(
+                "multiphase rest densities {} kg/m^3 (one sound speed): [HA06] number density and volume-form pressure force",
+                used.join(", ")
+            )
+        }
     }
 }
 
@@ -129,9 +153,10 @@ pub fn render(scene: &Scene, origin: &str) -> String {
             c.delta, c.max_iterations, c.relaxation
         );
     }
+    let multiphase = scene.has(Effect::Multiphase);
     let _ = writeln!(out, "\neach integrator stage ({rounds} per step), in order:");
     for (k, stage) in stages.iter().enumerate() {
-        stage_lines(&mut out, k + 1, stage);
+        stage_lines(&mut out, k + 1, stage, multiphase);
         let subs = stage.sub_stages(solids);
         if subs.is_empty() {
             continue;
@@ -147,7 +172,7 @@ pub fn render(scene: &Scene, origin: &str) -> String {
             _ => writeln!(out, "      then:"),
         };
         for sub in subs {
-            sub_stage_lines(&mut out, sub);
+            sub_stage_lines(&mut out, sub, multiphase);
         }
     }
     let _ = writeln!(out, "\nafter each step:");
@@ -193,8 +218,20 @@ pub fn render(scene: &Scene, origin: &str) -> String {
     out
 }
 
-/// The lines of one plan stage: number, name, equation, description, fields.
-fn stage_lines(out: &mut String, number: usize, stage: &Stage) {
+/// The fields a stage reads, with `rest_density` when its multiphase variant runs and reads it.
+fn reads(list: &[Field], variant: Option<MultiphaseVariant>) -> String {
+    match variant {
+        Some(v) if v.reads_rest_density && list.len() != Field::ALL.len() => {
+            format!("{}, {}", fields(list), Field::RestDensity.name())
+        }
+        _ => fields(list),
+    }
+}
+
+/// The lines of one plan stage: number, name, equation, description, fields; with the
+/// `multiphase` effect, the variant the stage runs.
+fn stage_lines(out: &mut String, number: usize, stage: &Stage, multiphase: bool) {
+    let variant = stage.multiphase().filter(|_| multiphase);
     let _ = writeln!(
         out,
         "  {number:>2}. {:<18} {:<28} {}",
@@ -202,16 +239,20 @@ fn stage_lines(out: &mut String, number: usize, stage: &Stage) {
         stage.equation(),
         stage.description()
     );
+    if let Some(v) = variant {
+        let _ = writeln!(out, "      multiphase: {} -- {}", v.equation, v.description);
+    }
     let _ = writeln!(
         out,
         "      reads {} -> writes {}",
-        fields(stage.reads()),
+        reads(stage.reads(), variant),
         fields(stage.writes())
     );
 }
 
 /// The lines of one step the driver runs inside a stage.
-fn sub_stage_lines(out: &mut String, sub: SubStage) {
+fn sub_stage_lines(out: &mut String, sub: SubStage, multiphase: bool) {
+    let variant = sub.multiphase().filter(|_| multiphase);
     let description = match sub {
         SubStage::SortByCell => {
             format!("re-sort, only once particles drifted {RESORT_DRIFT} h since the last sort")
@@ -224,10 +265,13 @@ fn sub_stage_lines(out: &mut String, sub: SubStage) {
         sub.name(),
         sub.equation()
     );
+    if let Some(v) = variant {
+        let _ = writeln!(out, "          multiphase: {} -- {}", v.equation, v.description);
+    }
     let _ = writeln!(
         out,
         "          reads {} -> writes {}",
-        fields(sub.reads()),
+        reads(sub.reads(), variant),
         fields(sub.writes())
     );
 }

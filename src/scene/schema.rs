@@ -20,6 +20,10 @@ pub enum Effect {
     /// \[rad/s\] about the axis through `fluid.rotation_centre` \[m\]
     /// (`physics::rotating_frame`).
     RotatingFrame,
+    /// Fluid phases of different rest densities: a `[[fluid_box]]` may set its own `rho0`
+    /// \[kg/m^3\]; density, equation of state, pressure force and position correction use each
+    /// particle's own rest density (`physics::multiphase`, Hu & Adams 2006).
+    Multiphase,
 }
 
 impl Effect {
@@ -30,6 +34,7 @@ impl Effect {
             Effect::Viscosity => "viscosity",
             Effect::ArtificialViscosity => "artificial_viscosity",
             Effect::RotatingFrame => "rotating_frame",
+            Effect::Multiphase => "multiphase",
         }
     }
 }
@@ -246,6 +251,9 @@ pub struct FluidBoxFile {
     /// over the box. Coincident particles have no pair direction: a test of the solvers' guard
     /// at `r = 0` (`grid::coincident_offset`).
     pub coincident: Option<f64>,
+    /// Rest density of this box's fluid phase \[kg/m^3\], finite and > 0; default `fluid.rho0`.
+    /// Only with the `multiphase` effect.
+    pub rho0: Option<f64>,
 }
 
 /// `[[solid]]`: a rigid boundary body made of particles.

@@ -157,7 +157,18 @@ impl<const D: usize> Simulation<D> {
             }
         }
         let kind = self.backend_kind();
+        // The phases' rest densities are the scene's (the masses matched above), by id.
+        let rest_density: Vec<crate::math::Real> = if ours.rest_density.is_empty() {
+            Vec::new()
+        } else {
+            theirs
+                .id
+                .iter()
+                .map(|&id| ours.rest_density[by_id[id as usize]])
+                .collect()
+        };
         self.fields = checkpoint.fields;
+        self.fields.rest_density = rest_density;
         self.clock = checkpoint.header.clock;
         // A checkpoint after the first step holds the settled state (a settle at step 0 that
         // was checkpointed before stepping runs again: it finds nothing left to move).
@@ -321,6 +332,8 @@ impl<const D: usize> Checkpoint<D> {
                 id: id.to_vec(),
                 position_start: Vec::new(),
                 velocity_start: Vec::new(),
+                // Not stored: `Simulation::restore` takes it from the scene by id.
+                rest_density: Vec::new(),
             },
         })
     }

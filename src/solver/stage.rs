@@ -200,6 +200,81 @@ impl Stage {
     }
 }
 
+/// What a stage or sub-stage runs instead with the `multiphase` effect ([HA06] Hu & Adams,
+/// J. Comput. Phys. 213 (2006); `physics::multiphase`). The backends select these variants when
+/// `Fields::rest_density` is allocated, which happens exactly when the scene has the effect.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MultiphaseVariant {
+    /// The equation or source.
+    pub equation: &'static str,
+    /// What changes, in words.
+    pub description: &'static str,
+    /// Whether the variant reads `Fields::rest_density` (beside the stage's own fields).
+    pub reads_rest_density: bool,
+}
+
+const MP_DENSITY: MultiphaseVariant = MultiphaseVariant {
+    equation: "[HA06] rho = m sum W",
+    description: "number density times the particle's own mass, instead of (18)",
+    reads_rest_density: false,
+};
+const MP_EOS: MultiphaseVariant = MultiphaseVariant {
+    equation: "(19), own rho0",
+    description: "each particle's own rest density",
+    reads_rest_density: true,
+};
+const MP_PRESSURE: MultiphaseVariant = MultiphaseVariant {
+    equation: "[HA06] volume form",
+    description: "pressure pair force -(p_i V_i^2 + p_j V_j^2) grad W / m_i, V = m/rho, instead of (16)",
+    reads_rest_density: false,
+};
+const MP_ERROR: MultiphaseVariant = MultiphaseVariant {
+    equation: "(24), own rho0",
+    description: "density error against each particle's own rest density",
+    reads_rest_density: true,
+};
+
+impl Stage {
+    /// The stage's multiphase variant, if it has one (`None`: the stage runs as without the
+    /// effect).
+    pub fn multiphase(&self) -> Option<MultiphaseVariant> {
+        match self {
+            Stage::Density => Some(MP_DENSITY),
+            Stage::EquationOfState => Some(MP_EOS),
+            Stage::WallPressure(WallModel::ExtrapolatedOrSummed) => Some(MultiphaseVariant {
+                equation: "[HA06] m_w sum W",
+                description: "the summed branch reads the wall's number density; (27) uses each fluid neighbour's own density",
+                reads_rest_density: false,
+            }),
+            Stage::Forces(_) | Stage::SolidForces => Some(MP_PRESSURE),
+            Stage::TimeStep => Some(MP_ERROR),
+            Stage::Correction => Some(MultiphaseVariant {
+                equation: "(23)-(24), [HA06]",
+                description: "increments and error against each particle's own rest density; volume-form displacement",
+                reads_rest_density: true,
+            }),
+            _ => None,
+        }
+    }
+}
+
+impl SubStage {
+    /// The step's multiphase variant, if it has one.
+    pub fn multiphase(&self) -> Option<MultiphaseVariant> {
+        match self {
+            SubStage::Density => Some(MP_DENSITY),
+            SubStage::CorrectionError => Some(MP_ERROR),
+            SubStage::CorrectionPressure => Some(MultiphaseVariant {
+                equation: "(19), note 5, own rho0",
+                description: "increments from each particle's own rest density",
+                reads_rest_density: true,
+            }),
+            SubStage::SolidForces | SubStage::CorrectPositions => Some(MP_PRESSURE),
+            _ => None,
+        }
+    }
+}
+
 /// A step the driver runs inside a [`Stage`] (`Stage::sub_stages`); each is one `Backend` method
 /// of the same name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -265,7 +265,8 @@ impl<const D: usize> Simulation<D> {
             // A moving wall sweeps through the fluid like a flow of its speed.
             max_speed: e.max_speed.max(self.wall_speed),
             max_acceleration: e.max_acceleration,
-            kinematic_viscosity: c.viscosity.unwrap_or(0.0) / c.rho0
+            // The lightest phase has the largest μ/ρ0 (`Simulation::with_phases`).
+            kinematic_viscosity: c.viscosity.unwrap_or(0.0) / self.lightest_rho0
                 + crate::physics::artificial_viscosity::equivalent_viscosity(
                     c.artificial_viscosity.unwrap_or(0.0),
                     c.sound_speed,
