@@ -1048,12 +1048,16 @@ fn phased_2d(effects: &str, lines: &str) -> String {
 
 #[test]
 fn multiphase_box_density_resolves_and_defaults_to_the_fluid() {
-    let s = parse(&phased_2d(r#"["gravity", "multiphase"]"#, "rho0 = 800.0\n")).expect("valid");
+    let s = parse(&phased_2d(
+        r#"["gravity", "viscosity", "multiphase"]"#,
+        "rho0 = 800.0\n",
+    ))
+    .expect("valid");
     assert!(s.has(Effect::Multiphase));
     assert_eq!(s.fluid_boxes[0].rho0, Some(800.0));
     // The effect without any box of another density is allowed: one phase, the multiphase
     // variants of the stages (tests/multiphase.rs: equal to the plain run to rounding).
-    let s = parse(&phased_2d(r#"["gravity", "multiphase"]"#, "")).expect("valid");
+    let s = parse(&phased_2d(r#"["gravity", "viscosity", "multiphase"]"#, "")).expect("valid");
     assert_eq!(s.fluid_boxes[0].rho0, None);
     assert_eq!(parse(VALID_2D).expect("valid").fluid_boxes[0].rho0, None);
 }
@@ -1061,7 +1065,7 @@ fn multiphase_box_density_resolves_and_defaults_to_the_fluid() {
 #[test]
 fn multiphase_bad_input_names_the_key() {
     // The key without the effect.
-    let text = phased_2d(r#"["gravity"]"#, "rho0 = 800.0\n");
+    let text = phased_2d(r#"["gravity", "viscosity"]"#, "rho0 = 800.0\n");
     let ps = problems(parse(&text));
     assert_eq!(ps.len(), 1, "{ps:#?}");
     let p = with_key(&ps, "fluid_box[0].rho0");
@@ -1074,7 +1078,7 @@ fn multiphase_bad_input_names_the_key() {
     // Not positive, not finite, not a number.
     for bad in ["0.0", "-800.0", "nan", "inf"] {
         let ps = problems(parse(&phased_2d(
-            r#"["gravity", "multiphase"]"#,
+            r#"["gravity", "viscosity", "multiphase"]"#,
             &format!("rho0 = {bad}\n"),
         )));
         let p = with_key(&ps, "fluid_box[0].rho0");
@@ -1085,7 +1089,7 @@ fn multiphase_bad_input_names_the_key() {
         );
     }
     let ps = problems(parse(&phased_2d(
-        r#"["gravity", "multiphase"]"#,
+        r#"["gravity", "viscosity", "multiphase"]"#,
         "rho0 = \"oil\"\n",
     )));
     assert!(ps.iter().any(|p| p.key.contains("rho0")), "{ps:#?}");
