@@ -139,6 +139,16 @@ fn two_layer_tank_wcsph_settles_to_the_piecewise_hydrostatic_pressure() {
     assert_two_layer(&r, 0.03);
 }
 
+/// The same tank with a density ratio of 4 (ρ_t = 250 kg/m³ on water): measured worst slab
+/// 1.27 %, water 0.48 dx below and oil 0.18 dx above the interface. (With the symmetric form (16)
+/// instead of the volume form the same run gave 2.52 %, and 2.42 % at ratio 2, with water
+/// particles 0.13 dx above the interface: `physics::multiphase` says why the volume form.)
+#[test]
+fn two_layer_tank_wcsph_holds_a_density_ratio_of_four() {
+    let r = two_layer(&["fluid_box.1.rho0=250"], 1.5, 250.0);
+    assert_two_layer(&r, 0.03);
+}
+
 /// The `corrected` solver on the same tank, at dx = 10 mm (each layer 10 particles deep) to keep
 /// the test short, sampled over 0.5 s ≤ t ≤ 1 s. Measured: worst slab 1.55 %, no particle across
 /// the interface. (At dx = 5 mm the correction's carried pressure still overshoots hydrostatics
@@ -279,10 +289,10 @@ fn light_disc_rises_and_heavy_disc_sinks_corrected() {
             rho_b,
             0.15,
             0.5,
-            0.05,
+            0.1,
         );
         assert!(
-            r.displacement * expected.signum() >= 5e-4,
+            r.displacement * expected.signum() >= 2e-3,
             "rho_b = {rho_b}: moved {:.2e} m, expected along {expected:+.2} m/s²",
             r.displacement
         );

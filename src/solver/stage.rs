@@ -2,7 +2,8 @@
 //! CUDA backend, as kernel names), so timers and benchmark rows line up by construction.
 //!
 //! Each stage also says what it implements (PAPER.md equation numbers; [A12] Adami, Hu & Adams,
-//! J. Comput. Phys. 231 (2012); [M92] Monaghan 1992; [MFZ97] Morris, Fox & Zhu 1997) and which particle fields it reads and
+//! J. Comput. Phys. 231 (2012); [M92] Monaghan 1992; [MFZ97] Morris, Fox & Zhu 1997; [HA06] Hu & Adams 2006, the `multiphase`
+//! variants: [`MultiphaseVariant`]) and which particle fields it reads and
 //! writes, one function per piece (`sph plan` prints them), next to the stage itself so the two
 //! cannot drift apart. [`SubStage`] does the same for the steps the driver (`solver::step`) runs
 //! inside a stage: the correction loop and the no-penetration guard.
