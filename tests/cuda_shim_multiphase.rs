@@ -4,11 +4,12 @@
 #![cfg(feature = "cuda")]
 
 use sph::backend::cpu::CpuBackend;
+use sph::backend::cuda::extremes::DeviceExtremes;
 use sph::backend::cuda::extremes::max_from_bits;
 use sph::backend::cuda::grid::GridGeometry;
 use sph::backend::cuda::shim;
 use sph::backend::params::StepParams;
-use sph::backend::{Backend, ForceTerms, WallModel};
+use sph::backend::{Backend, ForceTerms, SolidForceSource, WallModel};
 use sph::fields::{FLUID, Fields, PermuteScratch};
 use sph::math::{Real, Vector};
 use sph::physics::correction::MOMENTUM;
@@ -231,6 +232,72 @@ fn multiphase_kernels_on_the_shim_match_the_cpu_stages() {
         let (d, m) = worst(&a, &b, fluid);
         eprintln!("acceleration[{k}]: worst {d:.3e} of {m:.1}");
         assert!(m > 1.0 && d <= 1e-4 * m, "acceleration[{k}] differs by {d}");
+    }
+
+    // Forces on the solid (the tank): the volume-form pressure term and the viscous one.
+    let cpu_solid = cpu.solid_forces(&cpu_f, &p, 1, SolidForceSource::Forces);
+    let mut out = [0.0f64; 3];
+    unsafe {
+        shim::sph_shim_solid_forces_multiphase_2(
+            n,
+            &p,
+            &g.geometry,
+            g.cell_start.as_ptr(),
+            g.cell_key.as_ptr(),
+            f.position.as_ptr().cast(),
+            f.velocity.as_ptr().cast(),
+            f.mass.as_ptr(),
+            f.density.as_ptr(),
+            f.pressure.as_ptr(),
+            f.kind.as_ptr(),
+            out.as_mut_ptr(),
+        )
+    };
+    eprintln!("force on the tank: cpu {:?}, shim {out:?}", cpu_solid[0]);
+    let scale = cpu_solid[0].iter().map(|c| c.abs()).fold(0.0, f64::max);
+    assert!(scale > 0.0);
+    for c in 0..2 {
+        // f32 sums per solid particle in another order, then f64: 1e-4 of the largest component.
+        assert!((out[c] - cpu_solid[0][c]).abs() <= 1e-4 * scale, "component {c}");
+    }
+
+    // The state's extremes against each particle's own rest density.
+    let cpu_extremes = cpu.state_extremes(&cpu_f, &p);
+    let mut device = [DeviceExtremes::initial()];
+    unsafe {
+        shim::sph_shim_state_extremes_multiphase_2(
+            n,
+            &p,
+            f.position.as_ptr().cast(),
+            f.velocity.as_ptr().cast(),
+            f.acceleration.as_ptr().cast(),
+            f.density.as_ptr(),
+            f.pressure.as_ptr(),
+            f.kind.as_ptr(),
+            f.rest_density.as_ptr(),
+            device.as_mut_ptr(),
+        )
+    };
+    let shim_extremes = device[0].finish(p.rho0);
+    eprintln!("extremes: cpu {cpu_extremes:?}\n          shim {shim_extremes:?}");
+    // Speeds and accelerations are f32 maxima (exact); the mean errors are f64 sums of the same
+    // terms in another order; the largest error goes through the density scaled to rho0,
+    // rounded once to f32 (2^-24 relative of the density, 1e-6 of the error here).
+    assert_eq!(cpu_extremes.max_speed, shim_extremes.max_speed);
+    assert_eq!(cpu_extremes.max_acceleration, shim_extremes.max_acceleration);
+    for (a, b) in [
+        (
+            cpu_extremes.mean_abs_density_error,
+            shim_extremes.mean_abs_density_error,
+        ),
+        (cpu_extremes.mean_compression, shim_extremes.mean_compression),
+        (
+            cpu_extremes.max_abs_density_error,
+            shim_extremes.max_abs_density_error,
+        ),
+        (cpu_extremes.max_compression, shim_extremes.max_compression),
+    ] {
+        assert!(a > 0.0 && (a - b).abs() <= 1e-5 * a, "cpu {a}, shim {b}");
     }
 
     // The correction: error, increments, displacement.
