@@ -5,7 +5,9 @@
 // rotating frame (`rotating_frame.cuh`). Twin of
 // `CpuBackend::wall_pressure` and `boundary::wall_pressure::WallPressureSums`; fluid entries are
 // left as they are. Writing in place is safe: a solid reads only its fluid neighbours' pressure
-// and density, which this kernel never writes.
+// and density, which this kernel never writes. `wall_pressure_multiphase` (the `multiphase`
+// effect, [HA06]) takes the summed branch's density as the wall's number density times its own
+// mass, `m_w sum W`, instead of (18) (`multiphase::wall_density`).
 #include "sph.cuh"
 #include "rotating_frame.cuh"
 
@@ -13,11 +15,16 @@
 /// over fluid neighbours f (0 without any); with `extrapolated_or_summed` != 0
 /// (`WallModel::ExtrapolatedOrSummed`) the max with eq. (19) of the solid's own summed density
 /// (18) over all neighbours; then rho_w = rho0 + p_w / C^2. Pressure [Pa], density [kg/m^3].
-SPH_KERNEL(wall_pressure)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,
-                          const u32* __restrict__ cell_key, const float* __restrict__ pos,
-                          const float* __restrict__ mass, const u32* __restrict__ kind,
-                          const float* __restrict__ wall_acc, int extrapolated_or_summed,
-                          float* pressure, float* density) {
+template <bool MULTIPHASE>
+__device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, const GridGeometry& g,
+                                                   const u32* __restrict__ cell_start,
+                                                   const u32* __restrict__ cell_key,
+                                                   const float* __restrict__ pos,
+                                                   const float* __restrict__ mass,
+                                                   const u32* __restrict__ kind,
+                                                   const float* __restrict__ wall_acc,
+                                                   int extrapolated_or_summed, float* pressure,
+                                                   float* density) {
     u32 w = blockIdx.x * blockDim.x + threadIdx.x;
     if (w >= n || kind[w] == SPH_FLUID) return;
     const Smoothing s = smoothing(p.h);
@@ -32,7 +39,10 @@ SPH_KERNEL(wall_pressure)(u32 n, StepParams p, GridGeometry g, const u32* __rest
         if (r2 < s.h2) {
             d = pair_offset(d, &r2, w, j, s.h);
             float wj = w_poly6(s, r2);
-            summed_density += mass[j] * wj;
+            if (MULTIPHASE)
+                summed_density += wj;  // [HA06] number density
+            else
+                summed_density += mass[j] * wj;
             if (kind[j] == SPH_FLUID) {
                 weight += wj;
                 pressure_sum += pressure[j] * wj;
@@ -40,6 +50,7 @@ SPH_KERNEL(wall_pressure)(u32 n, StepParams p, GridGeometry g, const u32* __rest
             }
         }
     });
+    if (MULTIPHASE) summed_density = mass[w] * summed_density;
     float pw = 0.0f;
     if (!(weight <= 0.0f)) {  // as `WallPressureSums::pressure`: a NaN weight falls through
         const vec_t a_w = vload(wall_acc, kind[w] - 1u);
@@ -55,3 +66,18 @@ SPH_KERNEL(wall_pressure)(u32 n, StepParams p, GridGeometry g, const u32* __rest
     pressure[w] = pw;
     density[w] = p.rho0 + pw / p.c2;
 }
+
+#define SPH_WALL_PRESSURE_ENTRY(name, MULTIPHASE)                                                  \
+    SPH_KERNEL(name)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,      \
+                     const u32* __restrict__ cell_key, const float* __restrict__ pos,              \
+                     const float* __restrict__ mass, const u32* __restrict__ kind,                 \
+                     const float* __restrict__ wall_acc, int extrapolated_or_summed,               \
+                     float* pressure, float* density) {                                            \
+        wall_pressure_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass, kind, wall_acc,   \
+                                       extrapolated_or_summed, pressure, density);                 \
+    }
+
+/// [A12] eq. (27) (above).
+SPH_WALL_PRESSURE_ENTRY(wall_pressure, false)
+/// The same with the summed branch's number density ([HA06], the `multiphase` effect).
+SPH_WALL_PRESSURE_ENTRY(wall_pressure_multiphase, true)

@@ -43,6 +43,10 @@ pub struct Fields<const D: usize> {
     /// the fluid (`physics::surface_tension`); allocated by the `surface_normals` stage, so empty
     /// unless the scene has the `surface_tension` effect.
     pub normal: Vec<Vector<D>>,
+    /// Rest density `ρ0` of the particle's phase [kg/m³] (the `multiphase` effect only; empty
+    /// otherwise). Solids carry the scene's `fluid.rho0`. Its presence selects the multiphase
+    /// variants of the stages (`physics::multiphase`).
+    pub rest_density: Vec<Real>,
 }
 
 /// A field of [`Fields`] by name, for what a stage reads and writes (`Stage::reads`,
@@ -73,11 +77,13 @@ pub enum Field {
     WallVelocity,
     /// [`Fields::normal`].
     Normal,
+    /// [`Fields::rest_density`].
+    RestDensity,
 }
 
 impl Field {
     /// Every field, in the order of [`Fields`] (what a reorder writes).
-    pub const ALL: [Field; 12] = [
+    pub const ALL: [Field; 13] = [
         Field::Position,
         Field::Velocity,
         Field::Acceleration,
@@ -90,6 +96,7 @@ impl Field {
         Field::VelocityStart,
         Field::WallVelocity,
         Field::Normal,
+        Field::RestDensity,
     ];
 
     /// The field's name in [`Fields`].
@@ -107,6 +114,7 @@ impl Field {
             Field::VelocityStart => "velocity_start",
             Field::WallVelocity => "wall_velocity",
             Field::Normal => "normal",
+            Field::RestDensity => "rest_density",
         }
     }
 }
@@ -171,6 +179,9 @@ impl<const D: usize> Fields<D> {
         if !self.normal.is_empty() {
             gather(&mut self.normal, perm, &mut scratch.vector);
         }
+        if !self.rest_density.is_empty() {
+            gather(&mut self.rest_density, perm, &mut scratch.real);
+        }
     }
 
     /// Whether `field` has storage (one entry per particle). The optional fields are allocated
@@ -192,12 +203,13 @@ impl<const D: usize> Fields<D> {
                 Field::VelocityStart => self.velocity_start.len() == n,
                 Field::WallVelocity => self.wall_velocity.len() == n,
                 Field::Normal => self.normal.len() == n,
+                Field::RestDensity => self.rest_density.len() == n,
             }
     }
 
     /// Bytes per particle held by the always-present fields (for memory reports and scene
     /// validation); SSP-RK3 adds `2 D · 4`, no-slip walls (viscosity with solids) `D · 4`,
-    /// surface tension `D · 4`.
+    /// surface tension `D · 4`, the `multiphase` effect 4.
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
 
     /// Bytes held by the fields' arrays.
@@ -209,7 +221,7 @@ impl<const D: usize> Fields<D> {
             + self.normal.capacity())
             * D
             * 4
-            + (self.density.capacity() * 3 + self.kind.capacity() * 2) * 4
+            + (self.density.capacity() * 3 + self.kind.capacity() * 2 + self.rest_density.capacity()) * 4
     }
 }
 

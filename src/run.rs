@@ -43,6 +43,9 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
     let motions = scene.solids.iter().map(|s| s.motion.clone()).collect();
     let mut sim = Simulation::new(config, &layout.fluid_position, &layout.fluid_velocity, &solids)?
         .with_solid_motion(motions)?;
+    if scene.has(Effect::Multiphase) {
+        sim = sim.with_phases(&crate::scene::fluid_rest_density(scene)?)?;
+    }
     sim.set_keep_out(keep_out_boxes::<D>(scene, &solids))?;
     Ok(sim)
 }

@@ -44,7 +44,7 @@ fn mismatches<const D: usize>(scene: &Scene) -> (Vec<String>, Vec<Field>) {
     let mut sim = simulation_from_scene::<D>(scene).expect("a valid scene builds");
     sim.step(scene.end_time).expect("one short step succeeds");
     let solids = sim.fields.kind.iter().any(|&k| k != sph::fields::FLUID);
-    let needed = needed_fields(sim.plan(), solids);
+    let needed = needed_fields(sim.plan(), solids, sim.multiphase());
     let wrong = Field::ALL
         .into_iter()
         .filter_map(|f| match (sim.fields.is_allocated(f), needed.contains(&f)) {
@@ -128,7 +128,7 @@ fn a_fluid_only_symplectic_plan_needs_only_the_base_fields() {
     "#;
     let scene = parse_scene(text, "falling_block", &[]).expect("valid");
     let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
-    let needed = needed_fields(sim.plan(), false);
+    let needed = needed_fields(sim.plan(), false, false);
     assert_eq!(needed, BASE.to_vec(), "plan {:?}", sim.plan());
     sim.step(scene.end_time).expect("a step");
     for f in Field::ALL {

@@ -334,6 +334,7 @@ fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
         f.velocity_start.push(vec(i, 4.0e4));
         f.wall_velocity.push(vec(i, 5.0e4));
         f.normal.push(vec(i, 5.0e4));
+        f.rest_density.push(500.0 + 3.0 * i as Real);
     }
     f
 }
@@ -355,6 +356,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         velocity_start,
         wall_velocity,
         normal,
+        rest_density,
     } = f;
     let n = original.len();
     for field_len in [
@@ -370,6 +372,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         velocity_start.len(),
         wall_velocity.len(),
         normal.len(),
+        rest_density.len(),
     ] {
         assert_eq!(field_len, n);
     }
@@ -399,6 +402,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
             "wall_velocity of {i}"
         );
         assert_eq!(normal[i], original.normal[o], "normal of {i}");
+        assert_eq!(rest_density[i], original.rest_density[o], "rest_density of {i}");
     }
 }
 

@@ -291,3 +291,53 @@ fn surface_tension_shows_its_two_stages_only_when_asked_for() {
         "{plain}"
     );
 }
+
+/// The line after stage `name`'s line that starts with `prefix` (trimmed), before the next stage.
+fn stage_detail(stdout: &str, name: &str, prefix: &str) -> Option<String> {
+    let mut lines = stdout.lines().skip_while(|l| !l.contains(&format!(". {name} ")));
+    lines.next()?;
+    lines
+        .take_while(|l| {
+            l.trim_start()
+                .split_once(". ")
+                .is_none_or(|(n, _)| n.parse::<u32>().is_err())
+        })
+        .map(str::trim)
+        .find(|l| l.starts_with(prefix))
+        .map(String::from)
+}
+
+#[test]
+fn multiphase_shows_the_variants_and_their_rest_density_reads() {
+    for (scene, sets) in [
+        ("scenes/two_layer_2d.toml", vec![]),
+        ("scenes/two_layer_2d.toml", vec!["solver.kind=corrected"]),
+        ("scenes/buoyant_blob_2d.toml", vec![]),
+    ] {
+        let out = plan(&shipped(scene), &sets);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(stdout.contains("multiphase rest densities"), "{stdout}");
+        let density = stage_detail(&stdout, "density", "multiphase:").expect("density variant");
+        assert!(density.contains("[HA06]"), "{density}");
+        let forces = stage_detail(&stdout, "forces", "multiphase:").expect("forces variant");
+        assert!(forces.contains("volume form"), "{forces}");
+        let reads = stage_detail(&stdout, "time_step", "reads").expect("time_step reads");
+        assert!(reads.contains("rest_density"), "{reads}");
+        if sets.is_empty() {
+            let eos = stage_detail(&stdout, "equation_of_state", "reads").expect("eos reads");
+            assert!(eos.contains("rest_density"), "{eos}");
+        } else {
+            let correction = stage_detail(&stdout, "correct_positions", "reads").expect("correction reads");
+            assert!(correction.contains("rest_density"), "{correction}");
+            assert!(stdout.contains("- correction_pressure"), "{stdout}");
+        }
+    }
+    // Without the effect: no variant, no rest_density.
+    let plain = plan(&shipped("scenes/hydrostatic_2d.toml"), &[]);
+    let plain = String::from_utf8_lossy(&plain.stdout);
+    assert!(
+        !plain.contains("multiphase") && !plain.contains("rest_density"),
+        "{plain}"
+    );
+}

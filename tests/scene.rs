@@ -1085,3 +1085,65 @@ fn surface_tension_bad_input_names_the_key() {
     let ps = problems(parse(&surface_tension_2d("surface_tension = \"strong\"\n")));
     with_key(&ps, "fluid.surface_tension");
 }
+
+/// `VALID_2D` with `effects` replaced and `lines` added to its `[[fluid_box]]`.
+fn phased_2d(effects: &str, lines: &str) -> String {
+    edit(
+        &edit(
+            VALID_2D,
+            "effects = [\"gravity\", \"viscosity\"]",
+            &format!("effects = {effects}"),
+        ),
+        "max = [0.25, 0.5]\n",
+        &format!("max = [0.25, 0.5]\n{lines}"),
+    )
+}
+
+#[test]
+fn multiphase_box_density_resolves_and_defaults_to_the_fluid() {
+    let s = parse(&phased_2d(
+        r#"["gravity", "viscosity", "multiphase"]"#,
+        "rho0 = 800.0\n",
+    ))
+    .expect("valid");
+    assert!(s.has(Effect::Multiphase));
+    assert_eq!(s.fluid_boxes[0].rho0, Some(800.0));
+    // The effect without any box of another density is allowed: one phase, the multiphase
+    // variants of the stages (tests/multiphase.rs: equal to the plain run to rounding).
+    let s = parse(&phased_2d(r#"["gravity", "viscosity", "multiphase"]"#, "")).expect("valid");
+    assert_eq!(s.fluid_boxes[0].rho0, None);
+    assert_eq!(parse(VALID_2D).expect("valid").fluid_boxes[0].rho0, None);
+}
+
+#[test]
+fn multiphase_bad_input_names_the_key() {
+    // The key without the effect.
+    let text = phased_2d(r#"["gravity", "viscosity"]"#, "rho0 = 800.0\n");
+    let ps = problems(parse(&text));
+    assert_eq!(ps.len(), 1, "{ps:#?}");
+    let p = with_key(&ps, "fluid_box[0].rho0");
+    assert!(
+        p.reason.contains("not enabled") && p.reason.contains("multiphase"),
+        "{}",
+        p.reason
+    );
+    assert_eq!(line(p), line_of(&text, "rho0 = 800.0", 0));
+    // Not positive, not finite, not a number.
+    for bad in ["0.0", "-800.0", "nan", "inf"] {
+        let ps = problems(parse(&phased_2d(
+            r#"["gravity", "viscosity", "multiphase"]"#,
+            &format!("rho0 = {bad}\n"),
+        )));
+        let p = with_key(&ps, "fluid_box[0].rho0");
+        assert!(
+            p.reason.contains("> 0") || p.reason.contains("finite"),
+            "{bad}: {}",
+            p.reason
+        );
+    }
+    let ps = problems(parse(&phased_2d(
+        r#"["gravity", "viscosity", "multiphase"]"#,
+        "rho0 = \"oil\"\n",
+    )));
+    assert!(ps.iter().any(|p| p.key.contains("rho0")), "{ps:#?}");
+}

@@ -14,3 +14,4 @@
 // Kernels and their launchers, by group (each group's file lists its kernels).
 #include "exports_neighbours.inc"
 #include "exports_dynamics.inc"
+#include "exports_multiphase.inc"

@@ -88,6 +88,30 @@ fn effect(scene: &Scene, e: Effect) -> String {
                 surface_tension_gamma(scene, sigma)
             )
         }
+        Effect::Multiphase => {
+            let mut phases: Vec<f64> = vec![scene.rho0];
+            for fb in &scene.fluid_boxes {
+                if let Some(r) = fb.rho0 {
+                    if !phases.contains(&r) {
+                        phases.push(r);
+                    }
+                }
+            }
+            let used: Vec<String> = phases
+                .iter()
+                .filter(|&&r| {
+                    scene
+                        .fluid_boxes
+                        .iter()
+                        .any(|fb| fb.rho0.unwrap_or(scene.rho0) == r)
+                })
+                .map(|r| format!("{r}"))
+                .collect();
+            format!(
+                "multiphase rest densities {} kg/m^3 (one sound speed): [HA06] number density and volume-form pressure force",
+                used.join(", ")
+            )
+        }
     }
 }
 
@@ -154,9 +178,10 @@ pub fn render(scene: &Scene, origin: &str) -> String {
             c.delta, c.max_iterations, c.relaxation
         );
     }
+    let multiphase = scene.has(Effect::Multiphase);
     let _ = writeln!(out, "\neach integrator stage ({rounds} per step), in order:");
     for (k, stage) in stages.iter().enumerate() {
-        stage_lines(&mut out, k + 1, stage, &stages);
+        stage_lines(&mut out, k + 1, stage, &stages, multiphase);
         let subs = stage.sub_stages(solids);
         if subs.is_empty() {
             continue;
@@ -172,7 +197,7 @@ pub fn render(scene: &Scene, origin: &str) -> String {
             _ => writeln!(out, "      then:"),
         };
         for sub in subs {
-            sub_stage_lines(&mut out, sub);
+            sub_stage_lines(&mut out, sub, multiphase);
         }
     }
     let _ = writeln!(out, "\nafter each step:");
@@ -218,8 +243,10 @@ pub fn render(scene: &Scene, origin: &str) -> String {
     out
 }
 
-/// The lines of one plan stage: number, name, equation, description, fields.
-fn stage_lines(out: &mut String, number: usize, stage: &Stage, plan: &[Stage]) {
+/// The lines of one plan stage: number, name, equation, description, fields; with the
+/// `multiphase` effect, the variant the stage runs.
+fn stage_lines(out: &mut String, number: usize, stage: &Stage, plan: &[Stage], multiphase: bool) {
+    let variant = stage.multiphase().filter(|_| multiphase);
     let _ = writeln!(
         out,
         "  {number:>2}. {:<18} {:<28} {}",
@@ -227,16 +254,20 @@ fn stage_lines(out: &mut String, number: usize, stage: &Stage, plan: &[Stage]) {
         stage.equation(),
         stage.description()
     );
+    if let Some(v) = variant {
+        let _ = writeln!(out, "      multiphase: {} -- {}", v.equation, v.description);
+    }
     let _ = writeln!(
         out,
         "      reads {} -> writes {}",
-        fields(&stage.reads_in(plan)),
+        fields(&stage.reads_in(plan, multiphase)),
         fields(stage.writes())
     );
 }
 
 /// The lines of one step the driver runs inside a stage.
-fn sub_stage_lines(out: &mut String, sub: SubStage) {
+fn sub_stage_lines(out: &mut String, sub: SubStage, multiphase: bool) {
+    let variant = sub.multiphase().filter(|_| multiphase);
     let description = match sub {
         SubStage::SortByCell => {
             format!("re-sort, only once particles drifted {RESORT_DRIFT} h since the last sort")
@@ -249,10 +280,13 @@ fn sub_stage_lines(out: &mut String, sub: SubStage) {
         sub.name(),
         sub.equation()
     );
+    if let Some(v) = variant {
+        let _ = writeln!(out, "          multiphase: {} -- {}", v.equation, v.description);
+    }
     let _ = writeln!(
         out,
         "          reads {} -> writes {}",
-        fields(sub.reads()),
+        fields(&sub.reads_in(multiphase)),
         fields(sub.writes())
     );
 }

@@ -178,6 +178,23 @@ pub(crate) fn solid_count(solid: &Solid, dx: f64, layers: u64, path: &KeyPath) -
     }
 }
 
+/// The rest density of every fluid particle's phase \[kg/m^3\], in [`generate()`]'s order (boxes in
+/// scene order, each box's `rho0` or else `fluid.rho0`): what the `multiphase` effect gives
+/// `Simulation::with_phases`.
+///
+/// # Errors
+/// As [`count_particles`].
+pub fn fluid_rest_density(scene: &Scene) -> Result<Vec<f64>, SceneError> {
+    let mut out = Vec::new();
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        let path = KeyPath::key("fluid_box").i(i);
+        let n = fluid_box_count(fb, scene.spacing, &path).map_err(generate_error)?;
+        reserve(&mut out, n)?;
+        out.extend(std::iter::repeat_n(fb.rho0.unwrap_or(scene.rho0), n as usize));
+    }
+    Ok(out)
+}
+
 /// Counts the particles of every fluid box and solid; the first problem found
 /// is returned.
 pub(crate) fn count_raw(scene: &Scene) -> Result<ParticleCounts, RawProblem> {

@@ -24,7 +24,9 @@ pub mod overrides;
 pub mod schema;
 pub mod validate;
 
-pub use generate::{Layout, ParticleCounts, SolidParticles, count_particles, generate, wall_layers};
+pub use generate::{
+    Layout, ParticleCounts, SolidParticles, count_particles, fluid_rest_density, generate, wall_layers,
+};
 pub use overrides::apply_overrides;
 pub use schema::{Effect, Integrator, ProbeKind, SceneFile, SolidShape, SolverKind};
 pub use validate::{bytes_per_particle, validate};
@@ -216,6 +218,9 @@ pub struct FluidBox {
     /// Fraction in [0, 1] of the box's particles that get a coincident twin (0 unless given);
     /// see [`FluidBox::has_twin`].
     pub coincident: f64,
+    /// Rest density of the box's phase \[kg/m^3\] (`[[fluid_box]] rho0`); `None`: `fluid.rho0`.
+    /// `Some` only with [`Effect::Multiphase`].
+    pub rho0: Option<f64>,
 }
 
 impl FluidBox {

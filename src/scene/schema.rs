@@ -23,6 +23,10 @@ pub enum Effect {
     /// Surface tension `fluid.surface_tension` \[N/m\] by [AAT13]'s cohesion and curvature
     /// forces between fluid particles (`physics::surface_tension`).
     SurfaceTension,
+    /// Fluid phases of different rest densities: a `[[fluid_box]]` may set its own `rho0`
+    /// \[kg/m^3\]; density, equation of state, pressure force and position correction use each
+    /// particle's own rest density (`physics::multiphase`, Hu & Adams 2006).
+    Multiphase,
 }
 
 impl Effect {
@@ -34,6 +38,7 @@ impl Effect {
             Effect::ArtificialViscosity => "artificial_viscosity",
             Effect::RotatingFrame => "rotating_frame",
             Effect::SurfaceTension => "surface_tension",
+            Effect::Multiphase => "multiphase",
         }
     }
 }
@@ -253,6 +258,9 @@ pub struct FluidBoxFile {
     /// over the box. Coincident particles have no pair direction: a test of the solvers' guard
     /// at `r = 0` (`grid::coincident_offset`).
     pub coincident: Option<f64>,
+    /// Rest density of this box's fluid phase \[kg/m^3\], finite and > 0; default `fluid.rho0`.
+    /// Only with the `multiphase` effect.
+    pub rho0: Option<f64>,
 }
 
 /// `[[solid]]`: a rigid boundary body made of particles.

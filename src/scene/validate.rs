@@ -376,15 +376,29 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             Some(v) => in_range(&mut c, path.k("coincident"), v, 0.0, 1.0, false),
             None => Some(0.0),
         };
-        match (region, velocity, compression, coincident) {
-            (Some(region), Some(velocity), Some(compression), Some(coincident)) => {
-                fluid_boxes.push(FluidBox {
+        // A phase's own rest density: only with the multiphase effect (without it every particle
+        // has `fluid.rho0`, and a silently ignored key would hide a mistake).
+        let rho0 = match (fb.rho0, effects.contains(&Effect::Multiphase)) {
+            (Some(_), false) => {
+                c.err(
+                    path.k("rho0"),
+                    "given but effect \"multiphase\" is not enabled (add it to `effects` or remove this key)"
+                        .into(),
+                );
+                None
+            }
+            (Some(v), true) => c.positive(path.k("rho0"), v).map(Some),
+            (None, _) => Some(None),
+        };
+        match (region, velocity, compression, coincident, rho0) {
+            (Some(region), Some(velocity), Some(compression), Some(coincident), Some(rho0)) => fluid_boxes
+                .push(FluidBox {
                     region,
                     velocity,
                     compression,
                     coincident,
-                })
-            }
+                    rho0,
+                }),
             _ => boxes_ok = false,
         }
     }

@@ -162,7 +162,18 @@ impl<const D: usize> Simulation<D> {
         }
         let kind = self.backend_kind();
         let no_slip = !self.fields.wall_velocity.is_empty();
+        // The phases' rest densities are the scene's (the masses matched above), by id.
+        let rest_density: Vec<crate::math::Real> = if ours.rest_density.is_empty() {
+            Vec::new()
+        } else {
+            theirs
+                .id
+                .iter()
+                .map(|&id| ours.rest_density[by_id[id as usize]])
+                .collect()
+        };
         self.fields = checkpoint.fields;
+        self.fields.rest_density = rest_density;
         if no_slip {
             // Recomputed by every stage before use: allocated again, not stored.
             self.fields.wall_velocity = vec![Vector::zeros(); self.fields.len()];
@@ -332,6 +343,8 @@ impl<const D: usize> Checkpoint<D> {
                 velocity_start: Vec::new(),
                 wall_velocity: Vec::new(),
                 normal: Vec::new(),
+                // Not stored: `Simulation::restore` takes it from the scene by id.
+                rest_density: Vec::new(),
             },
         })
     }

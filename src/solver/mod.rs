@@ -349,6 +349,10 @@ pub struct Simulation<const D: usize> {
     /// Bound of the moving solids' speed [m/s] (`Sway::max_speed`), a flow speed for the time
     /// step; 0 when nothing moves.
     wall_speed: f64,
+    /// The smallest rest density of any phase [kg/m³] (`config.rho0` unless
+    /// [`Simulation::with_phases`] gave a lighter one): the viscous time-step limit uses the
+    /// largest kinematic viscosity `μ/ρ0`.
+    lightest_rho0: f64,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -446,6 +450,7 @@ impl<const D: usize> Simulation<D> {
             wall_acceleration: Vec::new(),
             solids_placed_at: None,
             wall_speed: 0.0,
+            lightest_rho0: config.rho0,
             config,
         })
     }
@@ -508,6 +513,69 @@ impl<const D: usize> Simulation<D> {
         self.solid_kinematics = vec![SolidKinematics::rest(); self.solid_names.len()];
         self.wall_acceleration = vec![Vector::zeros(); self.solid_names.len()];
         Ok(self)
+    }
+
+    /// Gives each fluid particle (in the order given to [`Simulation::new`]) the rest density
+    /// `rest_density[k]` [kg/m³] of its phase: the `multiphase` effect (`physics::multiphase`).
+    /// Each phase gets the lattice mass of its own `ρ0` (`physics::lattice::lattice_mass`), so it
+    /// starts at its rest density; solids keep the scene's `ρ0` and mass. Allocates
+    /// `Fields::rest_density`, whose presence makes the backends run the multiphase variants of
+    /// density, equation of state, forces, wall pressure, correction and state extremes. Call
+    /// before the first step. All phases share the sound speed `C` (see `physics::multiphase`).
+    ///
+    /// # Errors
+    /// [`SetupError::Invalid`] when the count differs from the fluid particles', a density is not
+    /// finite and positive, or steps were taken.
+    pub fn with_phases(mut self, rest_density: &[f64]) -> Result<Self, SetupError> {
+        let invalid = |reason: String| SetupError::Invalid {
+            key: "fluid_box.rho0",
+            reason,
+        };
+        if rest_density.len() != self.fluid_count {
+            return Err(invalid(format!(
+                "{} rest densities for {} fluid particles",
+                rest_density.len(),
+                self.fluid_count
+            )));
+        }
+        if self.clock.step != 0 || self.settled {
+            return Err(invalid("phases must be given before the first step".into()));
+        }
+        if let Some(bad) = rest_density.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+            return Err(invalid(format!("must be positive and finite, got {bad}")));
+        }
+        let kernel = Smoothing::<D>::new(self.config.h as Real)?;
+        let mut masses: Vec<(f64, Real)> = Vec::new();
+        let f = &mut self.fields;
+        f.rest_density = vec![self.config.rho0 as Real; f.len()];
+        for i in 0..f.len() {
+            if f.kind[i] != FLUID {
+                continue;
+            }
+            // Before the first step particle i has id i (`Fields::push`).
+            let rho0 = rest_density[f.id[i] as usize];
+            let mass = match masses.iter().find(|(r, _)| *r == rho0) {
+                Some(&(_, m)) => m,
+                None => {
+                    let m = lattice_mass(&kernel, self.config.spacing, rho0) as Real;
+                    masses.push((rho0, m));
+                    m
+                }
+            };
+            f.mass[i] = mass;
+            f.density[i] = rho0 as Real;
+            f.rest_density[i] = rho0 as Real;
+        }
+        self.lightest_rho0 = rest_density.iter().fold(self.config.rho0, |a, &b| a.min(b));
+        self.fields_stale = false;
+        self.grid_fresh = false;
+        self.density_fresh = false;
+        Ok(self)
+    }
+
+    /// Whether the fluid has phases of their own rest densities (`Simulation::with_phases`).
+    pub fn multiphase(&self) -> bool {
+        !self.fields.rest_density.is_empty()
     }
 
     /// The prescribed motion of each solid (`None`: fixed), in scene order.

@@ -85,14 +85,16 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
 /// The particle fields `plan` needs: everything a stage or a sub-stage reads or writes, plus the
 /// identity every output and checkpoint carries. A field outside this list is not allocated
 /// (`Fields::is_allocated`). The sort is left out: it permutes whatever is allocated.
-pub fn needed_fields(plan: &[Stage], solids: bool) -> Vec<Field> {
+/// `multiphase`: the scene has the `multiphase` effect (the stages' variants read the rest
+/// density, `Stage::reads_in`).
+pub fn needed_fields(plan: &[Stage], solids: bool, multiphase: bool) -> Vec<Field> {
     let mut needed = vec![Field::Id];
     for stage in plan.iter().filter(|s| **s != Stage::SortByCell) {
-        needed.extend(stage.reads_in(plan));
+        needed.extend(stage.reads_in(plan, multiphase));
         needed.extend_from_slice(stage.writes());
         for sub in stage.sub_stages(solids) {
             if sub != SubStage::SortByCell {
-                needed.extend_from_slice(sub.reads());
+                needed.extend(sub.reads_in(multiphase));
                 needed.extend_from_slice(sub.writes());
             }
         }

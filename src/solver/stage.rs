@@ -3,7 +3,8 @@
 //!
 //! Each stage also says what it implements (PAPER.md equation numbers; [A12] Adami, Hu & Adams,
 //! J. Comput. Phys. 231 (2012); [M92] Monaghan 1992; [MFZ97] Morris, Fox & Zhu 1997; [AAT13]
-//! Akinci, Akinci & Teschner 2013) and which particle fields it reads and
+//! Akinci, Akinci & Teschner 2013; [HA06] Hu & Adams 2006, the `multiphase` variants:
+//! [`MultiphaseVariant`]) and which particle fields it reads and
 //! writes, one function per piece (`sph plan` prints them), next to the stage itself so the two
 //! cannot drift apart. [`SubStage`] does the same for the steps the driver (`solver::step`) runs
 //! inside a stage: the correction loop and the no-penetration guard.
@@ -185,16 +186,20 @@ impl Stage {
         }
     }
 
-    /// The particle fields the stage reads within `plan`: [`Stage::reads`], and the no-slip
+    /// The particle fields the stage reads within `plan`: [`Stage::reads`], the no-slip
     /// velocity of solids (`Field::WallVelocity`) where the plan computes it
     /// ([`Stage::WallVelocity`], scenes with viscosity and solids): the viscous force (17) of
-    /// the forces stage and its reaction on the solids read it.
-    pub fn reads_in(&self, plan: &[Stage]) -> Vec<Field> {
+    /// the forces stage and its reaction on the solids read it; and with the `multiphase`
+    /// effect, `Field::RestDensity` where the stage's [`MultiphaseVariant`] reads it.
+    pub fn reads_in(&self, plan: &[Stage], multiphase: bool) -> Vec<Field> {
         let mut fields = self.reads().to_vec();
         let no_slip = plan.contains(&Stage::WallVelocity);
         let reader = matches!(self, Stage::Forces(t) if t.viscosity) || *self == Stage::SolidForces;
         if no_slip && reader {
             fields.push(WallVelocity);
+        }
+        if multiphase && self.multiphase().is_some_and(|v| v.reads_rest_density) {
+            fields.push(Field::RestDensity);
         }
         fields
     }
@@ -240,6 +245,81 @@ impl Stage {
                 sweep
             }
             _ => Vec::new(),
+        }
+    }
+}
+
+/// What a stage or sub-stage runs instead with the `multiphase` effect ([HA06] Hu & Adams,
+/// J. Comput. Phys. 213 (2006); `physics::multiphase`). The backends select these variants when
+/// `Fields::rest_density` is allocated, which happens exactly when the scene has the effect.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MultiphaseVariant {
+    /// The equation or source.
+    pub equation: &'static str,
+    /// What changes, in words.
+    pub description: &'static str,
+    /// Whether the variant reads `Fields::rest_density` (beside the stage's own fields).
+    pub reads_rest_density: bool,
+}
+
+const MP_DENSITY: MultiphaseVariant = MultiphaseVariant {
+    equation: "[HA06] rho = m sum W",
+    description: "number density times the particle's own mass, instead of (18)",
+    reads_rest_density: false,
+};
+const MP_EOS: MultiphaseVariant = MultiphaseVariant {
+    equation: "(19), own rho0",
+    description: "each particle's own rest density",
+    reads_rest_density: true,
+};
+const MP_PRESSURE: MultiphaseVariant = MultiphaseVariant {
+    equation: "[HA06] volume form",
+    description: "pressure pair force -(p_i V_i^2 + p_j V_j^2) grad W / m_i, V = m/rho, instead of (16)",
+    reads_rest_density: false,
+};
+const MP_ERROR: MultiphaseVariant = MultiphaseVariant {
+    equation: "(24), own rho0",
+    description: "density error against each particle's own rest density",
+    reads_rest_density: true,
+};
+
+impl Stage {
+    /// The stage's multiphase variant, if it has one (`None`: the stage runs as without the
+    /// effect).
+    pub fn multiphase(&self) -> Option<MultiphaseVariant> {
+        match self {
+            Stage::Density => Some(MP_DENSITY),
+            Stage::EquationOfState => Some(MP_EOS),
+            Stage::WallPressure(WallModel::ExtrapolatedOrSummed) => Some(MultiphaseVariant {
+                equation: "[HA06] m_w sum W",
+                description: "the summed branch reads the wall's number density; (27) uses each fluid neighbour's own density",
+                reads_rest_density: false,
+            }),
+            Stage::Forces(_) | Stage::SolidForces => Some(MP_PRESSURE),
+            Stage::TimeStep => Some(MP_ERROR),
+            Stage::Correction => Some(MultiphaseVariant {
+                equation: "(23)-(24), [HA06]",
+                description: "increments and error against each particle's own rest density; volume-form displacement",
+                reads_rest_density: true,
+            }),
+            _ => None,
+        }
+    }
+}
+
+impl SubStage {
+    /// The step's multiphase variant, if it has one.
+    pub fn multiphase(&self) -> Option<MultiphaseVariant> {
+        match self {
+            SubStage::Density => Some(MP_DENSITY),
+            SubStage::CorrectionError => Some(MP_ERROR),
+            SubStage::CorrectionPressure => Some(MultiphaseVariant {
+                equation: "(19), note 5, own rho0",
+                description: "increments from each particle's own rest density",
+                reads_rest_density: true,
+            }),
+            SubStage::SolidForces | SubStage::CorrectPositions => Some(MP_PRESSURE),
+            _ => None,
         }
     }
 }
@@ -315,6 +395,16 @@ impl SubStage {
             SubStage::CorrectPositions => &[Position, Density, Mass, Kind],
             SubStage::KeepOut => &[Position, Velocity, Mass, Kind],
         }
+    }
+
+    /// The particle fields the step reads, with `Field::RestDensity` where the `multiphase`
+    /// effect's variant reads it.
+    pub fn reads_in(&self, multiphase: bool) -> Vec<Field> {
+        let mut fields = self.reads().to_vec();
+        if multiphase && self.multiphase().is_some_and(|v| v.reads_rest_density) {
+            fields.push(Field::RestDensity);
+        }
+        fields
     }
 
     /// The particle fields the step writes.

@@ -269,8 +269,10 @@ impl<const D: usize> Simulation<D> {
             max_speed: e.max_speed.max(self.wall_speed),
             max_acceleration: e.max_acceleration,
             // (17) acts with mu/lambda (`physics::lattice::lattice_laplacian_moment`): the
-            // operator's stiffness, which bounds the explicit step, is that of nu/lambda.
-            kinematic_viscosity: c.viscosity.unwrap_or(0.0) / c.rho0 * f64::from(self.viscosity_scale)
+            // operator's stiffness, which bounds the explicit step, is that of nu/lambda; the
+            // lightest phase has the largest mu/rho0 (`Simulation::with_phases`).
+            kinematic_viscosity: c.viscosity.unwrap_or(0.0) / self.lightest_rho0
+                * f64::from(self.viscosity_scale)
                 + crate::physics::artificial_viscosity::equivalent_viscosity(
                     c.artificial_viscosity.unwrap_or(0.0),
                     c.sound_speed,

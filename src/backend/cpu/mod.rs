@@ -19,7 +19,7 @@ use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration,
     correction,
     density::density_term,
-    eos,
+    eos, multiphase,
     pressure::{pressure_acceleration_from_terms, pressure_term},
     rotating_frame::{centrifugal_acceleration, rotating_frame_acceleration},
     surface_tension::{normal_term, surface_tension_acceleration},
@@ -104,9 +104,16 @@ impl<const D: usize> CpuBackend<D> {
 }
 
 /// Eqs. (15)–(17) and (6) for fluid particle `i`, monomorphised on the optional terms: viscosity
-/// (17), artificial viscosity ([M92]) and the rotating frame ([B67] §3.2).
+/// (17), artificial viscosity ([M92]) and the rotating frame ([B67] §3.2); with `MULTIPHASE` the
+/// pressure force is [HA06]'s volume form (`physics::multiphase`) and `terms` hold `p V²`.
 #[inline(always)]
-fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: bool, const ROTATING: bool>(
+fn fluid_acceleration<
+    const D: usize,
+    const VISCOUS: bool,
+    const ARTIFICIAL: bool,
+    const ROTATING: bool,
+    const MULTIPHASE: bool,
+>(
     grid: &Grid<D>,
     fields: &Fields<D>,
     params: &StepParams<D>,
@@ -134,7 +141,11 @@ fn fluid_acceleration<const D: usize, const VISCOUS: bool, const ARTIFICIAL: boo
         let r = r2.sqrt();
         let (m_j, rho_j) = (fields.mass[j], fields.density[j]);
         let grad = kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale;
-        a += pressure_acceleration_from_terms(q_i, terms[j], m_j, &grad);
+        if MULTIPHASE {
+            a += multiphase::pressure_acceleration(q_i, terms[j], fields.mass[i], &grad); // [HA06]
+        } else {
+            a += pressure_acceleration_from_terms(q_i, terms[j], m_j, &grad);
+        }
         if ARTIFICIAL {
             let u_ij = u_i - fields.velocity[j];
             a += artificial_viscous_acceleration(
@@ -190,6 +201,20 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let kernel = params.smoothing();
         let grid = &self.grid;
         let (position, mass, kind) = (&fields.position, &fields.mass, &fields.kind);
+        if !fields.rest_density.is_empty() {
+            // [HA06]: ρ_i = m_i Σ_j W_ij, blind to the neighbours' phases.
+            fields.density.par_iter_mut().enumerate().for_each(|(i, rho)| {
+                if kind[i] != FLUID {
+                    return;
+                }
+                let mut sigma = 0.0;
+                grid.for_each_neighbour(position, i, |_, _, r2| {
+                    sigma += multiphase::number_density_term(&kernel, r2)
+                });
+                *rho = multiphase::density(mass[i], sigma);
+            });
+            return;
+        }
         fields.density.par_iter_mut().enumerate().for_each(|(i, rho)| {
             if kind[i] != FLUID {
                 return;
@@ -203,6 +228,16 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
         let kind = &fields.kind;
         let density = &fields.density;
+        let rest = &fields.rest_density;
+        if !rest.is_empty() {
+            // [HA06]: (19) with each particle's own rest density.
+            fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
+                if kind[i] == FLUID {
+                    *p = eos::pressure(density[i], rest[i], params.c2);
+                }
+            });
+            return;
+        }
         fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
             if kind[i] == FLUID {
                 *p = eos::pressure(density[i], params.rho0, params.c2);
@@ -242,6 +277,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let grid = &self.grid;
         let f = &*fields;
         let rotating = params.angular_velocity != [0.0; 3];
+        let multiphase = !f.rest_density.is_empty();
         self.wall.clear();
         let dry = &self.dry;
         self.wall.par_extend((0..f.len()).into_par_iter().map(|w| {
@@ -257,11 +293,19 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             let mut summed_density = 0.0;
             grid.for_each_neighbour(&f.position, w, |j, d, r2| {
                 let weight = kernel.w(r2);
-                summed_density += density_term(&kernel, f.mass[j], r2);
+                if multiphase {
+                    summed_density += multiphase::number_density_term(&kernel, r2);
+                } else {
+                    summed_density += density_term(&kernel, f.mass[j], r2);
+                }
                 if f.kind[j] == FLUID {
+                    // [A12] (27) with each fluid neighbour's own density (its phase's, [HA06]).
                     sums.add(f.pressure[j], f.density[j], &d, weight);
                 }
             });
+            if multiphase {
+                summed_density = multiphase::wall_density(f.mass[w], summed_density);
+            }
             // [A12] eq. (27): the body acceleration in the wall's frame, `g − a_w`.
             let mut body = match wall_acceleration.get(f.kind[w] as usize - 1) {
                 Some(a) => params.gravity - a,
@@ -318,34 +362,29 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     }
 
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
-        fill_pressure_terms(&mut self.pressure_terms, &fields.pressure, &fields.density);
+        let multiphase = !fields.rest_density.is_empty();
+        if multiphase {
+            fill_volume_pressure_terms(
+                &mut self.pressure_terms,
+                &fields.pressure,
+                &fields.mass,
+                &fields.density,
+            );
+        } else {
+            fill_pressure_terms(&mut self.pressure_terms, &fields.pressure, &fields.density);
+        }
         let (grid, q) = (&self.grid, &self.pressure_terms);
         let mut acceleration = std::mem::take(&mut fields.acceleration);
         let f = &*fields;
-        acceleration.par_iter_mut().enumerate().for_each(|(i, a)| {
-            *a = if f.kind[i] != FLUID {
-                Vector::zeros()
-            } else {
-                match (terms.viscosity, terms.artificial_viscosity, terms.rotating_frame) {
-                    (false, false, false) => {
-                        fluid_acceleration::<D, false, false, false>(grid, f, params, q, i)
-                    }
-                    (true, false, false) => {
-                        fluid_acceleration::<D, true, false, false>(grid, f, params, q, i)
-                    }
-                    (false, true, false) => {
-                        fluid_acceleration::<D, false, true, false>(grid, f, params, q, i)
-                    }
-                    (true, true, false) => fluid_acceleration::<D, true, true, false>(grid, f, params, q, i),
-                    (false, false, true) => {
-                        fluid_acceleration::<D, false, false, true>(grid, f, params, q, i)
-                    }
-                    (true, false, true) => fluid_acceleration::<D, true, false, true>(grid, f, params, q, i),
-                    (false, true, true) => fluid_acceleration::<D, false, true, true>(grid, f, params, q, i),
-                    (true, true, true) => fluid_acceleration::<D, true, true, true>(grid, f, params, q, i),
-                }
-            };
-        });
+        if multiphase {
+            acceleration.par_iter_mut().enumerate().for_each(|(i, a)| {
+                *a = fluid_acceleration_for::<D, true>(grid, f, params, q, terms, i);
+            });
+        } else {
+            acceleration.par_iter_mut().enumerate().for_each(|(i, a)| {
+                *a = fluid_acceleration_for::<D, false>(grid, f, params, q, terms, i);
+            });
+        }
         fields.acceleration = acceleration;
     }
 
@@ -422,6 +461,37 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         if pressure.len() != f.len() {
             return vec![[0.0; 3]; solids];
         }
+        if !f.rest_density.is_empty() {
+            // [HA06]: the pressure pair force in the volume form, as the fluid feels it.
+            fill_volume_pressure_terms(&mut self.pressure_terms, pressure, &f.mass, &f.density);
+            let q = &self.pressure_terms;
+            return sum_by_group(f.len(), solids, |s| {
+                let kind = f.kind[s];
+                if kind == FLUID || self.is_dry(s) {
+                    return None;
+                }
+                let mut force = Vector::<D>::zeros();
+                grid.for_each_neighbour(&f.position, s, |j, d, r2| {
+                    if f.kind[j] != FLUID {
+                        return;
+                    }
+                    let r = r2.sqrt();
+                    let grad = kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale;
+                    // Viscous terms as (17) and [M92]; the pressure pair term of [HA06].
+                    force += force_on_solid(
+                        &params,
+                        [f.mass[s], 0.0, f.density[s]],
+                        [f.mass[j], 0.0, f.density[j]],
+                        &d,
+                        [&f.velocity[s], &f.velocity[j]],
+                        f.wall_velocity.get(s).unwrap_or(&f.velocity[s]),
+                        &grad,
+                        kernel.laplacian_w_viscosity(r),
+                    ) + multiphase::pressure_acceleration(q[s], q[j], 1.0, &grad);
+                });
+                Some((kind as usize - 1, to_xyz(&force)))
+            });
+        }
         sum_by_group(f.len(), solids, |s| {
             let kind = f.kind[s];
             if kind == FLUID || self.is_dry(s) {
@@ -451,7 +521,17 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     fn state_extremes(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> StateExtremes {
         let f = fields;
         let n = f.len();
-        let rho0 = f64::from(params.rho0);
+        let rho0_scene = f64::from(params.rho0);
+        // Each particle's own rest density with the multiphase effect ([HA06]).
+        let rest = &f.rest_density;
+        let error = |i: usize| {
+            let rho0 = if rest.is_empty() {
+                rho0_scene
+            } else {
+                f64::from(rest[i])
+            };
+            (f64::from(f.density[i]) - rho0) / rho0
+        };
         let fluid = |i: usize| f.kind[i] == FLUID;
         let max_speed = max_in_order(n, |i| {
             if fluid(i) {
@@ -471,23 +551,11 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             if !fluid(i) {
                 return [0.0; 3];
             }
-            let e = (f64::from(f.density[i]) - rho0) / rho0;
+            let e = error(i);
             [1.0, e.abs(), e.max(0.0)]
         });
-        let max_abs = max_in_order(n, |i| {
-            if fluid(i) {
-                ((f64::from(f.density[i]) - rho0) / rho0).abs()
-            } else {
-                0.0
-            }
-        });
-        let max_comp = max_in_order(n, |i| {
-            if fluid(i) {
-                ((f64::from(f.density[i]) - rho0) / rho0).max(0.0)
-            } else {
-                0.0
-            }
-        });
+        let max_abs = max_in_order(n, |i| if fluid(i) { error(i).abs() } else { 0.0 });
+        let max_comp = max_in_order(n, |i| if fluid(i) { error(i).max(0.0) } else { 0.0 });
         let non_finite = if (max_speed + max_acceleration + max_abs).is_finite() {
             None
         } else {
@@ -558,8 +626,11 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn correction_error(&mut self, fields: &Fields<D>, rho0: f32) -> CorrectionError {
         let f = fields;
+        let rest = &f.rest_density;
         let [compression, residual] = max_each_in_order(f.len(), |i| {
             if f.kind[i] == FLUID {
+                // (24) against the particle's own phase with the multiphase effect ([HA06]).
+                let rho0 = if rest.is_empty() { rho0 } else { rest[i] };
                 [
                     correction::compression(f.density[i], rho0),
                     correction::residual(f.density[i], rho0, f.pressure[i]),
@@ -596,6 +667,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         // Fluid first: eq. (19) with the correction's stiffness, pressure kept >= 0 (note 6),
         // added to the pressure in the same pass.
         let (kind, density, rho0) = (&fields.kind, &fields.density, params.rho0);
+        let rest = &fields.rest_density;
         self.delta_p
             .par_iter_mut()
             .zip(fields.pressure.par_iter_mut())
@@ -604,6 +676,8 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 *dp = if kind[i] == FLUID {
                     // Heavy-ball momentum on the increments (see `physics::correction::MOMENTUM`).
                     let m = if has_prev { beta * prev[i] } else { 0.0 };
+                    // The particle's own phase with the multiphase effect ([HA06]).
+                    let rho0 = if rest.is_empty() { rho0 } else { rest[i] };
                     correction::pressure_increment(density[i], rho0, *p + m, k) + m
                 } else {
                     0.0
@@ -645,7 +719,12 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let grid = &self.grid;
         let n = fields.len();
         let f = &*fields;
-        fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.density);
+        let multiphase = !f.rest_density.is_empty();
+        if multiphase {
+            fill_volume_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.mass, &f.density);
+        } else {
+            fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.density);
+        }
         let q = &self.pressure_terms;
         let tau2 = tau * tau;
         self.displacement.resize(n, Vector::zeros());
@@ -664,7 +743,11 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                             return;
                         }
                         let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
-                        a += pressure_acceleration_from_terms(q[i], q[j], f.mass[j], &grad);
+                        if multiphase {
+                            a += multiphase::pressure_acceleration(q[i], q[j], f.mass[i], &grad); // [HA06]
+                        } else {
+                            a += pressure_acceleration_from_terms(q[i], q[j], f.mass[j], &grad);
+                        }
                     });
                     a * tau2 // eq. (23)
                 };
@@ -740,6 +823,52 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         }
         report
     }
+}
+
+/// The force stage for fluid particle `i` (zero for solids), the term set dispatched to its
+/// monomorphised [`fluid_acceleration`].
+#[inline(always)]
+fn fluid_acceleration_for<const D: usize, const MULTIPHASE: bool>(
+    grid: &Grid<D>,
+    f: &Fields<D>,
+    params: &StepParams<D>,
+    q: &[Real],
+    terms: ForceTerms,
+    i: usize,
+) -> Vector<D> {
+    if f.kind[i] != FLUID {
+        return Vector::zeros();
+    }
+    match (terms.viscosity, terms.artificial_viscosity, terms.rotating_frame) {
+        (false, false, false) => {
+            fluid_acceleration::<D, false, false, false, MULTIPHASE>(grid, f, params, q, i)
+        }
+        (true, false, false) => {
+            fluid_acceleration::<D, true, false, false, MULTIPHASE>(grid, f, params, q, i)
+        }
+        (false, true, false) => {
+            fluid_acceleration::<D, false, true, false, MULTIPHASE>(grid, f, params, q, i)
+        }
+        (true, true, false) => fluid_acceleration::<D, true, true, false, MULTIPHASE>(grid, f, params, q, i),
+        (false, false, true) => {
+            fluid_acceleration::<D, false, false, true, MULTIPHASE>(grid, f, params, q, i)
+        }
+        (true, false, true) => fluid_acceleration::<D, true, false, true, MULTIPHASE>(grid, f, params, q, i),
+        (false, true, true) => fluid_acceleration::<D, false, true, true, MULTIPHASE>(grid, f, params, q, i),
+        (true, true, true) => fluid_acceleration::<D, true, true, true, MULTIPHASE>(grid, f, params, q, i),
+    }
+}
+
+/// `terms[i] = pressure[i] (mass[i]/density[i])²` ([HA06] `p V²`, `physics::multiphase`).
+fn fill_volume_pressure_terms(terms: &mut Vec<Real>, pressure: &[Real], mass: &[Real], density: &[Real]) {
+    terms.clear();
+    terms.par_extend(
+        pressure
+            .par_iter()
+            .zip(mass)
+            .zip(density)
+            .map(|((&p, &m), &rho)| multiphase::pressure_term(p, m, rho)),
+    );
 }
 
 /// `terms[i] = pressure[i]/density[i]²` (`physics::pressure::pressure_term`), in a reused buffer.

@@ -85,6 +85,9 @@ struct DeviceFields {
     /// `Fields::wall_velocity` ([A12] no-slip walls): only where the host allocated it (viscosity
     /// with solids), or once the `wall_velocity` stage runs.
     wall_velocity: Option<CudaSlice<f32>>,
+    /// `Fields::rest_density` (the `multiphase` effect); `None` without it, which selects the
+    /// single-phase kernels.
+    rest_density: Option<CudaSlice<f32>>,
 }
 
 /// The dense cell grid and the sort's buffers.
@@ -233,6 +236,15 @@ impl<const D: usize> CudaBackend<D> {
             } else {
                 None
             },
+            rest_density: if fields.rest_density.is_empty() {
+                None
+            } else {
+                Some(
+                    stream
+                        .clone_htod(&fields.rest_density)
+                        .map_err(|e| up("uploading", e))?,
+                )
+            },
         };
         let zeros_f32 = |len: usize| {
             stream
@@ -345,6 +357,10 @@ impl<const D: usize> CudaBackend<D> {
             ScalarField::Density => &mut self.f.density,
             ScalarField::Pressure => &mut self.f.pressure,
             ScalarField::Mass => &mut self.f.mass,
+            ScalarField::RestDensity => match self.f.rest_density.as_mut() {
+                Some(b) => b,
+                None => return,
+            },
         };
         let f = &self.kernels["gather_f32"];
         // SAFETY: perm and src hold n entries; the scratch holds at least n floats.
@@ -425,7 +441,7 @@ impl<const D: usize> CudaBackend<D> {
 
 /// Launches `$name` over `$n` items with the arguments given, recording a failure.
 macro_rules! launch {
-    ($self:ident, $during:expr, $name:literal, $n:expr; $($arg:expr),* $(,)?) => {{
+    ($self:ident, $during:expr, $name:expr, $n:expr; $($arg:expr),* $(,)?) => {{
         let cfg = launch_config($n);
         let function = &$self.kernels[$name];
         let mut builder = $self.stream.launch_builder(function);
@@ -479,7 +495,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             + self.keep_out_out.num_bytes()
             + self.solid_reference.as_ref().map_or(0, |b| b.num_bytes())
             + self.f.wall_velocity.as_ref().map_or(0, |b| b.num_bytes())
-            + self.normal.as_ref().map_or(0, |b| b.num_bytes());
+            + self.normal.as_ref().map_or(0, |b| b.num_bytes())
+            + self.f.rest_density.as_ref().map_or(0, |b| b.num_bytes());
         if let Some(g) = &self.grid {
             bytes += [
                 &g.key,
@@ -544,6 +561,10 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
                     .map_err(e)?;
             }
             None => fields.wall_velocity.clear(),
+        }
+        if let Some(rest) = &self.f.rest_density {
+            fields.rest_density = s.clone_dtoh(rest).map_err(e)?;
+            fields.rest_density.truncate(n);
         }
         // The step-start copies are the backend's scratch of SSP-RK3; the host keeps none.
         fields.position_start.clear();
@@ -695,7 +716,12 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         ] {
             self.gather_vec(v);
         }
-        for sf in [ScalarField::Density, ScalarField::Pressure, ScalarField::Mass] {
+        for sf in [
+            ScalarField::Density,
+            ScalarField::Pressure,
+            ScalarField::Mass,
+            ScalarField::RestDensity,
+        ] {
             self.gather_scalar(sf);
         }
         for i in [IndexField::Kind, IndexField::Id, IndexField::CellKey] {
@@ -708,6 +734,13 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
     fn density(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
+        if self.f.rest_density.is_some() {
+            // [HA06] number density (kernels/multiphase.cu).
+            launch!(self, "computing the density", "density_multiphase", self.n;
+                &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
+                &self.f.kind, &mut self.f.density);
+            return;
+        }
         launch!(self, "computing the density", "density", self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
             &self.f.kind, &mut self.f.density);
@@ -715,6 +748,11 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
 
     fn equation_of_state(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
         let n = self.n as u32;
+        if let Some(rest) = self.f.rest_density.as_ref() {
+            launch!(self, "applying the equation of state", "equation_of_state_multiphase", self.n;
+                &n, params, &self.f.density, rest, &self.f.kind, &mut self.f.pressure);
+            return;
+        }
         launch!(self, "applying the equation of state", "equation_of_state", self.n;
             &n, params, &self.f.density, &self.f.kind, &mut self.f.pressure);
     }
@@ -780,6 +818,12 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
         let summed = i32::from(model == WallModel::ExtrapolatedOrSummed);
+        if self.f.rest_density.is_some() {
+            launch!(self, "extrapolating the wall pressure", "wall_pressure_multiphase", self.n;
+                &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
+                &self.f.kind, &self.wall_acc, &summed, &mut self.f.pressure, &mut self.f.density);
+            return;
+        }
         launch!(self, "extrapolating the wall pressure", "wall_pressure", self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
             &self.f.kind, &self.wall_acc, &summed, &mut self.f.pressure, &mut self.f.density);
@@ -816,16 +860,12 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
     fn forces(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
-        let name = [
-            "forces_p",
-            "forces_pv",
-            "forces_pa",
-            "forces_pva",
-            "forces_pr",
-            "forces_pvr",
-            "forces_par",
-            "forces_pvar",
-        ][terms.index()];
+        let names = if self.f.rest_density.is_some() {
+            FORCES_MULTIPHASE
+        } else {
+            FORCES
+        };
+        let name = names[terms.index()];
         let cfg = launch_config(self.n);
         let mut b = self.stream.launch_builder(&self.kernels[name]);
         b.arg(&n)
@@ -912,7 +952,12 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let n = self.n as u32;
         // About 8 particles per thread (grid-stride loop in kernels/solid_forces.cu).
         let cfg = launch_config(self.n.div_ceil(8));
-        let mut b = self.stream.launch_builder(&self.kernels["solid_forces"]);
+        let name = if self.f.rest_density.is_some() {
+            "solid_forces_multiphase"
+        } else {
+            "solid_forces"
+        };
+        let mut b = self.stream.launch_builder(&self.kernels[name]);
         b.arg(&n)
             .arg(&p)
             .arg(&g.geometry)
@@ -953,9 +998,15 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         }
         let n = self.n as u32;
         // About 64 particles per thread (grid-stride loop), so one set of atomics per 64.
-        launch!(self, "reducing the extremes", "state_extremes", self.n.div_ceil(64);
-            &n, params, &self.f.position, &self.f.velocity, &self.f.acceleration, &self.f.density,
-            &self.f.pressure, &self.f.kind, &mut self.extremes);
+        if let Some(rest) = self.f.rest_density.as_ref() {
+            launch!(self, "reducing the extremes", "state_extremes_multiphase", self.n.div_ceil(64);
+                &n, params, &self.f.position, &self.f.velocity, &self.f.acceleration, &self.f.density,
+                &self.f.pressure, &self.f.kind, rest, &mut self.extremes);
+        } else {
+            launch!(self, "reducing the extremes", "state_extremes", self.n.div_ceil(64);
+                &n, params, &self.f.position, &self.f.velocity, &self.f.acceleration, &self.f.density,
+                &self.f.pressure, &self.f.kind, &mut self.extremes);
+        }
         let out = self.stream.clone_dtoh(&self.extremes);
         let Some(out) = record(&mut self.error, "copying the extremes", out) else {
             return fallback;
@@ -1000,8 +1051,13 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return failed;
         }
         let n = self.n as u32;
-        launch!(self, "reducing the density error", "correction_error", self.n;
-            &n, &rho0, &self.f.density, &self.f.pressure, &self.f.kind, &mut self.reduce_i32);
+        if let Some(rest) = self.f.rest_density.as_ref() {
+            launch!(self, "reducing the density error", "correction_error_multiphase", self.n;
+                &n, rest, &self.f.density, &self.f.pressure, &self.f.kind, &mut self.reduce_i32);
+        } else {
+            launch!(self, "reducing the density error", "correction_error", self.n;
+                &n, &rho0, &self.f.density, &self.f.pressure, &self.f.kind, &mut self.reduce_i32);
+        }
         let out = self.stream.clone_dtoh(&self.reduce_i32);
         match record(&mut self.error, "copying the residual", out) {
             Some(v) => CorrectionError {
@@ -1021,9 +1077,15 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let n = self.n as u32;
         let beta = correction::MOMENTUM;
         let has_previous = i32::from(self.has_previous);
-        launch!(self, "computing pressure increments", "correction_pressure_fluid", self.n;
-            &n, &params.rho0, &k, &beta, &has_previous, &self.f.density, &self.f.pressure,
-            &self.f.kind, &self.delta_p_previous, &mut self.delta_p);
+        if let Some(rest) = self.f.rest_density.as_ref() {
+            launch!(self, "computing pressure increments", "correction_pressure_fluid_multiphase", self.n;
+                &n, rest, &k, &beta, &has_previous, &self.f.density, &self.f.pressure,
+                &self.f.kind, &self.delta_p_previous, &mut self.delta_p);
+        } else {
+            launch!(self, "computing pressure increments", "correction_pressure_fluid", self.n;
+                &n, &params.rho0, &k, &beta, &has_previous, &self.f.density, &self.f.pressure,
+                &self.f.kind, &self.delta_p_previous, &mut self.delta_p);
+        }
         launch!(self, "extrapolating pressure increments to walls", "correction_pressure_wall", self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position,
             &self.f.density, &self.f.kind, &mut self.delta_p);
@@ -1054,7 +1116,12 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         }
         let n = self.n as u32;
         let tau2 = tau * tau;
-        launch!(self, "computing displacements", "correction_displacement", self.n;
+        let name = if self.f.rest_density.is_some() {
+            "correction_displacement_multiphase"
+        } else {
+            "correction_displacement"
+        };
+        launch!(self, "computing displacements", name, self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
             &self.f.density, &self.delta_p, &self.f.kind, &tau2, &mut self.displacement,
             &mut self.reduce_i32);
@@ -1132,6 +1199,7 @@ enum ScalarField {
     Density,
     Pressure,
     Mass,
+    RestDensity,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -1140,6 +1208,30 @@ enum IndexField {
     Id,
     CellKey,
 }
+
+/// The force kernels by `ForceTerms::index`.
+const FORCES: [&str; 8] = [
+    "forces_p",
+    "forces_pv",
+    "forces_pa",
+    "forces_pva",
+    "forces_pr",
+    "forces_pvr",
+    "forces_par",
+    "forces_pvar",
+];
+
+/// The same with the [HA06] volume-form pressure force (the `multiphase` effect).
+const FORCES_MULTIPHASE: [&str; 8] = [
+    "forces_p_mp",
+    "forces_pv_mp",
+    "forces_pa_mp",
+    "forces_pva_mp",
+    "forces_pr_mp",
+    "forces_pvr_mp",
+    "forces_par_mp",
+    "forces_pvar_mp",
+];
 
 /// Every entry point the backend launches (checked at start-up).
 const KERNEL_NAMES: &[&str] = &[
@@ -1179,4 +1271,20 @@ const KERNEL_NAMES: &[&str] = &[
     "correction_displacement",
     "apply_displacement",
     "keep_out",
+    "density_multiphase",
+    "equation_of_state_multiphase",
+    "wall_pressure_multiphase",
+    "forces_p_mp",
+    "forces_pv_mp",
+    "forces_pa_mp",
+    "forces_pva_mp",
+    "forces_pr_mp",
+    "forces_pvr_mp",
+    "forces_par_mp",
+    "forces_pvar_mp",
+    "solid_forces_multiphase",
+    "state_extremes_multiphase",
+    "correction_error_multiphase",
+    "correction_pressure_fluid_multiphase",
+    "correction_displacement_multiphase",
 ];

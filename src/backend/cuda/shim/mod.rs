@@ -7,7 +7,9 @@
 //! for vectors); the functions are `unsafe` for that reason alone.
 
 mod dynamics;
+mod multiphase;
 mod neighbours;
 
 pub use dynamics::*;
+pub use multiphase::*;
 pub use neighbours::*;
