@@ -14,6 +14,7 @@
 //! | `no_artificial`     | base without artificial viscosity                 |
 //! | `+rotating_frame`   | base + Coriolis/centrifugal at Ω = 0.5 rad/s (z)  |
 //! | `+surface_tension`  | base + [AAT13] surface tension, σ = 0.072 N/m     |
+//! | `+multiphase`       | base + [HA06] phases (the one box keeps ρ0 = 1000: the variants' cost alone) |
 //! | `base_again`        | base, measured last: turning effects off returns here |
 //!
 //! Each variant is built, stepped [`WARM_STEPS`] times, then `Simulation::step` is timed (ids
@@ -94,6 +95,19 @@ const VARIANTS: &[Variant] = &[
         edit: |doc| {
             switch_on(doc, "surface_tension");
             fluid(doc).insert("surface_tension".into(), 0.072.into());
+        },
+    },
+    Variant {
+        label: "+multiphase",
+        edit: |doc| {
+            switch_on(doc, "multiphase");
+            let boxes = doc
+                .get_mut("fluid_box")
+                .and_then(toml::Value::as_array_mut)
+                .expect("the column scene has a fluid box");
+            for b in boxes.iter_mut().filter_map(toml::Value::as_table_mut) {
+                b.insert("rho0".into(), 1000.0.into());
+            }
         },
     },
     Variant {
