@@ -20,7 +20,7 @@
 //! Each variant is built, stepped [`WARM_STEPS`] times, then `Simulation::step` is timed (ids
 //! `full_step/cpu/column_3d/<variant>`). The step is adaptive, so the variants take slightly
 //! different `dt`, which does not change the work per step. Run with
-//! `cargo bench --bench effects -- --noplot` (about 2 minutes on 2 cores); the README's table
+//! `cargo bench --bench effects -- --noplot` (about 40 s on 2 cores after the build); the README's table
 //! "What an effect costs" comes from it.
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
