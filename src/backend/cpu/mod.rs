@@ -461,37 +461,13 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         if pressure.len() != f.len() {
             return vec![[0.0; 3]; solids];
         }
-        if !f.rest_density.is_empty() {
-            // [HA06]: the pressure pair force in the volume form, as the fluid feels it.
+        // [HA06] (`multiphase`): the pressure pair term in the volume form, as the fluid feels it;
+        // the viscous terms as without it.
+        let multiphase = !f.rest_density.is_empty();
+        if multiphase {
             fill_volume_pressure_terms(&mut self.pressure_terms, pressure, &f.mass, &f.density);
-            let q = &self.pressure_terms;
-            return sum_by_group(f.len(), solids, |s| {
-                let kind = f.kind[s];
-                if kind == FLUID || self.is_dry(s) {
-                    return None;
-                }
-                let mut force = Vector::<D>::zeros();
-                grid.for_each_neighbour(&f.position, s, |j, d, r2| {
-                    if f.kind[j] != FLUID {
-                        return;
-                    }
-                    let r = r2.sqrt();
-                    let grad = kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale;
-                    // Viscous terms as (17) and [M92]; the pressure pair term of [HA06].
-                    force += force_on_solid(
-                        &params,
-                        [f.mass[s], 0.0, f.density[s]],
-                        [f.mass[j], 0.0, f.density[j]],
-                        &d,
-                        [&f.velocity[s], &f.velocity[j]],
-                        f.wall_velocity.get(s).unwrap_or(&f.velocity[s]),
-                        &grad,
-                        kernel.laplacian_w_viscosity(r),
-                    ) + multiphase::pressure_acceleration(q[s], q[j], 1.0, &grad);
-                });
-                Some((kind as usize - 1, to_xyz(&force)))
-            });
         }
+        let q = &self.pressure_terms;
         sum_by_group(f.len(), solids, |s| {
             let kind = f.kind[s];
             if kind == FLUID || self.is_dry(s) {
@@ -503,16 +479,26 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     return;
                 }
                 let r = r2.sqrt();
-                force += force_on_solid(
+                let grad = kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale;
+                let (p_s, p_j) = if multiphase {
+                    (0.0, 0.0)
+                } else {
+                    (pressure[s], pressure[j])
+                };
+                let mut pair = force_on_solid(
                     &params,
-                    [f.mass[s], pressure[s], f.density[s]],
-                    [f.mass[j], pressure[j], f.density[j]],
+                    [f.mass[s], p_s, f.density[s]],
+                    [f.mass[j], p_j, f.density[j]],
                     &d,
                     [&f.velocity[s], &f.velocity[j]],
                     f.wall_velocity.get(s).unwrap_or(&f.velocity[s]),
-                    &(kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale),
+                    &grad,
                     kernel.laplacian_w_viscosity(r),
                 );
+                if multiphase {
+                    pair += multiphase::pressure_acceleration(q[s], q[j], 1.0, &grad);
+                }
+                force += pair;
             });
             Some((kind as usize - 1, to_xyz(&force)))
         })
