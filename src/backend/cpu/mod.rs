@@ -12,9 +12,7 @@ use crate::boundary::{
 };
 use crate::fields::{FLUID, Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
-use crate::math::{
-    Real, Vector, max_each_in_order, max_in_order, max_or_nan, sum_by_group, sum_in_order, to_xyz,
-};
+use crate::math::{Real, Vector, max_each_in_order, max_or_nan, sum_by_group, sum_in_order, to_xyz};
 use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration,
     correction,
@@ -229,18 +227,11 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let kind = &fields.kind;
         let density = &fields.density;
         let rest = &fields.rest_density;
-        if !rest.is_empty() {
-            // [HA06]: (19) with each particle's own rest density.
-            fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
-                if kind[i] == FLUID {
-                    *p = eos::pressure(density[i], rest[i], params.c2);
-                }
-            });
-            return;
-        }
         fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
             if kind[i] == FLUID {
-                *p = eos::pressure(density[i], params.rho0, params.c2);
+                // With the multiphase effect, each particle's own rest density ([HA06]).
+                let rho0 = if rest.is_empty() { params.rho0 } else { rest[i] };
+                *p = eos::pressure(density[i], rho0, params.c2);
             }
         });
     }
@@ -519,19 +510,18 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             (f64::from(f.density[i]) - rho0) / rho0
         };
         let fluid = |i: usize| f.kind[i] == FLUID;
-        let max_speed = max_in_order(n, |i| {
-            if fluid(i) {
-                f64::from(f.velocity[i].norm())
-            } else {
-                0.0
+        // The largest speed, acceleration, |error| and compression in one pass.
+        let [max_speed, max_acceleration, max_abs, max_comp] = max_each_in_order(n, |i| {
+            if !fluid(i) {
+                return [0.0; 4];
             }
-        });
-        let max_acceleration = max_in_order(n, |i| {
-            if fluid(i) {
-                f64::from(f.acceleration[i].norm())
-            } else {
-                0.0
-            }
+            let e = error(i);
+            [
+                f64::from(f.velocity[i].norm()),
+                f64::from(f.acceleration[i].norm()),
+                e.abs(),
+                e.max(0.0),
+            ]
         });
         let [count, abs_sum, comp_sum] = sum_in_order(n, |i| {
             if !fluid(i) {
@@ -540,8 +530,6 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             let e = error(i);
             [1.0, e.abs(), e.max(0.0)]
         });
-        let max_abs = max_in_order(n, |i| if fluid(i) { error(i).abs() } else { 0.0 });
-        let max_comp = max_in_order(n, |i| if fluid(i) { error(i).max(0.0) } else { 0.0 });
         let non_finite = if (max_speed + max_acceleration + max_abs).is_finite() {
             None
         } else {
