@@ -6,9 +6,9 @@
 //! the coarse one is refused) with a fixed step of 1e-5 s, short enough for every solver and scene.
 
 use sph::fields::Field;
-use sph::run::simulation_from_scene;
-use sph::scene::{Scene, load_scene, parse_scene};
-use sph::solver::plan::needed_fields;
+use sph::run::{plan_inputs, simulation_from_scene};
+use sph::scene::{Effect, Scene, load_scene, parse_scene};
+use sph::solver::plan::{needed_fields, plan};
 use std::path::{Path, PathBuf};
 
 /// Every `*.toml` of `scenes/` and `scenes/hard/`.
@@ -42,8 +42,18 @@ fn coarse(path: &Path) -> Option<Scene> {
 /// mismatches (`"name: allocated but not needed"` or the reverse), and the needed fields.
 fn mismatches<const D: usize>(scene: &Scene) -> (Vec<String>, Vec<Field>) {
     let mut sim = simulation_from_scene::<D>(scene).expect("a valid scene builds");
+    // `sph plan` builds its plan from the scene alone (`run::plan_inputs`): it must be the one
+    // the simulation walks (moving solids are placed by the first step, so compared after it).
+    let printed_multiphase = scene.has(Effect::Multiphase);
     sim.step(scene.end_time).expect("one short step succeeds");
     let solids = sim.fields.kind.iter().any(|&k| k != sph::fields::FLUID);
+    assert_eq!(
+        plan(plan_inputs(scene)).as_slice(),
+        sim.plan(),
+        "{:?}: sph plan prints another plan than the run walks",
+        scene.name
+    );
+    assert_eq!(printed_multiphase, sim.multiphase(), "{:?}", scene.name);
     let needed = needed_fields(sim.plan(), solids, sim.multiphase());
     let wrong = Field::ALL
         .into_iter()
