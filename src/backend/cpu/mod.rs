@@ -50,6 +50,8 @@ pub struct CpuBackend<const D: usize> {
     wet_increments: Vec<Real>,
     /// `p/ρ²` per particle (`physics::pressure::pressure_term`) of the current pressure loop.
     pressure_terms: Vec<Real>,
+    /// Scratch of `find_dry_solids`: fluid particles before each sorted index.
+    fluid_before: Vec<u32>,
 }
 
 impl<const D: usize> CpuBackend<D> {
@@ -68,6 +70,7 @@ impl<const D: usize> CpuBackend<D> {
             + self.wet.capacity() * 4
             + self.wet_increments.capacity() * 4
             + self.pressure_terms.capacity() * 4
+            + self.fluid_before.capacity() * 4
     }
 
     /// Whether particle `i` is a solid without fluid candidates since the last sort.
@@ -79,14 +82,15 @@ impl<const D: usize> CpuBackend<D> {
     /// Recomputes [`CpuBackend::dry`] for the sorted `kind`: a running count of fluid particles
     /// in sorted order tells whether a candidate range holds any.
     fn find_dry_solids(&mut self, kind: &[u32]) {
-        let mut fluid_before = Vec::with_capacity(kind.len() + 1);
+        let fluid_before = &mut self.fluid_before;
+        fluid_before.clear();
         fluid_before.push(0u32);
         let mut count = 0u32;
         for &k in kind {
             count += u32::from(k == FLUID);
             fluid_before.push(count);
         }
-        let grid = &self.grid;
+        let (grid, fluid_before) = (&self.grid, &self.fluid_before);
         self.dry.clear();
         self.dry.par_extend((0..kind.len()).into_par_iter().map(|i| {
             kind[i] != FLUID
