@@ -13,14 +13,15 @@
 //! | `no_viscosity`      | base without viscosity (17)                       |
 //! | `no_artificial`     | base without artificial viscosity                 |
 //! | `+rotating_frame`   | base + Coriolis/centrifugal at Ω = 0.5 rad/s (z)  |
-//! | `+surface_tension`  | base + [AAT13] surface tension, σ = 0.072 N/m     |
+//! | `+surface_tension`  | base + surface tension, σ = 0.072 N/m (default model, the surface stress) |
+//! | `+surface_tension_akinci` | base + [AAT13] surface tension, σ = 0.072 N/m |
 //! | `+multiphase`       | base + [HA06] phases (the one box keeps ρ0 = 1000: the variants' cost alone) |
 //! | `base_again`        | base, measured last: turning effects off returns here |
 //!
 //! Each variant is built, stepped [`WARM_STEPS`] times, then `Simulation::step` is timed (ids
 //! `full_step/cpu/column_3d/<variant>`). The step is adaptive, so the variants take slightly
 //! different `dt`, which does not change the work per step. Run with
-//! `cargo bench --bench effects -- --noplot` (about 40 s on 2 cores after the build); the README's table
+//! `cargo bench --bench effects -- --noplot` (about 45 s on 2 cores after the build); the README's table
 //! "What an effect costs" comes from it.
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
@@ -95,6 +96,14 @@ const VARIANTS: &[Variant] = &[
         edit: |doc| {
             switch_on(doc, "surface_tension");
             fluid(doc).insert("surface_tension".into(), 0.072.into());
+        },
+    },
+    Variant {
+        label: "+surface_tension_akinci",
+        edit: |doc| {
+            switch_on(doc, "surface_tension");
+            fluid(doc).insert("surface_tension".into(), 0.072.into());
+            fluid(doc).insert("surface_tension_model".into(), "akinci".into());
         },
     },
     Variant {

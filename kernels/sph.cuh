@@ -76,6 +76,8 @@ struct StepParams {
     float rotation_centre[D];       // a point on the rotation axis [m]
     float viscosity_scale;          // 1/lambda of the viscosity Laplacian in eq. (17)
     float surface_tension_gamma;    // [AAT13] gamma of the surface tension (0 without it)
+    float surface_tension_sigma;    // sigma' of the surface stress (0 unless that model)
+    float spacing;                  // initial particle spacing dx [m]
 };
 
 /// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of

@@ -40,8 +40,9 @@ pub struct Fields<const D: usize> {
     /// (empty otherwise: solids then carry their own velocity).
     pub wall_velocity: Vec<Vector<D>>,
     /// Surface normal `n = h Σ_j (m_j/ρ_j) ∇W` of [AAT13] eq. (3), dimensionless, pointing into
-    /// the fluid (`physics::surface_tension`); allocated by the `surface_normals` stage, so empty
-    /// unless the scene has the `surface_tension` effect.
+    /// the fluid (`physics::surface_tension`), or with the surface stress the colour gradient
+    /// `h ∇c` with rest volumes `m_j/ρ0_j` (`physics::surface_stress`); allocated by the
+    /// `surface_normals` stage, so empty unless the scene has the `surface_tension` effect.
     pub normal: Vec<Vector<D>>,
     /// Rest density `ρ0` of the particle's phase [kg/m³] (the `multiphase` effect only; empty
     /// otherwise). Solids carry the scene's `fluid.rho0`. Its presence selects the multiphase

@@ -21,7 +21,7 @@ use crate::probe::{ProbeLog, compare, write_figures};
 use crate::scene::{Effect, Scene, SceneError, SolidShape, SolverKind, generate};
 use crate::solver::checkpoint::{Checkpoint, CheckpointError};
 use crate::solver::{Correction, Integrator};
-use crate::solver::{SimConfig, Simulation};
+use crate::solver::{SimConfig, Simulation, SurfaceTension};
 use crate::surface::{SurfaceParams, reconstruct};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -106,7 +106,10 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
         },
         rotation_centre: vector(&scene.rotation_centre),
         surface_tension: if scene.has(Effect::SurfaceTension) {
-            scene.surface_tension
+            scene.surface_tension.map(|sigma| SurfaceTension {
+                sigma,
+                model: scene.surface_tension_model,
+            })
         } else {
             None
         },
@@ -126,7 +129,9 @@ pub fn plan_inputs(scene: &Scene) -> crate::solver::plan::PlanInputs {
         viscosity: scene.has(Effect::Viscosity),
         artificial_viscosity: scene.has(Effect::ArtificialViscosity),
         rotating_frame: scene.has(Effect::RotatingFrame),
-        surface_tension: scene.has(Effect::SurfaceTension),
+        surface_tension: scene
+            .has(Effect::SurfaceTension)
+            .then_some(scene.surface_tension_model),
         solids: !scene.solids.is_empty(),
         moving_solids: scene.solids.iter().any(|s| s.motion.is_some()),
         integrator: integrator(scene),

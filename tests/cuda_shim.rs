@@ -28,6 +28,8 @@ fn params<const D: usize>(h: f32) -> StepParams<D> {
         rotation_centre: Vector::zeros(),
         viscosity_scale: 1.0,
         surface_tension_gamma: 0.0,
+        surface_tension_sigma: 0.0,
+        spacing: 0.0,
     }
 }
 

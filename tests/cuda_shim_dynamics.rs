@@ -139,6 +139,8 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         rotation_centre: Vector::from_fn(|k, _| 0.02 * (k as f32 + 1.0)),
         viscosity_scale: 1.17,
         surface_tension_gamma: 0.0,
+        surface_tension_sigma: 0.0,
+        spacing: 0.0,
     };
     (f, p)
 }

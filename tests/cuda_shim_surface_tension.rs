@@ -1,4 +1,5 @@
-//! The `surface_normals` and `surface_tension` kernels of `kernels/surface_tension.cu` ([AAT13]
+//! The `surface_normals` and `surface_tension` kernels of `kernels/surface_tension.cu`, both
+//! models (the surface stress, `physics::surface_stress`, with one phase and with two; [AAT13]
 //! Akinci, Akinci & Teschner 2013), run on the CPU through the host shim
 //! (`backend::cuda::shim`), against the rayon stages they mirror, per particle `id`, on a small
 //! random droplet in 2D and 3D with a few solid particles beside it (which must be ignored:
@@ -16,6 +17,7 @@ use sph::backend::cuda::shim;
 use sph::backend::params::StepParams;
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
+use sph::physics::surface_stress::{surface_stress_acceleration, tensile_factor};
 use sph::physics::surface_tension::{normal_term, surface_tension_acceleration};
 use sph::smoothing::{Smoothing, pair_offset};
 
@@ -40,11 +42,20 @@ impl Rng {
     }
 }
 
+/// Which model, and for the surface stress whether the fluid has two phases.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Model {
+    Akinci,
+    Stress,
+    StressTwoPhases,
+}
+
 /// A jittered droplet of radius 4 dx (2D) / 3 dx (3D) centred at 0, densities within 3 % of ρ0
 /// and random accelerations (the stage adds to them), and a slab of solid particles at
-/// `x ≈ R + dx` touching it. γ is chosen so the surface tension is comparable with the
-/// accelerations.
-fn droplet<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
+/// `x ≈ R + dx` touching it. γ or σ' is chosen so the surface tension is comparable with the
+/// accelerations; with two phases every other fluid particle has rest density 0.8 ρ0 (and
+/// that mass).
+fn droplet<const D: usize>(seed: u64, model: Model) -> (Fields<D>, StepParams<D>) {
     let mut rng = Rng(seed);
     let radius: i32 = if D == 2 { 4 } else { 3 };
     let mass = RHO0 * DX.powi(D as i32);
@@ -67,7 +78,18 @@ fn droplet<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
             continue;
         };
         let x = Vector::<D>::from_fn(|k, _| (idx[k] as f32 + rng.sym(0.2)) * DX);
-        f.push(x, Vector::zeros(), mass, RHO0 * (1.0 + rng.sym(0.03)), kind);
+        let light = model == Model::StressTwoPhases && kind == FLUID && f.len() % 2 == 0;
+        let rest = if light { 0.8 * RHO0 } else { RHO0 };
+        f.push(
+            x,
+            Vector::zeros(),
+            mass * rest / RHO0,
+            rest * (1.0 + rng.sym(0.03)),
+            kind,
+        );
+        if model == Model::StressTwoPhases {
+            f.rest_density.push(rest);
+        }
         if kind == FLUID {
             *f.acceleration.last_mut().expect("pushed") = Vector::from_fn(|_, _| rng.sym(1.0));
         }
@@ -87,7 +109,9 @@ fn droplet<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         angular_velocity: [0.0; 3],
         rotation_centre: Vector::zeros(),
         viscosity_scale: 1.0,
-        surface_tension_gamma: 2.0,
+        surface_tension_gamma: if model == Model::Akinci { 2.0 } else { 0.0 },
+        surface_tension_sigma: if model == Model::Akinci { 0.0 } else { 5.0 },
+        spacing: DX,
     };
     (f, p)
 }
@@ -115,6 +139,11 @@ fn flat<const D: usize>(v: &[Vector<D>], order: &[usize]) -> Vec<f32> {
     order.iter().flat_map(|&i| v[i].iter().copied()).collect()
 }
 
+/// The rest density of particle `j` as the stages read it.
+fn rest<const D: usize>(f: &Fields<D>, p: &StepParams<D>, j: usize) -> f32 {
+    f.rest_density.get(j).copied().unwrap_or(p.rho0)
+}
+
 /// Σ_j |term| of the normal (times h) and of the acceleration of particle `i` (input order),
 /// brute force, for the tolerance.
 fn term_scales<const D: usize>(
@@ -124,6 +153,8 @@ fn term_scales<const D: usize>(
     i: usize,
 ) -> (f64, f64) {
     let kernel = Smoothing::<D>::new(p.h).expect("2D or 3D");
+    let stress = p.surface_tension_sigma > 0.0;
+    let w_dx = kernel.w(p.spacing * p.spacing);
     let (mut sn, mut sa) = (0.0f64, f64::from(f.acceleration[i].norm()));
     for j in 0..f.len() {
         let d = f.position[i] - f.position[j];
@@ -132,9 +163,26 @@ fn term_scales<const D: usize>(
             continue;
         }
         let (d, r2) = pair_offset(d, r2, i, j, p.h);
-        sn += f64::from((normal_term(&kernel, f.mass[j], f.density[j], &d) * p.h).norm());
-        if j != i {
-            let a = surface_tension_acceleration(
+        let volume_density = if stress { rest(f, p, j) } else { f.density[j] };
+        sn += f64::from((normal_term(&kernel, f.mass[j], volume_density, &d) * p.h).norm());
+        if j == i {
+            continue;
+        }
+        let a = if stress {
+            let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * p.pressure_gradient_scale;
+            surface_stress_acceleration(
+                p.surface_tension_sigma,
+                p.h,
+                f.mass[j],
+                rest(f, p, i),
+                rest(f, p, j),
+                &normal[i],
+                &normal[j],
+                &grad,
+                tensile_factor(kernel.w(r2), w_dx),
+            )
+        } else {
+            surface_tension_acceleration(
                 p.surface_tension_gamma,
                 p.rho0,
                 p.h,
@@ -145,15 +193,15 @@ fn term_scales<const D: usize>(
                 &normal[j],
                 &d,
                 r2.sqrt(),
-            );
-            sa += f64::from(a.norm());
-        }
+            )
+        };
+        sa += f64::from(a.norm());
     }
     (sn, sa)
 }
 
-fn check<const D: usize>(seed: u64) {
-    let (f, p) = droplet::<D>(seed);
+fn check<const D: usize>(seed: u64, model: Model) {
+    let (f, p) = droplet::<D>(seed, model);
     let n = f.len();
     // CPU stages, results by id.
     let mut cf = f.clone();
@@ -186,6 +234,11 @@ fn check<const D: usize>(seed: u64) {
     let mass: Vec<f32> = order.iter().map(|&i| f.mass[i]).collect();
     let density: Vec<f32> = order.iter().map(|&i| f.density[i]).collect();
     let kind: Vec<u32> = order.iter().map(|&i| f.kind[i]).collect();
+    let has_rest = u32::from(!f.rest_density.is_empty());
+    let rest: Vec<f32> = order
+        .iter()
+        .map(|&i| f.rest_density.get(i).copied().unwrap_or(f32::NAN))
+        .collect();
     let mut normal = vec![f32::NAN; n * D];
     // SAFETY: every buffer holds n items (D floats each for vectors), cell_start ncell + 1.
     unsafe {
@@ -200,6 +253,8 @@ fn check<const D: usize>(seed: u64) {
                 pos.as_ptr(),
                 mass.as_ptr(),
                 density.as_ptr(),
+                rest.as_ptr(),
+                has_rest,
                 kind.as_ptr(),
                 normal.as_mut_ptr(),
             ),
@@ -212,6 +267,8 @@ fn check<const D: usize>(seed: u64) {
                 pos.as_ptr(),
                 mass.as_ptr(),
                 density.as_ptr(),
+                rest.as_ptr(),
+                has_rest,
                 kind.as_ptr(),
                 normal.as_mut_ptr(),
             ),
@@ -233,6 +290,8 @@ fn check<const D: usize>(seed: u64) {
                 pos.as_ptr(),
                 mass.as_ptr(),
                 density.as_ptr(),
+                rest.as_ptr(),
+                has_rest,
                 kind.as_ptr(),
                 cpu_normal_flat.as_ptr(),
                 acc.as_mut_ptr(),
@@ -246,6 +305,8 @@ fn check<const D: usize>(seed: u64) {
                 pos.as_ptr(),
                 mass.as_ptr(),
                 density.as_ptr(),
+                rest.as_ptr(),
+                has_rest,
                 kind.as_ptr(),
                 cpu_normal_flat.as_ptr(),
                 acc.as_mut_ptr(),
@@ -289,7 +350,7 @@ fn check<const D: usize>(seed: u64) {
         tension = tension.max(f64::from((cpu_acc[id] - f.acceleration[id]).norm()) / sa);
     }
     eprintln!(
-        "{D}D surface tension: largest |shim - cpu| / Σ|terms|: normals {worst_n:.2e}, accelerations {worst_a:.2e}"
+        "{D}D {model:?}: largest |shim - cpu| / Σ|terms|: normals {worst_n:.2e}, accelerations {worst_a:.2e}"
     );
     // The terms are visible: surface particles have |n| of order 1, and the stage moves the
     // accelerations by far more than the tolerance.
@@ -302,10 +363,14 @@ fn check<const D: usize>(seed: u64) {
 
 #[test]
 fn surface_tension_kernels_match_the_cpu_stages_on_a_droplet_2d() {
-    check::<2>(0x9e37_79b9_7f4a_7c15);
+    for model in [Model::Akinci, Model::Stress, Model::StressTwoPhases] {
+        check::<2>(0x9e37_79b9_7f4a_7c15, model);
+    }
 }
 
 #[test]
 fn surface_tension_kernels_match_the_cpu_stages_on_a_droplet_3d() {
-    check::<3>(0x2545_f491_4f6c_dd1d);
+    for model in [Model::Akinci, Model::Stress, Model::StressTwoPhases] {
+        check::<3>(0x2545_f491_4f6c_dd1d, model);
+    }
 }

@@ -250,37 +250,79 @@ fn rotating_frame_shows_in_the_forces_stage_only_when_asked_for() {
 
 #[test]
 fn surface_tension_shows_its_two_stages_only_when_asked_for() {
-    let out = plan(&shipped("scenes/droplet_2d.toml"), &[]);
+    // The printed constant of each model is the one the run calibrates.
+    let printed = |stdout: &str, key: &str| -> f64 {
+        stdout
+            .split(key)
+            .nth(1)
+            .and_then(|r| r.split_whitespace().next())
+            .and_then(|g| g.parse().ok())
+            .unwrap_or_else(|| panic!("{key} printed in {stdout}"))
+    };
+    let akinci = "fluid.surface_tension_model=\"akinci\"";
+    let out = plan(&shipped("scenes/droplet_2d.toml"), &[akinci]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("surface_tension sigma = 0.072 N/m"), "{stdout}");
-    // The gamma it prints is the one the run calibrates.
-    let gamma: f64 = stdout
-        .split("gamma = ")
-        .nth(1)
-        .and_then(|r| r.split_whitespace().next())
-        .and_then(|g| g.parse().ok())
-        .expect("gamma printed");
-    let scene = sph::scene::load_scene(&shipped("scenes/droplet_2d.toml"), &[]).expect("valid");
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        stdout.contains("surface_tension sigma = 0.072 N/m, model akinci"),
+        "{stdout}"
+    );
+    let scene = sph::scene::load_scene(&shipped("scenes/droplet_2d.toml"), &[akinci.into()]).expect("valid");
     let sim = sph::run::simulation_from_scene::<2>(&scene).expect("builds");
-    let run_gamma = f64::from(sim.surface_tension_gamma());
+    let (gamma, run_gamma) = (
+        printed(&stdout, "gamma = "),
+        f64::from(sim.surface_tension_gamma()),
+    );
     assert!(
         (gamma / run_gamma - 1.0).abs() < 1e-4,
         "plan {gamma} vs run {run_gamma}"
     );
-    let names = stage_names(&stdout);
-    let forces = names.iter().position(|n| n == "forces").expect("a force stage");
-    assert_eq!(names[forces + 1], "surface_normals", "{stdout}");
-    assert_eq!(names[forces + 2], "surface_tension", "{stdout}");
-    let line = |name: &str| {
+    let line = |stdout: &str, name: &str| {
         stdout
             .lines()
             .find(|l| l.contains(&format!(". {name} ")))
             .unwrap_or_else(|| panic!("{name} line in {stdout}"))
             .to_string()
     };
-    assert!(line("surface_normals").contains("[AAT13] (3)"), "{stdout}");
-    assert!(line("surface_tension").contains("[AAT13] (1)-(5)"), "{stdout}");
+    assert!(
+        line(&stdout, "surface_normals").contains("[AAT13] (3)"),
+        "{stdout}"
+    );
+    assert!(
+        line(&stdout, "surface_tension").contains("[AAT13] (1)-(5)"),
+        "{stdout}"
+    );
+    // The shipped scene uses the default model, the surface stress.
+    let out = plan(&shipped("scenes/droplet_2d.toml"), &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        stdout.contains("surface_tension sigma = 0.072 N/m, model surface_stress"),
+        "{stdout}"
+    );
+    let scene = sph::scene::load_scene(&shipped("scenes/droplet_2d.toml"), &[]).expect("valid");
+    let sim = sph::run::simulation_from_scene::<2>(&scene).expect("builds");
+    let (stress, run_stress) = (
+        printed(&stdout, "sigma' = "),
+        f64::from(sim.surface_stress_sigma()),
+    );
+    assert!(
+        (stress / run_stress - 1.0).abs() < 1e-4,
+        "plan {stress} vs run {run_stress}"
+    );
+    assert_eq!(sim.surface_tension_gamma(), 0.0);
+    let names = stage_names(&stdout);
+    let forces = names.iter().position(|n| n == "forces").expect("a force stage");
+    assert_eq!(names[forces + 1], "surface_normals", "{stdout}");
+    assert_eq!(names[forces + 2], "surface_tension", "{stdout}");
+    assert!(
+        line(&stdout, "surface_normals").contains("[AAT13] (3), m/rho0"),
+        "{stdout}"
+    );
+    assert!(
+        line(&stdout, "surface_tension").contains("[LNSZZ94], [M00a]"),
+        "{stdout}"
+    );
     // The normals are a field of their own, written by one stage and read by the other.
     assert!(stdout.contains("normal"), "{stdout}");
     // A scene without the effect has neither stage.

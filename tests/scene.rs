@@ -5,6 +5,7 @@ use sph::scene as sc;
 
 use proptest::prelude::*;
 use sc::{Effect, Location, Problem, SceneError, SolidShape, SolverKind};
+use sph::backend::SurfaceTensionModel;
 
 const VALID_2D: &str = r#"name = "dam_break_2d"
 dimension = 2
@@ -1051,7 +1052,42 @@ fn surface_tension_resolves_with_its_effect_only() {
     let s = parse(&surface_tension_2d("surface_tension = 0.072\n")).expect("valid");
     assert!(s.has(Effect::SurfaceTension));
     assert_eq!(s.surface_tension, Some(0.072));
+    assert_eq!(
+        s.surface_tension_model,
+        SurfaceTensionModel::SurfaceStress,
+        "the default"
+    );
+    let s = parse(&surface_tension_2d(
+        "surface_tension = 0.072\nsurface_tension_model = \"akinci\"\n",
+    ))
+    .expect("valid");
+    assert_eq!(s.surface_tension_model, SurfaceTensionModel::Akinci);
     assert_eq!(parse(VALID_2D).expect("valid").surface_tension, None);
+}
+
+#[test]
+fn surface_tension_model_bad_input_names_the_key() {
+    // An unknown model.
+    let ps = problems(parse(&surface_tension_2d(
+        "surface_tension = 0.072\nsurface_tension_model = \"csf\"\n",
+    )));
+    let p = with_key(&ps, "fluid.surface_tension_model");
+    assert!(
+        p.reason.contains("surface_stress") && p.reason.contains("akinci"),
+        "{}",
+        p.reason
+    );
+    // The model without the effect, on its line.
+    let text = edit(
+        VALID_2D,
+        "gravity_ramp = 0.1\n",
+        "gravity_ramp = 0.1\nsurface_tension_model = \"akinci\"\n",
+    );
+    let ps = problems(parse(&text));
+    assert_eq!(ps.len(), 1, "{ps:#?}");
+    let p = with_key(&ps, "fluid.surface_tension_model");
+    assert!(p.reason.contains("not enabled"), "{}", p.reason);
+    assert_eq!(line(p), line_of(&text, "surface_tension_model", 0));
 }
 
 #[test]

@@ -1,24 +1,30 @@
-//! The `surface_tension` effect (issue 7): [AAT13] Akinci, Akinci & Teschner 2013 cohesion and
-//! curvature forces, with `γ` calibrated so that the scene's `σ` is the model's surface tension
-//! (`physics::surface_tension`).
+//! The `surface_tension` effect (issue 7), both models, with their constants calibrated so that
+//! the scene's `σ` is the model's surface tension on a flat face of the lattice:
+//!
+//! - `surface_stress` (the default, `physics::surface_stress`): the capillary stress
+//!   `σ' |∇c| (I − N̂N̂ᵀ)` of the surface layers as a pair force, with Monaghan's artificial
+//!   stress;
+//! - `akinci` (`physics::surface_tension`): [AAT13] Akinci, Akinci & Teschner 2013 cohesion and
+//!   curvature forces between all fluid particles within `h`.
 //!
 //! `scenes/droplet_2d.toml`: a 2 cm square of water in zero gravity, no walls, viscosity
 //! μ = 1 Pa s (overdamped capillary relaxation, time μR/σ ≈ 0.16 s), σ = 0.072 N/m.
 //!
 //! Pressures. Outside a free droplet the pressure is zero. Inside, Laplace's law fixes the jump
-//! of the *mechanical* pressure (the normal stress, Batchelor 1967 §1.4): in 2D `σ/R`. In this
-//! model the mechanical pressure of the bulk is not the EOS pressure (19) alone: the cohesion is
-//! a pair attraction between all particles within `h`, so the bulk carries a negative virial
-//! pressure of its own (the van der Waals "internal pressure"), balanced by a positive EOS
-//! pressure `P0` that a flat slab has too (`P0 ≈ 5 σ/h`, 30 times `σ/R` here). The test measures
-//! the mechanical pressure of the droplet's core as the Irving–Kirkwood virial of every pair
-//! force (pressure (16) and [AAT13]), which is what Laplace's law is about, and reports the EOS
-//! pressure beside it.
+//! of the *mechanical* pressure (the normal stress, Batchelor 1967 §1.4): in 2D `σ/R`. The test
+//! measures the mechanical pressure of the droplet's core as the Irving–Kirkwood virial of every
+//! pair force (pressure (16) and the model's), and reports the EOS pressure beside it. With the
+//! surface stress the two agree: the bulk carries no capillary stress (`|∇c|` is below the
+//! model's surface ramp there). With [AAT13] they do not: the cohesion is a pair attraction
+//! between all particles within `h`, so the bulk carries a negative virial pressure of its own
+//! (the van der Waals "internal pressure"), balanced by a positive EOS pressure `P0` that a flat
+//! slab has too (`P0 ≈ 5 σ/h`, 30 times `σ/R` here).
 
 use sph::fields::{FLUID, Fields};
 use sph::math::{Real, Vector};
 use sph::physics::eos;
 use sph::physics::pressure::pressure_acceleration;
+use sph::physics::surface_stress::{surface_stress_acceleration, tensile_factor};
 use sph::physics::surface_tension::{normal_term, surface_tension_acceleration};
 use sph::run::simulation_from_scene;
 use sph::scene::load_scene;
@@ -115,9 +121,10 @@ fn grown_hull_area(f: &Fields<2>, dx: f64) -> f64 {
 
 /// The mechanical pressure [Pa] and the mean EOS pressure of the fluid particles within
 /// `radius` of the centre, recomputed from the positions alone (brute force): density (18),
-/// pressure (19), normals [AAT13] (3), then the virial `P = (1/(2 D V)) Σ_{i∈core} Σ_j m_i
-/// x_ij · a_ij` over the pressure (16) and surface tension pair accelerations `a_ij`, with
-/// `V = Σ_{i∈core} m_i/ρ_i`. Viscous forces are left out (the drop is at rest).
+/// pressure (19), normals [AAT13] (3) (with rest volumes for the surface stress), then the virial
+/// `P = (1/(2 D V)) Σ_{i∈core} Σ_j m_i x_ij · a_ij` over the pressure (16) and the run's
+/// surface-tension pair accelerations `a_ij`, with `V = Σ_{i∈core} m_i/ρ_i`. Viscous forces are
+/// left out (the drop is at rest).
 fn core_pressure(sim: &Simulation<2>, radius: f64) -> (f64, f64, f64) {
     let f = &sim.fields;
     let p = sim.step_params();
@@ -138,14 +145,19 @@ fn core_pressure(sim: &Simulation<2>, radius: f64) -> (f64, f64, f64) {
         neighbours(i, Box::new(|j, _, r2| *r += f.mass[j] * kernel.w(r2)));
     }
     let pressure: Vec<Real> = rho.iter().map(|&r| eos::pressure(r, p.rho0, p.c2)).collect();
+    let stress = p.surface_tension_sigma > 0.0;
     let mut normal = vec![Vector::<2>::zeros(); n];
     for (i, nrm) in normal.iter_mut().enumerate() {
         neighbours(
             i,
-            Box::new(|j, d, _| *nrm += normal_term(&kernel, f.mass[j], rho[j], &d)),
+            Box::new(|j, d, _| {
+                let volume_density = if stress { p.rho0 } else { rho[j] };
+                *nrm += normal_term(&kernel, f.mass[j], volume_density, &d)
+            }),
         );
         *nrm *= p.h;
     }
+    let w_dx = kernel.w(p.spacing * p.spacing);
     let c = centre(f);
     let (mut virial, mut volume, mut eos_sum, mut count) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     let mut rho_sum = 0.0f64;
@@ -165,8 +177,20 @@ fn core_pressure(sim: &Simulation<2>, radius: f64) -> (f64, f64, f64) {
                 }
                 let r = r2.sqrt();
                 let grad = kernel.grad_w_spiky(&d, r) * p.pressure_gradient_scale;
-                let a = pressure_acceleration(pressure[i], rho[i], pressure[j], rho[j], f.mass[j], &grad)
-                    + surface_tension_acceleration(
+                let capillary = if stress {
+                    surface_stress_acceleration(
+                        p.surface_tension_sigma,
+                        p.h,
+                        f.mass[j],
+                        p.rho0,
+                        p.rho0,
+                        &normal[i],
+                        &normal[j],
+                        &grad,
+                        tensile_factor(kernel.w(r2), w_dx),
+                    )
+                } else {
+                    surface_tension_acceleration(
                         p.surface_tension_gamma,
                         p.rho0,
                         p.h,
@@ -177,7 +201,10 @@ fn core_pressure(sim: &Simulation<2>, radius: f64) -> (f64, f64, f64) {
                         &normal[j],
                         &d,
                         r,
-                    );
+                    )
+                };
+                let a = pressure_acceleration(pressure[i], rho[i], pressure[j], rho[j], f.mass[j], &grad)
+                    + capillary;
                 virial += f64::from(f.mass[i]) * f64::from(d.dot(&a));
             }),
         );
@@ -237,36 +264,22 @@ fn run_droplet(sets: &[&str], average: f64) -> Droplet {
     }
 }
 
-/// Issue 7: the square relaxes to a circle. `scenes/droplet_2d.toml` to t = 1 s (six times the
-/// relaxation time μR/σ): the outermost particle radius over 24 angular sectors varies by
-/// `(max − min)/mean` = 0.32 on the square (corners at `√2` times the side's half-width) and
-/// must fall below one spacing over the radius, `dx/R` = 0.089, the roughness of a lattice disc
-/// (measured 0.078).
+/// The `--set` that selects [AAT13]'s model instead of the default surface stress.
+const AKINCI: &str = "fluid.surface_tension_model=\"akinci\"";
+
+/// Issue 7: the square relaxes to a circle. `scenes/droplet_2d.toml` (surface stress) to t = 1 s
+/// (six times the relaxation time μR/σ): the outermost particle radius over 24 angular sectors
+/// varies by `(max − min)/mean` = 0.32 on the square (corners at `√2` times the side's
+/// half-width) and must fall below one spacing over the radius, `dx/R` = 0.089, the roughness of
+/// a lattice disc. Measured 0.0047: the drop's outer layer is a smooth ring.
 ///
-/// Area. The fluid's own measure, `M/ρ` of the core, stays within 1 % of the start (the
-/// cohesion's bulk pressure `P0` ≈ 170 Pa compresses it by `P0/(ρ0 C²)` = 0.7 %; measured
-/// +0.7 % density). The drop's outline (the particles' convex hull grown by dx/2, exact for the
-/// square) may differ by the uncertainty of where a surface lies, ±dx/2 on the radius, so
-/// `dx/R` = 8.9 % of the area: measured −5.9 %, because the cohesion pulls the outer layer
-/// closer than dx to the next. The momentum stays at f32 round-off (every pair force is
-/// antisymmetric; measured 9e-8 of `M sqrt(σ/(ρ0 R))`).
-///
-/// Ignored: the outcome is not robust. Since the viscous force carries the lattice factor 1/λ
-/// (`StepParams::viscosity_scale`) the spread at t = 1 s is 0.100 (μ = 1 Pa s), and it is
-/// 0.100 at μ = 0.8, 0.082 at 0.9, 0.117 at 1.1, 0.086 at σ = 0.144 N/m, 0.082 at C = 10 m/s,
-/// 0.103 at C = 20 m/s. The drop is round to about one spacing by t ≈ 0.3 s in every run, but it
-/// does not settle: the particles keep creeping (rms speed 1e-4 to 1e-3 m/s, 0.1–1 % of the
-/// capillary speed, for seconds) and the outermost particle of each sector comes and goes, so the
-/// spread wanders between 0.06 and 0.12 (0.7–1.35 dx/R) and a tolerance of one dx/R is straddled
-/// by whichever packing the run happens to be in at the end (μ = 1: 0.100 at 1 s, 0.109 at 2 s,
-/// 0.112 at 3 s). Neither a longer run nor a finer drop helps: the cohesion's bulk pressure
-/// `P0 ≈ 5 σ/h` (170 Pa) does not depend on R while the capillary stress σ/R that drives the
-/// relaxation is 1/27 of it at R = 11.3 dx, and the particle packing under `P0` resists
-/// rearrangement like a solid; at R = 22.6 dx (σ/R = P0/54) the drop jams at spread 0.17–0.19,
-/// four times dx/R, through t = 1.4 s (μ = 0.9 and 1.0). C = 10 m/s passes at μ = 0.9, 1.0,
-/// 1.1 and σ = 0.144 (0.057–0.082 at 1 s) but with no physical reason, and C = 20 m/s fails.
+/// Area. The fluid's own measure, `M/ρ` of the core, stays within 1 % of the start (measured
+/// +0.03 % density: the Laplace pressure σ/R = 6.4 Pa over `ρ0 C²` = 25 kPa). The drop's outline
+/// (the particles' convex hull grown by dx/2, exact for the square) may differ by the
+/// uncertainty of where a surface lies, ±dx/2 on the radius, so `dx/R` = 8.9 % of the area:
+/// measured −2.6 %. The momentum stays at f32 round-off (every pair force is antisymmetric;
+/// measured 1.9e-8 of `M sqrt(σ/(ρ0 R))`).
 #[test]
-#[ignore = "measured spread 0.100 at t = 1 s (mu 0.8-1.1: 0.082-0.117; tolerance dx/R = 0.089): the drop's packing creeps and the one-dx outline wanders 0.06-0.12; see the doc comment"]
 fn square_droplet_relaxes_to_a_circle_of_the_same_area() {
     let d = run_droplet(&[], 0.1);
     eprintln!("{d:#?}");
@@ -296,23 +309,20 @@ fn square_droplet_relaxes_to_a_circle_of_the_same_area() {
 }
 
 /// Issue 7: the Laplace jump. The mechanical pressure of the core (within R/2 of the centre,
-/// averaged over t = 1.5–2 s) against `σ/R` for σ = 0.072 and 0.144 N/m, within 10 %.
+/// averaged over t = 1.5–2 s) of the surface-stress drop against `σ/R` for σ = 0.072 and
+/// 0.144 N/m, within 10 % each; and Laplace's dependence on σ: the second over the first is 2
+/// within 10 %.
 ///
-/// Measured (dx = 1 mm, h = 2 dx): at R = 11.3 dx, 1.32 σ/R for σ = 0.072 N/m and 1.42 σ/R for
-/// 0.144 N/m (averaged over t = 1.5–2 s; the first still creeps up as the drop's packing ages,
-/// 1.40 σ/R at t = 3 s), and 1.39 σ/R at R = 22.6 dx: the model's surface tension is 32–42 %
-/// above the scene's σ at both resolutions, so the γ calibration
-/// (`physics::surface_tension::surface_tension_per_gamma`, a square-lattice slab with its
-/// cohesion and curvature forces only) misses what the relaxed interface adds or removes: the
-/// pressure force's share of the interface's stress anisotropy and the rearrangement of the
-/// surface layers. Laplace's dependence holds: linear in σ and in 1/R (the tests below).
-/// The EOS pressure of the core is 27 σ/R (the cohesion's bulk pressure `P0`, module doc).
-/// Since the viscous force took the lattice factor 1/λ these numbers are not reproducible: the
-/// σ = 0.072 N/m drop gives 0.58–1.02 σ/R for μ = 0.8–1.1 Pa s and the 0.144 N/m drop 1.26 σ/R
-/// (see `laplace_jump_is_linear_in_sigma`).
+/// Measured (dx = 1 mm, h = 2 dx, R = 11.3 dx): 1.011 σ/R and 1.002 σ/R (EOS pressure 1.007 and
+/// 0.992 σ/R), ratio 1.983. Robustness, the core's EOS pressure averaged over t = 0.5–1 s:
+/// 1.028 σ/R at μ = 0.8 Pa s, 1.032 at 1.2, 1.029 at C = 10 m/s, 1.018 at σ = 0.144 N/m, and
+/// 1.001 at t = 2 s. What it depends on: the artificial stress's `ε`
+/// (`physics::surface_stress::ARTIFICIAL_STRESS`), 0.92 σ/R at ε = 0.25 and 0.79 σ/R at 0.3;
+/// 0.2 is the smallest of these that keeps the surface layer from clumping (at 0.15 it clumps
+/// and the core holds 0.5 σ/R).
 #[test]
-#[ignore = "measured 1.32-1.42 sigma/R (R = 11 and 23 dx, two sigma) before the 1/lambda viscous factor, 0.58-1.26 since: the lattice-slab calibration of gamma misses the relaxed interface and the jammed packing moves the core pressure; see the doc comment"]
-fn laplace_jump_is_sigma_over_r_within_10_percent() {
+fn laplace_jump_is_sigma_over_r_within_10_percent_and_linear_in_sigma() {
+    let mut core = Vec::new();
     for sigma in ["0.072", "0.144"] {
         let d = run_droplet(
             &[&format!("fluid.surface_tension={sigma}"), "solver.end_time=2.0"],
@@ -322,44 +332,68 @@ fn laplace_jump_is_sigma_over_r_within_10_percent() {
         let ratio = d.mechanical / d.laplace;
         assert!(
             (ratio - 1.0).abs() <= 0.10,
-            "sigma = {sigma} N/m: core pressure {:.3} Pa = {ratio:.3} sigma/R (tolerance 10 %; EOS pressure {:.1} Pa)",
+            "sigma = {sigma} N/m: core pressure {:.3} Pa = {ratio:.3} sigma/R (tolerance 10 %; EOS pressure {:.3} Pa)",
             d.mechanical,
             d.eos
         );
+        core.push(d.mechanical);
     }
-}
-
-/// The jump is linear in σ, as Laplace's law says, whatever the calibration's factor: the core's
-/// mechanical pressure for σ = 0.144 N/m over that for 0.072 N/m (same drop, R = 11.3 dx,
-/// averaged over t = 1.5–2 s) is 2 within 10 % (measured 2.14 before the viscous force took the
-/// lattice factor 1/λ: the packing ages at a rate that depends on σ, see the previous test's
-/// numbers).
-///
-/// Ignored: the outcome is not robust. The core's mechanical pressure is the small difference
-/// of two bulk terms 27 times σ/R (the EOS pressure `P0` and the cohesion's virial, module doc),
-/// so a 1 % change in the local stress of the jammed packing moves it by 0.3 σ/R. Measured now
-/// (average over t = 1.5–2 s, σ = 0.072 N/m): 0.59 σ/R at μ = 1 Pa s, 0.58 at μ = 0.8, 0.93 at
-/// 0.9, 1.02 at 1.1, 0.84 at C = 10 m/s, 0.68 at C = 20 m/s; at σ = 0.144 N/m 1.26 σ/R (C = 5)
-/// and 0.58 (C = 10). So the ratio is 4.19 at μ = 1 (test output), 1.4 at C = 10 m/s, and
-/// against the μ = 1 drop at 0.144 N/m anything from 2.5 to 4.3 over μ = 0.8–1.1: the packing
-/// the drop jams in, not σ, sets it.
-#[test]
-#[ignore = "measured ratio 4.19 (core 0.60 and 1.26 sigma/R; mu 0.8-1.1 gives 0.58-1.02 sigma/R at sigma = 0.072): the jammed packing's stress, not sigma, sets the core pressure; see the doc comment"]
-fn laplace_jump_is_linear_in_sigma() {
-    let one = run_droplet(&["solver.end_time=2.0"], 0.5);
-    let two = run_droplet(&["fluid.surface_tension=0.144", "solver.end_time=2.0"], 0.5);
-    let ratio = two.mechanical / one.mechanical;
-    eprintln!(
-        "core pressure {:.3} Pa ({:.3} sigma/R) and {:.3} Pa ({:.3} sigma/R): ratio {ratio:.3}",
-        one.mechanical,
-        one.mechanical / one.laplace,
-        two.mechanical,
-        two.mechanical / two.laplace
-    );
+    let ratio = core[1] / core[0];
     assert!(
         (ratio / 2.0 - 1.0).abs() <= 0.10,
-        "ratio {ratio:.3} (tolerance 2 ± 10 %)"
+        "core pressure for 2 sigma over sigma: {ratio:.3} (tolerance 2 ± 10 %)"
     );
+}
+
+/// [AAT13]'s model on the same square. The outline's spread at t = 1 s against `dx/R` = 0.089.
+///
+/// Ignored: the outcome is not robust. Since the viscous force carries the lattice factor 1/λ
+/// (`StepParams::viscosity_scale`) the spread at t = 1 s is 0.100 (μ = 1 Pa s), and it is
+/// 0.100 at μ = 0.8, 0.082 at 0.9, 0.117 at 1.1, 0.086 at σ = 0.144 N/m, 0.082 at C = 10 m/s,
+/// 0.103 at C = 20 m/s. The drop is round to about one spacing by t ≈ 0.3 s in every run, but it
+/// does not settle: the particles keep creeping (rms speed 1e-4 to 1e-3 m/s, 0.1–1 % of the
+/// capillary speed, for seconds) and the outermost particle of each sector comes and goes, so the
+/// spread wanders between 0.06 and 0.12 (0.7–1.35 dx/R). The cohesion's bulk pressure
+/// `P0 ≈ 5 σ/h` (170 Pa) does not depend on R while the capillary stress σ/R that drives the
+/// relaxation is 1/27 of it at R = 11.3 dx, and the particle packing under `P0` resists
+/// rearrangement like a solid; at R = 22.6 dx the drop jams at spread 0.17–0.19.
+#[test]
+#[ignore = "akinci model: measured spread 0.100 at t = 1 s (mu 0.8-1.1: 0.082-0.117; tolerance dx/R = 0.089): the drop's packing creeps and the one-dx outline wanders 0.06-0.12; see the doc comment"]
+fn akinci_square_droplet_relaxes_to_a_circle() {
+    let d = run_droplet(&[AKINCI], 0.1);
+    eprintln!("{d:#?}");
+    let r_over_dx = (4.0e-4 / std::f64::consts::PI).sqrt() / 0.001;
+    assert!(
+        d.spread_end < 1.0 / r_over_dx,
+        "radius spread {:.3} after relaxing (tolerance dx/R = {:.3})",
+        d.spread_end,
+        1.0 / r_over_dx
+    );
+}
+
+/// [AAT13]'s model: the Laplace jump within 10 % and linear in σ, as the test above.
+///
+/// Ignored: measured 1.32 σ/R (σ = 0.072 N/m) and 1.42 σ/R (0.144 N/m) before the viscous force
+/// took the lattice factor 1/λ, and since then 0.58–1.02 σ/R for μ = 0.8–1.1 Pa s at
+/// 0.072 N/m and 1.26 σ/R at 0.144 N/m (ratio 4.19 at μ = 1). The core's mechanical pressure is
+/// the small difference of two bulk terms 27 times σ/R (the EOS pressure `P0` and the
+/// cohesion's virial), so a 1 % change in the local stress of the jammed packing moves it by
+/// 0.3 σ/R: the packing the drop jams in, not σ, sets it. This is why the surface stress is the
+/// default.
+#[test]
+#[ignore = "akinci model: measured 0.58-1.26 sigma/R, ratio 4.19 for 2 sigma: the jammed packing's stress, not sigma, sets the core pressure; see the doc comment"]
+fn akinci_laplace_jump_is_sigma_over_r_and_linear_in_sigma() {
+    let one = run_droplet(&[AKINCI, "solver.end_time=2.0"], 0.5);
+    let two = run_droplet(
+        &[AKINCI, "fluid.surface_tension=0.144", "solver.end_time=2.0"],
+        0.5,
+    );
+    for d in [&one, &two] {
+        let ratio = d.mechanical / d.laplace;
+        assert!((ratio - 1.0).abs() <= 0.10, "core pressure {ratio:.3} sigma/R");
+    }
+    let ratio = two.mechanical / one.mechanical;
+    assert!((ratio / 2.0 - 1.0).abs() <= 0.10, "ratio {ratio:.3}");
 }
 
 /// `r_max / r_rms` of the fluid about its centre: √3 = 1.73 for a continuous cube, `sqrt(5/3)`
@@ -371,44 +405,45 @@ fn corner_ratio(f: &Fields<3>) -> f64 {
     r.iter().copied().fold(0.0, f64::max) / rms
 }
 
-/// 3D sanity: `scenes/droplet_3d.toml` (a 1 cm cube, 1,000 particles) to t = 0.3 s (3.4
-/// relaxation times): every step finite, the momentum at f32 round-off (measured 4e-8 of
-/// `M sqrt(σ/(ρ0 R))`), and the shape from cube to ball: `r_max/r_rms` is 1.567 on the 10³
-/// lattice cube and must fall to a lattice ball's, at most 1.30 (a ball of radius R = 6.2 dx
-/// whose outer layer sits dx/2 inside has `(R − dx/2)/(sqrt(3/5) R)` = 1.19, the continuum ball
-/// 1.29; measured 1.24).
+/// 3D sanity, both models: `scenes/droplet_3d.toml` (a 1 cm cube, 1,000 particles) to t = 0.3 s
+/// (3.4 relaxation times): every step finite, the momentum at f32 round-off (measured 1.2e-8 of
+/// `M sqrt(σ/(ρ0 R))` with the surface stress, 4e-8 with [AAT13]), and the shape from cube to
+/// ball: `r_max/r_rms` is 1.567 on the 10³ lattice cube and must fall to a lattice ball's, at
+/// most 1.30 (a ball of radius R = 6.2 dx whose outer layer sits dx/2 inside has
+/// `(R − dx/2)/(sqrt(3/5) R)` = 1.19, the continuum ball 1.29; measured 1.228 and 1.24).
 #[test]
 fn cube_droplet_becomes_a_ball_in_3d() {
-    let scene = load_scene(
-        Path::new("scenes/droplet_3d.toml"),
-        &["solver.end_time=0.3".into()],
-    )
-    .expect("shipped scene");
-    let mut sim = simulation_from_scene::<3>(&scene).expect("builds");
-    let (mass, r) = (
-        sim.fluid_mass(),
-        (3.0e-6 / (4.0 * std::f64::consts::PI)).powf(1.0 / 3.0),
-    );
-    let speed = (0.072 / (scene.rho0 * r)).sqrt();
-    let start = corner_ratio(&sim.fields);
-    let mut momentum = 0.0f64;
-    while sim.clock().time < scene.end_time - 1e-12 {
-        sim.step(scene.end_time).expect("finite, stable step");
-        let m = sim.fluid_momentum();
-        momentum = momentum.max((m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt() / (mass * speed));
+    for sets in [vec![], vec![AKINCI.to_string()]] {
+        let mut sets = sets;
+        sets.push("solver.end_time=0.3".into());
+        let scene = load_scene(Path::new("scenes/droplet_3d.toml"), &sets).expect("shipped scene");
+        let mut sim = simulation_from_scene::<3>(&scene).expect("builds");
+        let (mass, r) = (
+            sim.fluid_mass(),
+            (3.0e-6 / (4.0 * std::f64::consts::PI)).powf(1.0 / 3.0),
+        );
+        let speed = (0.072 / (scene.rho0 * r)).sqrt();
+        let start = corner_ratio(&sim.fields);
+        let mut momentum = 0.0f64;
+        while sim.clock().time < scene.end_time - 1e-12 {
+            sim.step(scene.end_time).expect("finite, stable step");
+            let m = sim.fluid_momentum();
+            momentum = momentum.max((m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt() / (mass * speed));
+        }
+        let end = corner_ratio(&sim.fields);
+        eprintln!("{sets:?}: r_max/r_rms {start:.3} -> {end:.3}; momentum {momentum:.2e} of M u_capillary");
+        assert!(start > 1.5, "the start is a cube: {start}");
+        assert!(end <= 1.30, "{sets:?}: r_max/r_rms = {end:.3}");
+        assert!(momentum < 1.0e-5, "{sets:?}: momentum {momentum:.2e}");
     }
-    let end = corner_ratio(&sim.fields);
-    eprintln!("r_max/r_rms: {start:.3} -> {end:.3}; momentum {momentum:.2e} of M u_capillary");
-    assert!(start > 1.5, "the start is a cube: {start}");
-    assert!(end <= 1.30, "r_max/r_rms = {end:.3}");
-    assert!(momentum < 1.0e-5, "momentum {momentum:.2e}");
 }
 
-/// The jump goes as 1/R: the square of side 2 cm (R = 11.3 dx) against 4 cm (R = 22.6 dx), the
-/// core's mechanical pressure averaged over t = 1.5–2 s, ratio R2/R1 = 2 within 10 % (measured
-/// 8.45 Pa and 4.44 Pa, ratio 1.90). Long: the large drop has 1,600 particles.
+/// The jump goes as 1/R: the surface-stress square of side 2 cm (R = 11.3 dx) against 4 cm
+/// (R = 22.6 dx), the core's mechanical pressure averaged over t = 1.5–2 s, ratio R2/R1 = 2
+/// within 10 % (measured 6.450 Pa = 1.011 σ/R and 3.016 Pa = 0.945 σ/R, ratio 2.139). Long:
+/// the large drop has 1,600 particles.
 #[test]
-#[ignore = "long: about 1 min in release"]
+#[ignore = "long: about 80 s in release"]
 fn laplace_jump_goes_as_one_over_r() {
     let small = run_droplet(&["solver.end_time=2.0"], 0.5);
     let large = run_droplet(
@@ -475,6 +510,6 @@ fn without_the_effect_there_is_no_normal_field() {
     assert!(
         !sim.plan()
             .iter()
-            .any(|s| matches!(s, Stage::SurfaceNormals | Stage::SurfaceTension))
+            .any(|s| matches!(s, Stage::SurfaceNormals(_) | Stage::SurfaceTension(_)))
     );
 }

@@ -11,6 +11,7 @@ use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::Vector;
 use params::StepParams;
+use serde::Deserialize;
 
 /// Which terms the force stage computes; a term a scene does not ask for is compiled out
 /// (the CPU backend monomorphises the force loop on these flags).
@@ -44,6 +45,32 @@ pub enum WallModel {
     /// [A12] extrapolation only: the `corrected` solver, where eq. (19) with a real `C` would be
     /// stiff and the position correction (23) keeps fluid out of walls instead.
     Extrapolated,
+}
+
+/// The surface-tension model (`fluid.surface_tension_model`), evaluated by the `surface_tension`
+/// stage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SurfaceTensionModel {
+    /// The capillary stress `σ δ (I − N̂N̂ᵀ)` of the surface layers, the conservative form of the
+    /// continuum surface force (`physics::surface_stress`); the default: the bulk carries no
+    /// stress of its own, so the core of a drop holds the Laplace pressure in its EOS pressure.
+    #[default]
+    SurfaceStress,
+    /// [AAT13] pair cohesion and curvature between all fluid particles within `h`
+    /// (`physics::surface_tension`): momentum-conserving pair by pair, but its bulk pressure
+    /// (≈ 5σ/h) jams small drops (tests/surface_tension.rs).
+    Akinci,
+}
+
+impl SurfaceTensionModel {
+    /// The name used in scene files (`"surface_stress"`, `"akinci"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            SurfaceTensionModel::SurfaceStress => "surface_stress",
+            SurfaceTensionModel::Akinci => "akinci",
+        }
+    }
 }
 
 /// Which forces on solids `Backend::solid_forces` sums.
@@ -183,11 +210,15 @@ pub trait Backend<const D: usize> {
     /// [AAT13] eq. (3): the surface normal `n_i = h Σ_j (m_j/ρ_j) ∇W(x_ij)` of fluid particles
     /// over fluid neighbours (`physics::surface_tension`), into `Fields::normal` (allocated here
     /// on first use: only scenes with the `surface_tension` effect run this stage); zero for
-    /// solids.
+    /// solids. With the surface stress (`params.surface_tension_sigma > 0`) each neighbour's rest
+    /// volume `m_j/ρ0_j` replaces `m_j/ρ_j`: the colour gradient `h ∇c`
+    /// (`physics::surface_stress`).
     fn surface_normals(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
-    /// [AAT13] eqs. (1)–(5): adds the cohesion and curvature accelerations of the fluid
-    /// neighbours to the acceleration of fluid particles, with `γ = params.surface_tension_gamma`
-    /// and the normals of the `surface_normals` stage. Runs after `forces`.
+    /// Adds the surface tension of the fluid neighbours to the acceleration of fluid particles,
+    /// from the normals of the `surface_normals` stage. Runs after `forces`. With
+    /// `params.surface_tension_sigma > 0` the pair force of the capillary stresses
+    /// (`physics::surface_stress`), otherwise [AAT13] eqs. (1)–(5), the cohesion and curvature
+    /// forces with `γ = params.surface_tension_gamma`.
     fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Fig. 4: total force [N] (per unit depth in 2D) of the fluid on each of `solids` solids.
     fn solid_forces(

@@ -43,6 +43,14 @@ pub struct StepParams<const D: usize> {
     /// [AAT13]'s `γ` of the surface tension (`physics::surface_tension`), in the units that make
     /// each of its terms a force; 0 when the scene has no `surface_tension` effect.
     pub surface_tension_gamma: Real,
+    /// `σ'` [N/m] (2D: [N]) of the surface stress (`physics::surface_stress`), calibrated so that
+    /// the model's surface tension is the scene's `σ`; 0 unless the scene's surface-tension model
+    /// is `surface_stress`. The `surface_tension` stage runs that model when this is positive and
+    /// [AAT13]'s otherwise.
+    pub surface_tension_sigma: Real,
+    /// The initial particle spacing `dx` [m] (the reference distance of the surface stress's
+    /// artificial stress, `physics::surface_stress::tensile_factor`).
+    pub spacing: Real,
 }
 
 impl<const D: usize> StepParams<D> {

@@ -7,6 +7,7 @@
 //! the run does after each step (probes, output files). A term the scene does not ask for is
 //! not printed because it does not run.
 
+use crate::backend::SurfaceTensionModel;
 use crate::fields::Field;
 use crate::run::{correction, plan_inputs};
 use crate::scene::{Effect, Scene, load_scene};
@@ -42,21 +43,28 @@ fn vector(v: &[f64]) -> String {
     format!("({})", parts.join(", "))
 }
 
-/// [AAT13]'s `γ` the run will use for `sigma` (`physics::surface_tension`), as
-/// `Simulation::new` calibrates it; NaN where the scene's kernel cannot be built.
-fn surface_tension_gamma(scene: &Scene, sigma: f64) -> f64 {
-    use crate::physics::{lattice::lattice_mass, surface_tension::gamma_for_surface_tension};
+/// The calibrated constant the run will use for `sigma`, as `Simulation::new` calibrates it:
+/// the surface stress's `σ'` (`physics::surface_stress`) or [AAT13]'s `γ`
+/// (`physics::surface_tension`); NaN where the scene's kernel cannot be built.
+fn surface_tension_constant(scene: &Scene, sigma: f64) -> f64 {
+    use crate::physics::lattice::{lattice_gradient_moment, lattice_mass};
+    use crate::physics::{surface_stress::calibrated_stress, surface_tension::gamma_for_surface_tension};
     use crate::smoothing::Smoothing;
-    let (dx, h, rho0) = (scene.spacing, scene.smoothing_length as f32, scene.rho0);
+    fn constant<const D: usize>(scene: &Scene, k: &Smoothing<D>, sigma: f64) -> f64 {
+        let (dx, rho0) = (scene.spacing, scene.rho0);
+        let m = f64::from(lattice_mass(k, dx, rho0) as f32);
+        match scene.surface_tension_model {
+            SurfaceTensionModel::SurfaceStress => {
+                let scale = 1.0 / lattice_gradient_moment(k, dx, rho0);
+                calibrated_stress(k, dx, m, rho0, scale, sigma)
+            }
+            SurfaceTensionModel::Akinci => gamma_for_surface_tension(k, dx, rho0, m, sigma),
+        }
+    }
+    let h = scene.smoothing_length as f32;
     match scene.dimension {
-        2 => Smoothing::<2>::new(h).map_or(f64::NAN, |k| {
-            let m = f64::from(lattice_mass(&k, dx, rho0) as f32);
-            gamma_for_surface_tension(&k, dx, rho0, m, sigma)
-        }),
-        _ => Smoothing::<3>::new(h).map_or(f64::NAN, |k| {
-            let m = f64::from(lattice_mass(&k, dx, rho0) as f32);
-            gamma_for_surface_tension(&k, dx, rho0, m, sigma)
-        }),
+        2 => Smoothing::<2>::new(h).map_or(f64::NAN, |k| constant(scene, &k, sigma)),
+        _ => Smoothing::<3>::new(h).map_or(f64::NAN, |k| constant(scene, &k, sigma)),
     }
 }
 
@@ -83,10 +91,15 @@ fn effect(scene: &Scene, e: Effect) -> String {
         ),
         Effect::SurfaceTension => {
             let sigma = scene.surface_tension.unwrap_or(0.0);
-            format!(
-                "surface_tension sigma = {sigma} N/m: [AAT13] cohesion and curvature between fluid particles (no adhesion to solids), gamma = {:.4e} from the lattice slab",
-                surface_tension_gamma(scene, sigma)
-            )
+            let constant = surface_tension_constant(scene, sigma);
+            match scene.surface_tension_model {
+                SurfaceTensionModel::SurfaceStress => format!(
+                    "surface_tension sigma = {sigma} N/m, model surface_stress: capillary stress of the surface layers with artificial stress (no adhesion to solids), sigma' = {constant:.4e} from the lattice slab"
+                ),
+                SurfaceTensionModel::Akinci => format!(
+                    "surface_tension sigma = {sigma} N/m, model akinci: [AAT13] cohesion and curvature between fluid particles (no adhesion to solids), gamma = {constant:.4e} from the lattice slab"
+                ),
+            }
         }
         Effect::Multiphase => {
             let mut phases: Vec<f64> = vec![scene.rho0];

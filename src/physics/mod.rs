@@ -15,5 +15,6 @@ pub mod lattice;
 pub mod multiphase;
 pub mod pressure;
 pub mod rotating_frame;
+pub mod surface_stress;
 pub mod surface_tension;
 pub mod viscosity;

@@ -1,5 +1,7 @@
 //! Surface tension by cohesion and curvature forces, [AAT13] Akinci, Akinci & Teschner,
-//! "Versatile surface tension and adhesion for SPH fluids", ACM TOG 32(6) 182 (2013):
+//! "Versatile surface tension and adhesion for SPH fluids", ACM TOG 32(6) 182 (2013), the model
+//! `fluid.surface_tension_model = "akinci"` (the default is `physics::surface_stress`: this
+//! model's bulk pressure jams small drops, tests/surface_tension.rs):
 //!
 //! - eq. (1)–(2) cohesion `F_coh = −γ m_i m_j C(|x_ij|) x_ij/|x_ij|` with their spline `C`;
 //! - eq. (3) normals `n_i = h Σ_j (m_j/ρ_j) ∇W(x_ij)` (poly6 gradient (20), the density kernel);
@@ -114,7 +116,8 @@ pub fn surface_tension_acceleration<const D: usize>(
 ///
 /// Not included: the pressure (16) and viscous forces (the pressure of the relaxed interface is
 /// not known before a run), and the relaxation of the surface layers (tests/surface_tension.rs
-/// measures what that leaves: the drops' jump is 1.32–1.42 σ/R).
+/// measures what that leaves: the drops' jump was 1.32–1.42 σ/R, and 0.58–1.26 σ/R since the
+/// viscous force took its lattice factor).
 ///
 /// Caveat: the curvature term has no kernel weight, so it jumps at `r = h`; a lattice offset at
 /// exactly `h` counts when `r < h` holds in the arithmetic used. At `h = 2 dx` with `h` an f32
@@ -126,6 +129,66 @@ pub fn surface_tension_per_gamma<const D: usize>(
     rho0: f64,
     mass: f64,
 ) -> f64 {
+    let h = f64::from(kernel.h);
+    let FlatSlab {
+        n,
+        layers,
+        tangential,
+        density,
+        normal,
+        ..
+    } = flat_slab(kernel, dx, mass, rho0);
+    let neighbours = |l: i64| (l - n).max(0)..=(l + n).min(layers - 1);
+    let c = |r: f64| f64::from(cohesion_kernel::<D>(r as Real, kernel.h));
+    let mut sum = 0.0;
+    for l in 0..layers {
+        for lj in neighbours(l) {
+            let z = (l - lj) as f64 * dx;
+            let k_ij = 2.0 * rho0 / (density[l as usize] + density[lj as usize]);
+            for &(x, t2) in &tangential {
+                let r = (z * z + t2).sqrt();
+                if r <= 0.0 || r >= h {
+                    continue;
+                }
+                // Force on i per unit γ: −K_ij (m² C(r) x_ij/r + m (n_i − n_j)), normals along z.
+                let coh = mass * mass * c(r) / r;
+                let fz = -k_ij * (coh * z + mass * (normal[l as usize] - normal[lj as usize]));
+                let fx = -k_ij * coh * x;
+                // Each pair is visited from both ends: half each.
+                sum += 0.5 * (z * fz - x * fx);
+            }
+        }
+    }
+    // Per column of cross-section dx^(D−1), two interfaces.
+    sum / dx.powi(D as i32 - 1) / 2.0
+}
+
+/// A flat slab of the initial lattice, periodic along its faces, `4 ceil(h/dx) + 2` layers
+/// thick so that its middle is bulk: per layer the density (18) and the `z` component of the
+/// [AAT13] normal (3) (`h Σ (m/ρ_j) ∇W`, positive into the fluid at the lower face), summed in
+/// f64 over the lattice offsets within `h` (`tangential`: each offset along the face with the
+/// first component and the squared length). Shared by the calibrations of both surface-tension
+/// models ([`surface_tension_per_gamma`],
+/// `physics::continuum_surface_force::surface_delta_per_area`).
+pub(crate) struct FlatSlab {
+    /// `ceil(h/dx)`: layers within reach of a layer on each side.
+    pub n: i64,
+    /// Number of layers.
+    pub layers: i64,
+    /// Offsets along the face: `(first component, squared length)` [m, m²].
+    pub tangential: Vec<(f64, f64)>,
+    /// Density (18) of each layer [kg/m³].
+    pub density: Vec<f64>,
+    /// `z` component of the normal (3) of each layer (dimensionless).
+    pub normal: Vec<f64>,
+    /// The same with the rest volume `m/ρ0` for every neighbour, `h ∇(ρ/ρ0)`: the continuum
+    /// surface force's normal (`physics::continuum_surface_force`).
+    pub rest_normal: Vec<f64>,
+}
+
+/// The [`FlatSlab`] of spacing `dx` [m] for `kernel`, every particle of mass `mass` [kg] and rest
+/// density `rho0` [kg/m³].
+pub(crate) fn flat_slab<const D: usize>(kernel: &Smoothing<D>, dx: f64, mass: f64, rho0: f64) -> FlatSlab {
     let h = f64::from(kernel.h);
     let n = (h / dx).ceil() as i64;
     let layers = 4 * n + 2;
@@ -165,40 +228,30 @@ pub fn surface_tension_per_gamma<const D: usize>(
                 .sum()
         })
         .collect();
-    let normal: Vec<f64> = (0..layers)
-        .map(|l| {
-            let mut s = 0.0;
-            for lj in neighbours(l) {
-                let z = (l - lj) as f64 * dx;
-                for &(_, t2) in &tangential {
-                    s += mass / density[lj as usize] * grad_poly6(z * z + t2) * z;
+    let normal_with = |volume: &dyn Fn(usize) -> f64| -> Vec<f64> {
+        (0..layers)
+            .map(|l| {
+                let mut s = 0.0;
+                for lj in neighbours(l) {
+                    let z = (l - lj) as f64 * dx;
+                    for &(_, t2) in &tangential {
+                        s += volume(lj as usize) * grad_poly6(z * z + t2) * z;
+                    }
                 }
-            }
-            h * s
-        })
-        .collect();
-    let c = |r: f64| f64::from(cohesion_kernel::<D>(r as Real, kernel.h));
-    let mut sum = 0.0;
-    for l in 0..layers {
-        for lj in neighbours(l) {
-            let z = (l - lj) as f64 * dx;
-            let k_ij = 2.0 * rho0 / (density[l as usize] + density[lj as usize]);
-            for &(x, t2) in &tangential {
-                let r = (z * z + t2).sqrt();
-                if r <= 0.0 || r >= h {
-                    continue;
-                }
-                // Force on i per unit γ: −K_ij (m² C(r) x_ij/r + m (n_i − n_j)), normals along z.
-                let coh = mass * mass * c(r) / r;
-                let fz = -k_ij * (coh * z + mass * (normal[l as usize] - normal[lj as usize]));
-                let fx = -k_ij * coh * x;
-                // Each pair is visited from both ends: half each.
-                sum += 0.5 * (z * fz - x * fx);
-            }
-        }
+                h * s
+            })
+            .collect()
+    };
+    let normal = normal_with(&|lj| mass / density[lj]);
+    let rest_normal = normal_with(&|_| mass / rho0);
+    FlatSlab {
+        n,
+        layers,
+        tangential,
+        density,
+        normal,
+        rest_normal,
     }
-    // Per column of cross-section dx^(D−1), two interfaces.
-    sum / dx.powi(D as i32 - 1) / 2.0
 }
 
 /// `γ` [AAT13] that gives the surface tension `sigma` [N/m] (2D: [N]) on the lattice of

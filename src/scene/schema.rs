@@ -20,8 +20,10 @@ pub enum Effect {
     /// \[rad/s\] about the axis through `fluid.rotation_centre` \[m\]
     /// (`physics::rotating_frame`).
     RotatingFrame,
-    /// Surface tension `fluid.surface_tension` \[N/m\] by [AAT13]'s cohesion and curvature
-    /// forces between fluid particles (`physics::surface_tension`).
+    /// Surface tension `fluid.surface_tension` \[N/m\] between fluid particles, by the model
+    /// `fluid.surface_tension_model`: the capillary stress of the surface layers
+    /// (`physics::surface_stress`, the default) or [AAT13]'s cohesion and curvature forces
+    /// (`physics::surface_tension`).
     SurfaceTension,
     /// Fluid phases of different rest densities: a `[[fluid_box]]` may set its own `rho0`
     /// \[kg/m^3\]; density, equation of state, pressure force and position correction use each
@@ -197,6 +199,9 @@ pub struct FluidFile {
     /// Surface tension σ \[N/m\] (2D: per unit depth), > 0; required iff the `surface_tension`
     /// effect is on.
     pub surface_tension: Option<f64>,
+    /// The surface-tension model, `"csf"` (default) or `"akinci"`; only with the
+    /// `surface_tension` effect.
+    pub surface_tension_model: Option<crate::backend::SurfaceTensionModel>,
 }
 
 /// `fluid.angular_velocity`: a number (2D, about the out-of-plane axis) or a vector.

@@ -336,6 +336,14 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         }
         (None, false) => None,
     };
+    if f.surface_tension_model.is_some() && !effects.contains(&Effect::SurfaceTension) {
+        c.err(
+            fp.k("surface_tension_model"),
+            "given but effect \"surface_tension\" is not enabled (add it to `effects` or remove this key)"
+                .into(),
+        );
+    }
+    let surface_tension_model = f.surface_tension_model.unwrap_or_default();
 
     // [[fluid_box]]
     if file.fluid_box.is_empty() {
@@ -502,6 +510,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             angular_velocity,
             rotation_centre: rotation_centre?,
             surface_tension,
+            surface_tension_model,
             fluid_boxes,
             solids,
             solver: solver?,

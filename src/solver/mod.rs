@@ -11,7 +11,7 @@ pub mod timestep;
 
 use crate::backend::cpu::CpuBackend;
 use crate::backend::params::StepParams;
-use crate::backend::{Backend, BackendError, BackendKind};
+use crate::backend::{Backend, BackendError, BackendKind, SurfaceTensionModel};
 use crate::boundary::keep_out::KeepOutBox;
 use crate::boundary::motion::{SolidKinematics, SolidReference, Sway};
 use crate::fields::{FLUID, Fields};
@@ -20,6 +20,7 @@ use crate::physics::gravity::gravity_at;
 use crate::physics::lattice::{
     correction_stiffness, lattice_gradient_moment, lattice_laplacian_moment, lattice_mass,
 };
+use crate::physics::surface_stress::calibrated_stress;
 use crate::physics::surface_tension::gamma_for_surface_tension;
 use crate::smoothing::{Smoothing, UnsupportedDimension};
 use stage::Stage;
@@ -118,9 +119,8 @@ pub struct SimConfig<const D: usize> {
     pub angular_velocity: Option<[f64; 3]>,
     /// A point `x_c` [m] on the rotation axis (unused without a rotating frame).
     pub rotation_centre: Vector<D>,
-    /// Surface tension `σ` [N/m] (2D: per unit depth, [N]) of [AAT13]'s model
-    /// (`physics::surface_tension`); `None` when the scene has no `surface_tension` effect.
-    pub surface_tension: Option<f64>,
+    /// Surface tension `σ` and its model; `None` when the scene has no `surface_tension` effect.
+    pub surface_tension: Option<SurfaceTension>,
     /// Fixed time step [s], or `None` for adaptive.
     pub dt: Option<f64>,
     /// CFL number of the adaptive step.
@@ -223,7 +223,7 @@ fn plan_inputs<const D: usize>(config: &SimConfig<D>, solids: bool, moving_solid
         viscosity: config.viscosity.is_some(),
         artificial_viscosity: config.artificial_viscosity.is_some(),
         rotating_frame: config.angular_velocity.is_some(),
-        surface_tension: config.surface_tension.is_some(),
+        surface_tension: config.surface_tension.map(|s| s.model),
         solids,
         moving_solids,
         integrator: config.integrator,
@@ -300,6 +300,16 @@ impl CorrectionStats {
     }
 }
 
+/// The `surface_tension` effect of a run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceTension {
+    /// `σ` [N/m] (2D: per unit depth, [N]).
+    pub sigma: f64,
+    /// The surface stress (`physics::surface_stress`) or [AAT13]'s pair forces
+    /// (`physics::surface_tension`).
+    pub model: SurfaceTensionModel,
+}
+
 /// A running simulation in dimension `D` (2 or 3).
 pub struct Simulation<const D: usize> {
     /// Particle fields (cell-sorted after the first step).
@@ -321,6 +331,9 @@ pub struct Simulation<const D: usize> {
     /// [AAT13]'s `γ` for the scene's `σ`, calibrated on the lattice at set-up
     /// (`physics::surface_tension::gamma_for_surface_tension`); 0 without surface tension.
     surface_tension_gamma: Real,
+    /// `σ'` of the surface stress, calibrated on the lattice at set-up
+    /// (`physics::surface_stress::calibrated_stress`); 0 unless that is the model.
+    surface_tension_sigma: Real,
     clock: Clock,
     stats: RunStats,
     /// Force of the fluid on each named solid at the last step [N] (2D: [N/m]).
@@ -379,8 +392,8 @@ impl<const D: usize> Simulation<D> {
         positive("fluid.rho0", config.rho0)?;
         positive("fluid.sound_speed", config.sound_speed)?;
         positive("solver.cfl", config.cfl)?;
-        if let Some(sigma) = config.surface_tension {
-            positive("fluid.surface_tension", sigma)?;
+        if let Some(st) = config.surface_tension {
+            positive("fluid.surface_tension", st.sigma)?;
         }
         if fluid_position.len() != fluid_velocity.len() {
             return Err(SetupError::Invalid {
@@ -397,9 +410,24 @@ impl<const D: usize> Simulation<D> {
         } else {
             1.0
         };
-        let surface_tension_gamma = config.surface_tension.map_or(0.0, |sigma| {
-            gamma_for_surface_tension(&kernel, config.spacing, config.rho0, f64::from(mass), sigma) as Real
-        });
+        let (dx, m) = (config.spacing, f64::from(mass));
+        let (surface_tension_gamma, surface_tension_sigma) = match config.surface_tension {
+            None => (0.0, 0.0),
+            Some(SurfaceTension {
+                sigma,
+                model: SurfaceTensionModel::Akinci,
+            }) => (
+                gamma_for_surface_tension(&kernel, dx, config.rho0, m, sigma) as Real,
+                0.0,
+            ),
+            Some(SurfaceTension {
+                sigma,
+                model: SurfaceTensionModel::SurfaceStress,
+            }) => (
+                0.0,
+                calibrated_stress(&kernel, dx, m, config.rho0, 1.0 / kappa, sigma) as Real,
+            ),
+        };
         if let Some(c) = &config.correction {
             positive("solver.delta", c.delta)?;
             positive("solver.relaxation", c.relaxation)?;
@@ -435,6 +463,7 @@ impl<const D: usize> Simulation<D> {
             pressure_gradient_scale: (1.0 / kappa) as Real,
             viscosity_scale,
             surface_tension_gamma,
+            surface_tension_sigma,
             clock: Clock::default(),
             stats: RunStats::default(),
             solid_force: vec![[0.0; 3]; solids.len()],
@@ -629,6 +658,12 @@ impl<const D: usize> Simulation<D> {
     /// surface tension.
     pub fn surface_tension_gamma(&self) -> Real {
         self.surface_tension_gamma
+    }
+
+    /// The surface stress's `σ'` the run uses for the scene's `σ` (`physics::surface_stress`); 0
+    /// unless the scene's surface-tension model is `surface_stress`.
+    pub fn surface_stress_sigma(&self) -> Real {
+        self.surface_tension_sigma
     }
 
     /// The settings of the run.
@@ -847,6 +882,8 @@ impl<const D: usize> Simulation<D> {
             },
             viscosity_scale: self.viscosity_scale,
             surface_tension_gamma: self.surface_tension_gamma,
+            surface_tension_sigma: self.surface_tension_sigma,
+            spacing: c.spacing as Real,
         }
     }
 

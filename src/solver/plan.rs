@@ -4,7 +4,7 @@
 
 use super::Integrator;
 use super::stage::{SolidsAt, Stage, SubStage};
-use crate::backend::{ForceTerms, WallModel};
+use crate::backend::{ForceTerms, SurfaceTensionModel, WallModel};
 use crate::fields::Field;
 
 /// What the plan depends on.
@@ -16,8 +16,8 @@ pub struct PlanInputs {
     pub artificial_viscosity: bool,
     /// The scene lists the `rotating_frame` effect.
     pub rotating_frame: bool,
-    /// The scene lists the `surface_tension` effect.
-    pub surface_tension: bool,
+    /// The scene lists the `surface_tension` effect: its model.
+    pub surface_tension: Option<SurfaceTensionModel>,
     /// The scene has at least one solid.
     pub solids: bool,
     /// At least one solid has a prescribed motion.
@@ -61,9 +61,9 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         artificial_viscosity: inputs.artificial_viscosity,
         rotating_frame: inputs.rotating_frame,
     }));
-    if inputs.surface_tension {
-        // [AAT13]: after the force stage, which sets the acceleration they add to.
-        plan.extend([Stage::SurfaceNormals, Stage::SurfaceTension]);
+    if let Some(model) = inputs.surface_tension {
+        // After the force stage, which sets the acceleration they add to.
+        plan.extend([Stage::SurfaceNormals(model), Stage::SurfaceTension(model)]);
     }
     if inputs.solids {
         plan.push(Stage::SolidForces);
@@ -111,7 +111,7 @@ mod tests {
             viscosity: false,
             artificial_viscosity: false,
             rotating_frame: false,
-            surface_tension: false,
+            surface_tension: None,
             solids: false,
             moving_solids: false,
             integrator: Integrator::SymplecticEuler,
@@ -126,7 +126,11 @@ mod tests {
         assert!(!bare.contains(&Stage::SolidForces));
         assert!(!bare.contains(&Stage::Correction));
         assert!(!bare.iter().any(|s| matches!(s, Stage::MoveSolids(_))));
-        assert!(!bare.contains(&Stage::SurfaceNormals) && !bare.contains(&Stage::SurfaceTension));
+        assert!(
+            !bare
+                .iter()
+                .any(|s| matches!(s, Stage::SurfaceNormals(_) | Stage::SurfaceTension(_)))
+        );
         assert!(bare.contains(&Stage::Forces(ForceTerms {
             viscosity: false,
             artificial_viscosity: false,
@@ -169,7 +173,7 @@ mod tests {
         for integrator in [Integrator::SymplecticEuler, Integrator::Rk3] {
             for corrected in [false, true] {
                 let p = plan(PlanInputs {
-                    surface_tension: true,
+                    surface_tension: Some(SurfaceTensionModel::SurfaceStress),
                     solids: true,
                     integrator,
                     corrected,
@@ -181,7 +185,10 @@ mod tests {
                     .expect("a force stage");
                 assert_eq!(
                     &p[at + 1..at + 3],
-                    &[Stage::SurfaceNormals, Stage::SurfaceTension]
+                    &[
+                        Stage::SurfaceNormals(SurfaceTensionModel::SurfaceStress),
+                        Stage::SurfaceTension(SurfaceTensionModel::SurfaceStress)
+                    ]
                 );
             }
         }

@@ -3,13 +3,14 @@
 //!
 //! Each stage also says what it implements (PAPER.md equation numbers; [A12] Adami, Hu & Adams,
 //! J. Comput. Phys. 231 (2012); [M92] Monaghan 1992; [MFZ97] Morris, Fox & Zhu 1997; [AAT13]
-//! Akinci, Akinci & Teschner 2013; [HA06] Hu & Adams 2006, the `multiphase` variants:
+//! Akinci, Akinci & Teschner 2013; [LNSZZ94] Lafaurie et al. 1994, the capillary stress;
+//! [M00a] Monaghan 2000, artificial stress; [HA06] Hu & Adams 2006, the `multiphase` variants:
 //! [`MultiphaseVariant`]) and which particle fields it reads and
 //! writes, one function per piece (`sph plan` prints them), next to the stage itself so the two
 //! cannot drift apart. [`SubStage`] does the same for the steps the driver (`solver::step`) runs
 //! inside a stage: the correction loop and the no-penetration guard.
 
-use crate::backend::{ForceTerms, WallModel};
+use crate::backend::{ForceTerms, SurfaceTensionModel, WallModel};
 use crate::fields::Field;
 use Field::{
     Acceleration, Density, Id, Kind, Mass, Normal, Position, PositionStart, Pressure, Velocity,
@@ -47,12 +48,13 @@ pub enum Stage {
     WallVelocity,
     /// Eqs. (15)–(17), (6): fluid acceleration, with the terms the scene asks for.
     Forces(ForceTerms),
-    /// [AAT13] eq. (3): surface normals of fluid particles. Only with the `surface_tension`
-    /// effect.
-    SurfaceNormals,
-    /// [AAT13] eqs. (1)–(5): cohesion and curvature forces added to the fluid acceleration. Only
-    /// with the `surface_tension` effect.
-    SurfaceTension,
+    /// [AAT13] eq. (3): surface normals of fluid particles (with rest volumes for the surface
+    /// stress: `h ∇c`). Only with the `surface_tension` effect.
+    SurfaceNormals(SurfaceTensionModel),
+    /// The surface tension added to the fluid acceleration: the capillary stress
+    /// (`physics::surface_stress`, [LNSZZ94], [M00a]) or [AAT13] eqs. (1)–(5). Only with the
+    /// `surface_tension` effect.
+    SurfaceTension(SurfaceTensionModel),
     /// Fig. 4: force of the fluid on each named solid. Only in scenes with solids.
     SolidForces,
     /// Time step from the state (or the scene's fixed step), and the state guards.
@@ -76,8 +78,8 @@ impl Stage {
             Stage::WallPressure(_) => "wall_pressure",
             Stage::WallVelocity => "wall_velocity",
             Stage::Forces(_) => "forces",
-            Stage::SurfaceNormals => "surface_normals",
-            Stage::SurfaceTension => "surface_tension",
+            Stage::SurfaceNormals(_) => "surface_normals",
+            Stage::SurfaceTension(_) => "surface_tension",
             Stage::SolidForces => "solid_forces",
             Stage::TimeStep => "time_step",
             Stage::Integrate => "integrate",
@@ -105,8 +107,10 @@ impl Stage {
                 "(15): (16), [M92], (6), [B67] 3.2",
                 "(15): (16), (17), [M92], (6), [B67] 3.2",
             ][terms.index()],
-            Stage::SurfaceNormals => "[AAT13] (3)",
-            Stage::SurfaceTension => "[AAT13] (1)-(5)",
+            Stage::SurfaceNormals(SurfaceTensionModel::SurfaceStress) => "[AAT13] (3), m/rho0",
+            Stage::SurfaceNormals(SurfaceTensionModel::Akinci) => "[AAT13] (3)",
+            Stage::SurfaceTension(SurfaceTensionModel::SurfaceStress) => "[LNSZZ94], [M00a]",
+            Stage::SurfaceTension(SurfaceTensionModel::Akinci) => "[AAT13] (1)-(5)",
             Stage::SolidForces => "Fig. 4",
             Stage::TimeStep => "CFL, [M92], [MFZ97]",
             Stage::Integrate => "(15)",
@@ -142,8 +146,16 @@ impl Stage {
                 "acceleration: pressure force, artificial viscosity, body force, Coriolis and centrifugal force",
                 "acceleration: pressure force, viscosity, artificial viscosity, body force, Coriolis and centrifugal force",
             ][terms.index()],
-            Stage::SurfaceNormals => "surface normals h sum (m/rho) grad W over fluid neighbours (fluid)",
-            Stage::SurfaceTension => {
+            Stage::SurfaceNormals(SurfaceTensionModel::SurfaceStress) => {
+                "colour gradient h grad c = h sum (m/rho0) grad W over fluid neighbours (fluid)"
+            }
+            Stage::SurfaceNormals(SurfaceTensionModel::Akinci) => {
+                "surface normals h sum (m/rho) grad W over fluid neighbours (fluid)"
+            }
+            Stage::SurfaceTension(SurfaceTensionModel::SurfaceStress) => {
+                "acceleration += pair force of the capillary stresses sigma' |grad c| (I - N N), with artificial stress (fluid)"
+            }
+            Stage::SurfaceTension(SurfaceTensionModel::Akinci) => {
                 "acceleration += cohesion and curvature forces of fluid neighbours, gamma from sigma (fluid)"
             }
             Stage::SolidForces => "force of the fluid on each named solid: the forces stage's pair terms",
@@ -169,8 +181,14 @@ impl Stage {
                 &[Position, Velocity, Density, Pressure, Mass, Kind]
             }
             Stage::Forces(_) => &[Position, Density, Pressure, Mass, Kind],
-            Stage::SurfaceNormals => &[Position, Density, Mass, Kind],
-            Stage::SurfaceTension => &[Position, Density, Mass, Kind, Normal, Acceleration],
+            Stage::SurfaceNormals(SurfaceTensionModel::SurfaceStress) => &[Position, Mass, Kind],
+            Stage::SurfaceNormals(SurfaceTensionModel::Akinci) => &[Position, Density, Mass, Kind],
+            Stage::SurfaceTension(SurfaceTensionModel::SurfaceStress) => {
+                &[Position, Mass, Kind, Normal, Acceleration]
+            }
+            Stage::SurfaceTension(SurfaceTensionModel::Akinci) => {
+                &[Position, Density, Mass, Kind, Normal, Acceleration]
+            }
             Stage::SolidForces => &[Position, Velocity, Density, Pressure, Mass, Kind],
             Stage::TimeStep => &[Position, Velocity, Acceleration, Density, Kind],
             Stage::Integrate => &[Velocity, Acceleration, Kind],
@@ -214,8 +232,8 @@ impl Stage {
             Stage::WallPressure(_) => &[Density, Pressure],
             Stage::WallVelocity => &[WallVelocity],
             Stage::Forces(_) => &[Acceleration],
-            Stage::SurfaceNormals => &[Normal],
-            Stage::SurfaceTension => &[Acceleration],
+            Stage::SurfaceNormals(_) => &[Normal],
+            Stage::SurfaceTension(_) => &[Acceleration],
             Stage::SolidForces | Stage::TimeStep => &[],
             Stage::Integrate => &[Position, Velocity],
             Stage::RkStage => &[Position, Velocity, PositionStart, VelocityStart],
@@ -297,6 +315,12 @@ impl Stage {
             }),
             Stage::Forces(_) | Stage::SolidForces => Some(MP_PRESSURE),
             Stage::TimeStep => Some(MP_ERROR),
+            Stage::SurfaceNormals(SurfaceTensionModel::SurfaceStress)
+            | Stage::SurfaceTension(SurfaceTensionModel::SurfaceStress) => Some(MultiphaseVariant {
+                equation: "own rho0",
+                description: "each particle's rest volume m/rho0 from its own phase",
+                reads_rest_density: true,
+            }),
             Stage::Correction => Some(MultiphaseVariant {
                 equation: "(23)-(24), [HA06]",
                 description: "increments and error against each particle's own rest density; volume-form displacement",

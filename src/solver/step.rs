@@ -95,8 +95,8 @@ impl<const D: usize> Simulation<D> {
                     }
                     Stage::WallVelocity => bk.wall_velocity(f, &params), // [A12] eqs. (22)-(23)
                     Stage::Forces(terms) => bk.forces(f, &params, terms), // eqs. (15)-(17), (6)
-                    Stage::SurfaceNormals => bk.surface_normals(f, &params), // [AAT13] eq. (3)
-                    Stage::SurfaceTension => bk.surface_tension(f, &params), // [AAT13] eqs. (1)-(5)
+                    Stage::SurfaceNormals(_) => bk.surface_normals(f, &params), // [AAT13] eq. (3)
+                    Stage::SurfaceTension(_) => bk.surface_tension(f, &params), // surface stress or [AAT13]
                     Stage::SolidForces => {
                         let part = bk.solid_forces(f, &params, solids, SolidForceSource::Forces); // Fig. 4
                         add_force(&mut solid_force, &part, integrator.force_weights()[k]);

@@ -20,6 +20,7 @@ use crate::physics::{
     eos, multiphase,
     pressure::{pressure_acceleration_from_terms, pressure_term},
     rotating_frame::{centrifugal_acceleration, rotating_frame_acceleration},
+    surface_stress::{surface_stress_acceleration, surface_weight, tensile_factor},
     surface_tension::{normal_term, surface_tension_acceleration},
     viscosity::viscous_acceleration,
 };
@@ -55,6 +56,50 @@ pub struct CpuBackend<const D: usize> {
 }
 
 impl<const D: usize> CpuBackend<D> {
+    /// The `surface_tension` stage with the surface stress (`physics::surface_stress`): the pair
+    /// force of the capillary stresses of `i` and `j`, added to the acceleration of fluid `i`.
+    fn surface_stress(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        let kernel = params.smoothing();
+        let grid = &self.grid;
+        let mut acceleration = std::mem::take(&mut fields.acceleration);
+        let f = &*fields;
+        let (sigma, h) = (params.surface_tension_sigma, params.h);
+        let w_dx = kernel.w(params.spacing * params.spacing);
+        let rest = |j: usize| f.rest_density.get(j).copied().unwrap_or(params.rho0);
+        acceleration.par_iter_mut().enumerate().for_each(|(i, a)| {
+            if f.kind[i] != FLUID {
+                return;
+            }
+            let (n_i, rho0_i) = (f.normal[i], rest(i));
+            let bulk_i = surface_weight(n_i.norm()) == 0.0;
+            let mut sum = Vector::zeros();
+            grid.for_each_neighbour(&f.position, i, |j, d, r2| {
+                if j == i || f.kind[j] != FLUID {
+                    return;
+                }
+                // Neither carries a stress: no force, and no kernel to evaluate.
+                if bulk_i && surface_weight(f.normal[j].norm()) == 0.0 {
+                    return;
+                }
+                let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
+                let tensile = tensile_factor(kernel.w(r2), w_dx);
+                sum += surface_stress_acceleration(
+                    sigma,
+                    h,
+                    f.mass[j],
+                    rho0_i,
+                    rest(j),
+                    &n_i,
+                    &f.normal[j],
+                    &grad,
+                    tensile,
+                );
+            });
+            *a += sum;
+        });
+        fields.acceleration = acceleration;
+    }
+
     /// A backend with empty buffers.
     pub fn new() -> Self {
         Self::default()
@@ -389,12 +434,18 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let mut normal = std::mem::take(&mut fields.normal);
         normal.resize(fields.len(), Vector::zeros());
         let f = &*fields;
+        // [AAT13] (3) weighs each neighbour by m_j/ρ_j; the surface stress by its rest volume
+        // m_j/ρ0_j (`physics::surface_stress`: a colour field without the surface layer's
+        // overshoot).
+        let rest_volume = params.surface_tension_sigma > 0.0;
+        let rest = |j: usize| f.rest_density.get(j).copied().unwrap_or(params.rho0);
         normal.par_iter_mut().enumerate().for_each(|(i, n)| {
             let mut sum = Vector::zeros();
             if f.kind[i] == FLUID {
                 grid.for_each_neighbour(&f.position, i, |j, d, _| {
                     if f.kind[j] == FLUID {
-                        sum += normal_term(&kernel, f.mass[j], f.density[j], &d); // [AAT13] (3)
+                        let rho_j = if rest_volume { rest(j) } else { f.density[j] };
+                        sum += normal_term(&kernel, f.mass[j], rho_j, &d);
                     }
                 });
             }
@@ -404,6 +455,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     }
 
     fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        if params.surface_tension_sigma > 0.0 {
+            self.surface_stress(fields, params);
+            return;
+        }
         let grid = &self.grid;
         let mut acceleration = std::mem::take(&mut fields.acceleration);
         let f = &*fields;

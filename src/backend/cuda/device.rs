@@ -903,9 +903,13 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let Some(normal) = self.normal.as_mut() else {
             return;
         };
+        // The multiphase rest densities where the scene has them (the kernel reads them only
+        // then; otherwise any f32 buffer stands in).
+        let has_rest = u32::from(self.f.rest_density.is_some());
+        let rest = self.f.rest_density.as_ref().unwrap_or(&self.f.density);
         launch!(self, "computing the surface normals", "surface_normals", self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            &self.f.density, &self.f.kind, normal);
+            &self.f.density, rest, &has_rest, &self.f.kind, normal);
     }
 
     fn surface_tension(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
@@ -916,9 +920,11 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return;
         };
         let n = self.n as u32;
+        let has_rest = u32::from(self.f.rest_density.is_some());
+        let rest = self.f.rest_density.as_ref().unwrap_or(&self.f.density);
         launch!(self, "computing the surface tension", "surface_tension", self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            &self.f.density, &self.f.kind, normal, &mut self.f.acceleration);
+            &self.f.density, rest, &has_rest, &self.f.kind, normal, &mut self.f.acceleration);
     }
 
     fn solid_forces(
