@@ -162,17 +162,47 @@ fn two_layer_tank_corrected_settles_to_the_piecewise_hydrostatic_pressure() {
 /// What the released disc did.
 #[derive(Debug)]
 struct Release {
-    /// Least-squares acceleration of the disc's mean height over the window [m/s²].
-    acceleration: f64,
-    /// Its displacement at the window's end [m].
-    displacement: f64,
+    /// The disc's mean height against time since the release, `(t, y − y0)` [s, m], every step.
+    trajectory: Vec<(f64, f64)>,
+}
+
+impl Release {
+    /// Least-squares acceleration [m/s²] of `y = c + v t + a t²/2` over `from ≤ t ≤ to` [s].
+    fn acceleration(&self, from: f64, to: f64) -> f64 {
+        let mut m = [[0.0f64; 3]; 3];
+        let mut r = [0.0f64; 3];
+        for &(t, y) in self.trajectory.iter().filter(|s| s.0 >= from && s.0 <= to) {
+            let basis = [1.0, t, 0.5 * t * t];
+            for a in 0..3 {
+                r[a] += basis[a] * y;
+                for b in 0..3 {
+                    m[a][b] += basis[a] * basis[b];
+                }
+            }
+        }
+        let det = |m: &[[f64; 3]; 3]| {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        };
+        let mut m2 = m;
+        for a in 0..3 {
+            m2[a][2] = r[a];
+        }
+        det(&m2) / det(&m)
+    }
+
+    /// The displacement at the end [m].
+    fn displacement(&self) -> f64 {
+        self.trajectory.last().map_or(0.0, |s| s.1)
+    }
 }
 
 /// `scenes/buoyant_blob_2d.toml` with the blob at the water's density (one phase, the effect
 /// on), settled until `release` s (gravity ramped in over 0.3 s); then every fluid particle within
-/// `R = 0.03 m` of the blob's centre (0.15, 0.10) becomes a disc of density `rho_b`: its rest
+/// `R = 0.03 m` of the blob's centre (0.15, `height`) becomes a disc of density `rho_b`: its rest
 /// density and its mass scaled by `rho_b / ρ_w` (the lattice mass is proportional to ρ0). Its mean
-/// height is recorded every step for `window` s and fitted with `y0 + v0 t + a t²/2`.
+/// height is recorded every step for `window` s.
 fn release_disc(sets: &[&str], rho_b: f64, height: f64, release: f64, window: f64) -> Release {
     let mut sets = sets.to_vec();
     sets.push("fluid_box.4.rho0=1000");
@@ -208,69 +238,73 @@ fn release_disc(sets: &[&str], rho_b: f64, height: f64, release: f64, window: f6
     let y0 = mean_height(&sim);
     let t0 = sim.clock().time;
     let end = t0 + window;
-    let mut samples = vec![(0.0, 0.0)];
+    let mut trajectory = vec![(0.0, 0.0)];
     while sim.clock().time < end {
         sim.step(end).expect("stable step");
         sim.sync_fields().expect("cpu");
-        samples.push((sim.clock().time - t0, mean_height(&sim) - y0));
+        trajectory.push((sim.clock().time - t0, mean_height(&sim) - y0));
     }
-    // Least squares of y = c + b t + (a/2) t² (normal equations, 3×3).
-    let mut m = [[0.0f64; 3]; 3];
-    let mut r = [0.0f64; 3];
-    for &(t, y) in &samples {
-        let basis = [1.0, t, 0.5 * t * t];
-        for a in 0..3 {
-            r[a] += basis[a] * y;
-            for b in 0..3 {
-                m[a][b] += basis[a] * basis[b];
-            }
-        }
-    }
-    let det = |m: &[[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let mut m2 = m;
-    for a in 0..3 {
-        m2[a][2] = r[a];
-    }
-    let acceleration = det(&m2) / det(&m);
-    let result = Release {
-        acceleration,
-        displacement: samples.last().map_or(0.0, |s| s.1),
-    };
     eprintln!(
-        "rho_b = {rho_b}: {} disc particles, {} steps, {result:?}, estimate (C_a = 1) {:.3} m/s²",
+        "rho_b = {rho_b}: {} disc particles, {} steps, displacement {:.3e} m",
         disc.len(),
-        samples.len() - 1,
-        buoyant_acceleration(G, 1000.0, rho_b, 1.0)
+        trajectory.len() - 1,
+        trajectory.last().map_or(0.0, |s| s.1)
     );
-    result
+    Release { trajectory }
 }
 
-/// Early-time buoyancy of a disc (R = 0.03 m, dx = 5 mm, wcsph) released at t = 0.5 s at
-/// height 0.15 m in the settled 0.3 m deep tank, fitted over 0.04 s: asserts the direction (a
-/// displacement of at least 0.5 mm the right way) and the acceleration within 40 % of
-/// `g (ρ_w − ρ_b)/(ρ_b + C_a ρ_w)` with `C_a = 1` (circle in 2D), ±g/3 for ρ_b = 500 and 2000.
-/// Measured: +3.19 m/s² for 500 (−2 %), −2.02 m/s² for 2000 (−38 %); over 0.02 s +2.58 and
-/// −2.37. The estimate is the inviscid start: it leaves out the unsteady viscous (Basset) drag,
-/// `sqrt(ν t)/R` ≈ 0.2 at 0.04 s here, and the release's acoustic transient (the disc's pressure
-/// jumps to `C² ρ_b (σ/σ0 − 1)`, relaxing over `2R/C` ≈ 3.5 ms), which makes the fit depend on
-/// the window. The 15 % target is [`disc_accelerates_as_buoyancy_with_added_mass_within_15_percent`].
+/// The fit window after the release [s]: it skips the release's transient (the disc's pressure
+/// jumps to `ρ_b/ρ_w` times the water's and both discs first move *up* for a few ms, measured)
+/// and ends before drag has grown far.
+const FIT: (f64, f64) = (0.01, 0.04);
+
+/// The early acceleration [m/s²] of discs of densities `rhos` released in the tank with `sets`,
+/// each minus that of a disc released at the water's own density (the control: the tank still
+/// sloshes at t = 0.5 s, which moves any disc; measured −0.058 m/s² at μ = 1 Pa s and +0.814 at
+/// 0.1 Pa s over [`FIT`]), with each disc's displacement at the window's end [m].
+fn buoyant_accelerations(sets: &[&str], rhos: &[f64]) -> Vec<(f64, f64)> {
+    let control = release_disc(sets, 1000.0, 0.15, 0.5, FIT.1).acceleration(FIT.0, FIT.1);
+    rhos.iter()
+        .map(|&rho_b| {
+            let r = release_disc(sets, rho_b, 0.15, 0.5, FIT.1);
+            let a = r.acceleration(FIT.0, FIT.1) - control;
+            eprintln!(
+                "{sets:?} rho_b = {rho_b}: {a:.3} m/s² (control {control:.3}), estimate (C_a = 1) {:.3} m/s²",
+                buoyant_acceleration(G, 1000.0, rho_b, 1.0)
+            );
+            (a, r.displacement())
+        })
+        .collect()
+}
+
+/// Early-time buoyancy of a disc (R = 0.03 m, dx = 5 mm, wcsph, μ = 1 Pa s) released at
+/// t = 0.5 s at height 0.15 m in the settled 0.3 m deep tank: asserts the direction (a
+/// displacement of at least 0.5 mm the right way over 0.04 s) and the acceleration
+/// ([`buoyant_accelerations`], fitted over [`FIT`]) within 40 % of `g (ρ_w − ρ_b)/(ρ_b + C_a ρ_w)`
+/// with `C_a = 1` (a circle in 2D, unbounded inviscid fluid), ±3.27 m/s² for ρ_b = 500 and 2000.
+/// Measured: +2.381 m/s² for 500 (−27 %), −2.493 for 2000 (−24 %). Neither resolution nor
+/// compressibility sets the gap (fitted from t = 0 without the control: 0.65 and 0.80 of the
+/// estimate at dx = 5 mm, 0.68 and 0.80 at 2.5 mm, 0.63 and 0.80 at C = 34 m/s). What the
+/// estimate leaves out: the viscous drag, `sqrt(ν t)/R` ≈ 0.2 at 0.04 s here (at μ = 0.1 Pa s
+/// the same fit gives −15.5 % and −9.3 %); and the tank's walls, 5 R from the disc's centre
+/// beside it and below, which raise the added mass (for a cylinder midway between two walls
+/// `d` away, images give about `C_a ≈ 1 + (π²/3)(R/d)²`, 1.13 here before the floor's share;
+/// with `C_a` = 1.2 the estimate is 2.89 and 3.07 m/s², 0.88 and 0.94 of the unbounded one).
+/// This was "−2 % and −38 %" in the third session, fitted from t = 0 without the control, which
+/// the release transient and the sloshing tank moved. The 15 % target is
+/// [`disc_accelerates_as_buoyancy_with_added_mass_within_15_percent`].
 #[test]
 fn light_disc_rises_and_heavy_disc_sinks_wcsph() {
-    for rho_b in [500.0, 2000.0] {
+    let rhos = [500.0, 2000.0];
+    for (&rho_b, (a, moved)) in rhos.iter().zip(buoyant_accelerations(&[], &rhos)) {
         let expected = buoyant_acceleration(G, 1000.0, rho_b, 1.0);
-        let r = release_disc(&[], rho_b, 0.15, 0.5, 0.04);
         assert!(
-            r.displacement * expected.signum() >= 5e-4,
-            "rho_b = {rho_b}: moved {:.2e} m, expected along {expected:+.2} m/s²",
-            r.displacement
+            moved * expected.signum() >= 5e-4,
+            "rho_b = {rho_b}: moved {moved:.2e} m, expected along {expected:+.2} m/s²"
         );
         assert!(
-            (r.acceleration - expected).abs() <= 0.4 * expected.abs(),
-            "rho_b = {rho_b}: acceleration {:.3} m/s², estimate {expected:.3} m/s² (tolerance 40 %)",
-            r.acceleration
+            (a - expected).abs() <= 0.4 * expected.abs(),
+            "rho_b = {rho_b}: acceleration {a:.3} m/s², estimate {expected:.3} m/s² (tolerance 40 %)"
         );
     }
 }
@@ -284,35 +318,45 @@ fn light_disc_rises_and_heavy_disc_sinks_wcsph() {
 fn light_disc_rises_and_heavy_disc_sinks_corrected() {
     for rho_b in [500.0, 2000.0] {
         let expected = buoyant_acceleration(G, 1000.0, rho_b, 1.0);
-        let r = release_disc(
+        let moved = release_disc(
             &["solver.kind=corrected", "particles.spacing=0.01"],
             rho_b,
             0.15,
             0.5,
             0.1,
-        );
+        )
+        .displacement();
         assert!(
-            r.displacement * expected.signum() >= 2e-3,
-            "rho_b = {rho_b}: moved {:.2e} m, expected along {expected:+.2} m/s²",
-            r.displacement
+            moved * expected.signum() >= 2e-3,
+            "rho_b = {rho_b}: moved {moved:.2e} m, expected along {expected:+.2} m/s²"
         );
     }
 }
 
-/// The target of issue 7's buoyancy test: the early acceleration within 15 % of the added-mass
-/// estimate for both discs (wcsph, window 0.04 s).
+/// The target of issue 7's buoyancy test: the early acceleration within 15 % of the unbounded,
+/// inviscid estimate for both discs, at the scene's μ = 1 Pa s and at 0.1 Pa s.
+///
+/// Ignored: the estimate is not this tank's. Measured (fit over [`FIT`], control subtracted):
+/// +2.381 and −2.493 m/s² (−27 % and −24 %) at μ = 1 Pa s, +2.764 and −2.967 m/s² (−15.5 % and
+/// −9.3 %) at 0.1 Pa s; the walls' added mass alone
+/// accounts for about −12 % and −6 % (previous test). At μ = 0.01 Pa s a splash leaves the
+/// domain while the tank settles.
 #[test]
-#[ignore = "measured: light disc -2 %, heavy disc -38 % of g (rho_w - rho_b)/(rho_b + rho_w); the heavy disc's deficit is not yet explained (Basset drag and the release transient are candidates)"]
+#[ignore = "measured -27 %/-24 % (mu = 1 Pa s) and -15 %/-9 % (0.1 Pa s) of the unbounded inviscid estimate: viscous drag and the tank walls' added mass, see the doc comment"]
 fn disc_accelerates_as_buoyancy_with_added_mass_within_15_percent() {
-    for rho_b in [500.0, 2000.0] {
-        let expected = buoyant_acceleration(G, 1000.0, rho_b, 1.0);
-        let r = release_disc(&[], rho_b, 0.15, 0.5, 0.04);
-        assert!(
-            (r.acceleration - expected).abs() <= 0.15 * expected.abs(),
-            "rho_b = {rho_b}: acceleration {:.3} m/s², estimate {expected:.3} m/s²",
-            r.acceleration
-        );
+    let rhos = [500.0, 2000.0];
+    let mut misses = Vec::new();
+    for sets in [vec![], vec!["fluid.viscosity=0.1"]] {
+        for (&rho_b, (a, _)) in rhos.iter().zip(buoyant_accelerations(&sets, &rhos)) {
+            let expected = buoyant_acceleration(G, 1000.0, rho_b, 1.0);
+            if (a - expected).abs() > 0.15 * expected.abs() {
+                misses.push(format!(
+                    "{sets:?} rho_b = {rho_b}: {a:.3} against {expected:.3} m/s²"
+                ));
+            }
+        }
     }
+    assert!(misses.is_empty(), "outside 15 %: {misses:#?}");
 }
 
 /// The largest difference between two runs' fluid states, matched by id: position [m] and
