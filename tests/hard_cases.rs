@@ -761,13 +761,13 @@ fn large_dt_2d_corrected_is_refused_by_the_validator() {
     );
 }
 
-/// 1 ms on the 10 m/s jet: above `0.25 h / |u|max` = 0.5 ms, below the gravity term.
+/// 1 ms on the 10 m/s jet: above `0.1 h / |u|max` = 0.2 ms, below the gravity term.
 #[test]
 fn jet_2d_corrected_large_dt_is_refused_by_the_validator() {
     corrected_large_dt_refused(
         "jet_2d.toml",
         "0.001",
-        &["0.001 s", "h / |u|max", "10 m/s", "0.0005 s", "0.000564"],
+        &["0.001 s", "h / |u|max", "10 m/s", "0.0002 s", "0.000564"],
     );
 }
 
@@ -824,7 +824,7 @@ fn viscous_low_3d_corrected_at_the_bound() {
     corrected_at_the_bound("viscous_low_3d.toml", &[]);
 }
 
-/// The 10 m/s jet, `dt = 0.25 h / |u|max` = 0.5 ms, through the impact on the plate (end time
+/// The 10 m/s jet, `dt = 0.1 h / |u|max` = 0.2 ms, through the impact on the plate (end time
 /// 0.06 s of the scene's 0.12 s, to keep the run short).
 #[test]
 fn jet_2d_corrected_at_the_bound() {
