@@ -5,17 +5,22 @@
 /// Floats per box in `boxes`: min[D], max[D], velocity[D], solid index.
 #define SPH_KEEP_OUT_STRIDE (3 * D + 1)
 
-/// Fluid inside a box is put `margin` [m] outside the box's nearest face (ties: lower axis, lower
-/// side) and loses the velocity component, relative to the box, that points into it. Per push,
-/// `out[4 s]` counts one and `out[4 s + 1 + k]` adds the fluid's momentum change `m du_k`
-/// [kg m/s] for the box's solid `s` (the host zeroes `out`, 4 doubles per solid).
+/// Fluid inside a box is put `margin` [m] outside the face it came in through and loses the
+/// velocity component, relative to the box, that points into it. The face: with has_from, where
+/// the segment from the step's start position `from` (SSP-RK3) enters the box (the axis entered
+/// last, ties to the lower axis); otherwise, or when `from` is inside the box, the nearest face
+/// (ties: lower axis, lower side). Per push, `out[4 s]` counts one and `out[4 s + 1 + k]` adds
+/// the fluid's momentum change `m du_k` [kg m/s] for the box's solid `s` (the host zeroes `out`,
+/// 4 doubles per solid). Twin of `KeepOutBox::push_out`.
 SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float margin,
                      const u32* __restrict__ kind, const float* __restrict__ mass,
-                     float* __restrict__ pos, float* __restrict__ vel, double* __restrict__ out) {
+                     const float* __restrict__ from, u32 has_from, float* __restrict__ pos,
+                     float* __restrict__ vel, double* __restrict__ out) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] != SPH_FLUID) return;
     vec_t x = vload(pos, i);
     vec_t u = vload(vel, i);
+    const vec_t start = has_from ? vload(from, i) : vzero();
     bool moved = false;
     for (u32 b = 0; b < boxes; ++b) {
         const float* lo = box + b * SPH_KEEP_OUT_STRIDE;
@@ -26,12 +31,32 @@ SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float marg
         if (!inside) continue;
         int axis = 0;
         bool upper = false;
-        float depth = 3.402823466e38f;  // FLT_MAX: every depth of a finite x is below it
-        for (int k = 0; k < D; ++k) {
-            const float below = x.c[k] - lo[k];
-            const float above = hi[k] - x.c[k];
-            if (below < depth) { axis = k; upper = false; depth = below; }
-            if (above < depth) { axis = k; upper = true; depth = above; }
+        bool entered = false;
+        if (has_from) {
+            float best = 0.0f;
+            for (int k = 0; k < D; ++k) {
+                float t;
+                bool up;
+                if (start.c[k] <= lo[k]) {
+                    up = false;
+                    t = (lo[k] - start.c[k]) / (x.c[k] - start.c[k]);
+                } else if (start.c[k] >= hi[k]) {
+                    up = true;
+                    t = (start.c[k] - hi[k]) / (start.c[k] - x.c[k]);
+                } else {
+                    continue;
+                }
+                if (!entered || t > best) { axis = k; upper = up; best = t; entered = true; }
+            }
+        }
+        if (!entered) {
+            float depth = 3.402823466e38f;  // FLT_MAX: every depth of a finite x is below it
+            for (int k = 0; k < D; ++k) {
+                const float below = x.c[k] - lo[k];
+                const float above = hi[k] - x.c[k];
+                if (below < depth) { axis = k; upper = false; depth = below; }
+                if (above < depth) { axis = k; upper = true; depth = above; }
+            }
         }
         const float relative = u.c[axis] - wall[axis];
         const float before = u.c[axis];

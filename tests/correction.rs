@@ -32,10 +32,11 @@
 //! solver's own force limit `0.25 sqrt(h/g)`: beyond it gravity alone carries the bottom layer
 //! through both wall layers in one step, which no position correction can undo.
 //!
-//! Two ignored tests reproduce defects these properties found that are still open (robustness
+//! Three ignored tests reproduce defects these properties found that are still open (robustness
 //! issue; run them with `-- --ignored`, each doc says what happens): a block at rest on a floor
 //! with no dissipation at all and a large step does not stay at rest; a block thrown at a wall
-//! with a large step goes through it. The solver gets no solid volumes here, so the
+//! with a large step goes through it; a free block at one spacing per step does not converge.
+//! All three steps are beyond what validation accepts for a scene. The solver gets no solid volumes here, so the
 //! no-penetration guard (`boundary::keep_out`) does not act: these properties test the
 //! correction and the particle boundary alone. One deterministic test gives it the guard, as a
 //! scene run has: the thrown block at the largest step validation accepts.
@@ -410,8 +411,9 @@ fn check_case<const D: usize>(case: &Case, wall_tolerance: Option<(f64, f64)>) -
 }
 
 proptest! {
-    // Random cases each run: failures found are kept as named tests
-    // (`block_against_walls_in_3d_found_by_ci`, `large_step_with_gravity_in_2d_found_by_seed`).
+    // Random cases each local run (CI fixes the seed, `.ci/run`): failures found are kept as
+    // named tests (`block_against_walls_in_3d_found_by_ci`,
+    // `large_step_with_gravity_in_2d_found_by_seed`, `free_block_at_one_spacing_per_step_in_2d_found_by_ci`).
     #![proptest_config(ProptestConfig { cases: 192, ..ProptestConfig::default() })]
 
     #[test]
@@ -702,6 +704,32 @@ fn large_step_with_gravity_in_2d_found_by_seed() {
         steps: 3,
         integrator: Integrator::Rk3,
         seed: 500_988_943_488_858_139,
+    };
+    expect_ok(check_case::<2>(&case, Some((1e-3, 1e-5))));
+}
+
+/// Found by the 2D property test (random seed) in a CI run on 2026-11-27 (fourth session): a free
+/// 13 x 14 block, no gravity, no walls, moving at up to 0.64 m/s with the largest random step,
+/// one spacing per step (dt = 65 ms at dx = 42 mm); the second stage of the first step does not
+/// converge in 2,000 sweeps (4.1e-4 left against δ = 1e-4). That step is five times the largest
+/// that validation accepts for such a scene, `0.1 h / |u|max` (`CORRECTED_FLOW_FACTOR`), so a
+/// scene cannot ask for it; the property test still draws steps up to one spacing to find the
+/// correction's limits. CI runs the property tests with a fixed seed (`PROPTEST_RNG_SEED` in
+/// `.ci/run`), local runs draw new cases.
+#[test]
+#[ignore = "defect beyond the accepted step: a free block at one spacing per step does not converge (see doc)"]
+fn free_block_at_one_spacing_per_step_in_2d_found_by_ci() {
+    let case = Case {
+        dx: 0.041_845_009_707_578_186,
+        block: [13, 14, 10],
+        speed: 0.641_536_092_738_92,
+        dt: 0.065_226_275_156_131_33,
+        gravity: false,
+        walls: false,
+        delta: 1e-4,
+        steps: 1,
+        integrator: Integrator::Rk3,
+        seed: 13_904_500_518_979_752_299,
     };
     expect_ok(check_case::<2>(&case, Some((1e-3, 1e-5))));
 }

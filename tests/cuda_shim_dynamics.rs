@@ -1153,9 +1153,19 @@ fn integration_kernels_equal_the_cpu_stages_bitwise_3d() {
 /// velocities bitwise equal; the per-solid sums of `m Δu` (f64, in another order) to 1e-12.
 /// The boxes: the floor and the left wall as one container's slabs (solid 0) cutting into the
 /// fluid by a spacing, a moving plate (solid 1) in the middle of the block, so particles are
-/// pushed out through every face and the velocity rule sees moving and fixed walls.
-fn check_keep_out<const D: usize>(seed: u64) {
-    let (f, _) = scene::<D>(seed);
+/// pushed out through every face and the velocity rule sees moving and fixed walls. With
+/// `from_start`, every particle's step start lies up to 2 spacings away on each axis, so the
+/// entry-face rule picks faces the nearest-face rule would not (asserted: the two results
+/// differ).
+fn check_keep_out<const D: usize>(seed: u64, from_start: bool) -> Vec<Vector<D>> {
+    let (mut f, _) = scene::<D>(seed);
+    // Step starts off by a deterministic offset of up to 2 spacings per axis.
+    f.position_start = (0..f.len())
+        .map(|i| {
+            let o = Vector::<D>::from_fn(|k, _| ((i * 7919 + k * 104_729) % 13) as f32 - 6.0);
+            f.position[i] + o * (DX / 3.0)
+        })
+        .collect();
     let n_fluid = fluid_counts::<D>();
     let mut top = Vector::<D>::zeros();
     for k in 0..D {
@@ -1172,7 +1182,8 @@ fn check_keep_out<const D: usize>(seed: u64) {
     let bits = |v: &[f32]| -> Vec<u32> { v.iter().map(|x| x.to_bits()).collect() };
     let mut cpu = CpuBackend::<D>::new();
     let mut cf = f.clone();
-    let report = cpu.keep_out(&mut cf, &boxes, 2, margin);
+    let report = cpu.keep_out(&mut cf, &boxes, 2, margin, from_start);
+    let start = flat(&f.position_start);
     let (mut pos, mut vel) = (flat(&f.position), flat(&f.velocity));
     let mut out = vec![0.0f64; 8];
     launch!(
@@ -1185,6 +1196,8 @@ fn check_keep_out<const D: usize>(seed: u64) {
         margin,
         f.kind.as_ptr(),
         f.mass.as_ptr(),
+        start.as_ptr(),
+        u32::from(from_start),
         pos.as_mut_ptr(),
         vel.as_mut_ptr(),
         out.as_mut_ptr(),
@@ -1212,16 +1225,21 @@ fn check_keep_out<const D: usize>(seed: u64) {
             );
         }
     }
+    cf.position
 }
 
 #[test]
 fn keep_out_equals_the_cpu_stage_bitwise_2d() {
-    check_keep_out::<2>(0x0bad_cafe_1234_5678);
+    let nearest = check_keep_out::<2>(0x0bad_cafe_1234_5678, false);
+    let entry = check_keep_out::<2>(0x0bad_cafe_1234_5678, true);
+    assert_ne!(nearest, entry, "the step start changes some particle's face");
 }
 
 #[test]
 fn keep_out_equals_the_cpu_stage_bitwise_3d() {
-    check_keep_out::<3>(0x5678_1234_cafe_0bad);
+    let nearest = check_keep_out::<3>(0x5678_1234_cafe_0bad, false);
+    let entry = check_keep_out::<3>(0x5678_1234_cafe_0bad, true);
+    assert_ne!(nearest, entry, "the step start changes some particle's face");
 }
 
 /// Stage `move_solids` (kernels/move_solids.cu) against `CpuBackend::move_solids`: the scene's

@@ -259,15 +259,18 @@ pub trait Backend<const D: usize> {
         max_step: f32,
     ) -> Sweep;
     /// The no-penetration guard (`boundary::keep_out`): every fluid particle inside one of
-    /// `boxes` is put `margin` [m] outside its nearest face and loses the velocity that points
-    /// into it, box after box in order. Returns the pushes and each of the `solids` solids'
-    /// momentum change of the fluid [kg m/s].
+    /// `boxes` is put `margin` [m] outside the face it came in through and loses the velocity
+    /// that points into it, box after box in order (`KeepOutBox::push_out`). With
+    /// `from_step_start` the step's start positions stored by `store_step_start` tell the face
+    /// (the segment from there enters the box through it); without, the nearest face. Returns
+    /// the pushes and each of the `solids` solids' momentum change of the fluid [kg m/s].
     fn keep_out(
         &mut self,
         fields: &mut Fields<D>,
         boxes: &[KeepOutBox<D>],
         solids: usize,
         margin: f32,
+        from_step_start: bool,
     ) -> KeepOutReport;
 }
 

@@ -104,27 +104,31 @@ impl<const D: usize> KeepOutBox<D> {
     }
 
     /// Puts a particle at `x` [m] with velocity `u` [m/s] that lies strictly inside the box onto
-    /// the nearest face, `margin` [m] outside, and removes the velocity component (relative to
-    /// the box) that points into the box. Returns the axis it was moved along, `None` when it
-    /// was not inside.
+    /// the face it came in through, `margin` [m] outside, and removes the velocity component
+    /// (relative to the box) that points into the box. Returns the axis it was moved along,
+    /// `None` when it was not inside.
+    ///
+    /// The face: with `from`, a position of the particle known to be on the fluid side (its
+    /// position at the step's start, `Fields::position_start`, in the SSP-RK3 stages and the
+    /// correction sweeps inside them), the face where the segment from `from` to `x` enters the
+    /// box ([`KeepOutBox::entry_face`]); otherwise, or when `from` is itself inside, the nearest
+    /// face. The nearest face alone is wrong for a particle that crossed the middle of a thin
+    /// wall slab in one move: it would be put on the far side of the wall (measured: a block
+    /// thrown at a wall at 0.25 h/|u| left its box so, tests/correction.rs).
     #[inline(always)]
-    pub fn push_out(&self, x: &mut Vector<D>, u: &mut Vector<D>, margin: Real) -> Option<usize> {
+    pub fn push_out(
+        &self,
+        x: &mut Vector<D>,
+        u: &mut Vector<D>,
+        margin: Real,
+        from: Option<&Vector<D>>,
+    ) -> Option<usize> {
         if !(0..D).all(|k| x[k] > self.min[k] && x[k] < self.max[k]) {
             return None;
         }
-        // Nearest face: the axis and side with the least depth; ties go to the lower axis and
-        // the lower side, as in the kernel twin (`kernels/keep_out.cu`).
-        let (mut axis, mut upper, mut depth) = (0, false, Real::INFINITY);
-        for k in 0..D {
-            let below = x[k] - self.min[k];
-            let above = self.max[k] - x[k];
-            if below < depth {
-                (axis, upper, depth) = (k, false, below);
-            }
-            if above < depth {
-                (axis, upper, depth) = (k, true, above);
-            }
-        }
+        let (axis, upper) = from
+            .and_then(|from| self.entry_face(x, from))
+            .unwrap_or_else(|| self.nearest_face(x));
         let relative = u[axis] - self.velocity[axis];
         if upper {
             x[axis] = self.max[axis] + margin;
@@ -139,6 +143,48 @@ impl<const D: usize> KeepOutBox<D> {
         }
         Some(axis)
     }
+
+    /// The nearest face of the box to `x` (inside it): `(axis, upper)`, the axis and side with
+    /// the least depth; ties go to the lower axis and the lower side, as in the kernel twin
+    /// (`kernels/keep_out.cu`).
+    #[inline(always)]
+    pub fn nearest_face(&self, x: &Vector<D>) -> (usize, bool) {
+        let (mut axis, mut upper, mut depth) = (0, false, Real::INFINITY);
+        for k in 0..D {
+            let below = x[k] - self.min[k];
+            let above = self.max[k] - x[k];
+            if below < depth {
+                (axis, upper, depth) = (k, false, below);
+            }
+            if above < depth {
+                (axis, upper, depth) = (k, true, above);
+            }
+        }
+        (axis, upper)
+    }
+
+    /// The face where the segment from `from` to `x` (inside the box) enters the box:
+    /// `(axis, upper)`, the axis whose slab the segment enters last (the largest entry
+    /// parameter `t`, ties to the lower axis, as in the kernel twin); `None` when `from` is
+    /// inside the box on every axis.
+    #[inline(always)]
+    pub fn entry_face(&self, x: &Vector<D>, from: &Vector<D>) -> Option<(usize, bool)> {
+        let mut best: Option<(usize, bool, Real)> = None;
+        for k in 0..D {
+            // x[k] lies strictly between min and max, so each denominator is positive.
+            let (upper, t) = if from[k] <= self.min[k] {
+                (false, (self.min[k] - from[k]) / (x[k] - from[k]))
+            } else if from[k] >= self.max[k] {
+                (true, (from[k] - self.max[k]) / (from[k] - x[k]))
+            } else {
+                continue;
+            };
+            if best.is_none_or(|b| t > b.2) {
+                best = Some((k, upper, t));
+            }
+        }
+        best.map(|(k, upper, _)| (k, upper))
+    }
 }
 
 #[cfg(test)]
@@ -150,18 +196,43 @@ mod tests {
         let b = KeepOutBox::<2>::fixed(Vector::<2>::new(0.0, 0.0), Vector::<2>::new(1.0, 0.1), 0);
         let mut x = Vector::<2>::new(0.5, 0.08);
         let mut u = Vector::<2>::new(0.3, -2.0);
-        assert_eq!(b.push_out(&mut x, &mut u, 1e-4), Some(1));
+        assert_eq!(b.push_out(&mut x, &mut u, 1e-4, None), Some(1));
         assert_eq!(x, Vector::<2>::new(0.5, 0.1 + 1e-4));
         assert_eq!(u, Vector::<2>::new(0.3, 0.0));
         // Outside (and on the face): untouched.
         let (x0, u0) = (x, u);
-        assert_eq!(b.push_out(&mut x, &mut u, 1e-4), None);
+        assert_eq!(b.push_out(&mut x, &mut u, 1e-4, None), None);
         assert_eq!((x, u), (x0, u0));
         // Leaving already: the position is fixed, the velocity kept.
         let mut x = Vector::<2>::new(0.02, 0.05);
         let mut u = Vector::<2>::new(-1.0, 0.0);
-        assert_eq!(b.push_out(&mut x, &mut u, 0.0), Some(0));
+        assert_eq!(b.push_out(&mut x, &mut u, 0.0, None), Some(0));
         assert_eq!((x[0], u[0]), (0.0, -1.0));
+    }
+
+    #[test]
+    fn a_particle_past_the_middle_of_a_thin_wall_goes_back_the_way_it_came() {
+        // A wall slab 2 units thick along x; the particle came from x = −1 (the fluid side) and
+        // is 1.5 units in: the nearest face is the far one, the entry face the near one.
+        let b = KeepOutBox::<2>::fixed(Vector::<2>::new(0.0, -5.0), Vector::<2>::new(2.0, 5.0), 0);
+        let from = Vector::<2>::new(-1.0, 0.0);
+        let (mut x, mut u) = (Vector::<2>::new(1.5, 0.2), Vector::<2>::new(3.0, 0.0));
+        assert_eq!(b.nearest_face(&x), (0, true));
+        assert_eq!(b.entry_face(&x, &from), Some((0, false)));
+        assert_eq!(b.push_out(&mut x, &mut u, 0.01, Some(&from)), Some(0));
+        assert_eq!((x, u), (Vector::<2>::new(-0.01, 0.2), Vector::<2>::zeros()));
+        // Without the start, the nearest face: through the wall.
+        let (mut x, mut u) = (Vector::<2>::new(1.5, 0.2), Vector::<2>::new(3.0, 0.0));
+        assert_eq!(b.push_out(&mut x, &mut u, 0.01, None), Some(0));
+        assert_eq!(x, Vector::<2>::new(2.01, 0.2));
+        // Across a corner: the segment enters the slab through its top face last.
+        let from = Vector::<2>::new(-1.0, 7.0);
+        assert_eq!(b.entry_face(&Vector::<2>::new(1.0, 4.5), &from), Some((1, true)));
+        // A start inside the box gives no entry face: the nearest one is used.
+        assert_eq!(
+            b.entry_face(&Vector::<2>::new(1.5, 0.0), &Vector::<2>::new(1.0, 0.0)),
+            None
+        );
     }
 
     #[test]
@@ -170,7 +241,7 @@ mod tests {
         b.velocity = Vector::<2>::new(-0.5, 0.0);
         let mut x = Vector::<2>::new(0.01, 0.5);
         let mut u = Vector::<2>::new(0.2, 0.0);
-        assert_eq!(b.push_out(&mut x, &mut u, 0.0), Some(0));
+        assert_eq!(b.push_out(&mut x, &mut u, 0.0, None), Some(0));
         assert_eq!(u, Vector::<2>::new(-0.5, 0.0));
     }
 
@@ -187,7 +258,7 @@ mod tests {
         let inside = |p: [Real; 2]| {
             slabs.iter().any(|s| {
                 let (mut x, mut u) = (Vector::<2>::new(p[0], p[1]), Vector::<2>::zeros());
-                s.push_out(&mut x, &mut u, 0.0).is_some()
+                s.push_out(&mut x, &mut u, 0.0, None).is_some()
             })
         };
         assert!(inside([-0.01, 0.2]) && inside([1.01, 0.2]) && inside([0.5, -0.01]));

@@ -347,6 +347,9 @@ pub struct Simulation<const D: usize> {
     density_fresh: bool,
     /// The start-up settle ran ([`Simulation::settle`]).
     settled: bool,
+    /// The current step stored its start positions (`Backend::store_step_start`, SSP-RK3): the
+    /// no-penetration guard can tell from them which side a particle came from.
+    step_start_stored: bool,
     /// The solids' volumes for the no-penetration guard (`boundary::keep_out`); empty: no guard.
     keep_out: Vec<KeepOutBox<D>>,
     /// Prescribed motion of each solid (`None`: fixed), in scene order.
@@ -472,6 +475,7 @@ impl<const D: usize> Simulation<D> {
             grid_fresh: false,
             density_fresh: false,
             settled: false,
+            step_start_stored: false,
             keep_out: Vec::new(),
             motions: vec![None; solids.len()],
             solid_reference: SolidReference::default(),

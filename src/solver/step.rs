@@ -50,6 +50,8 @@ impl<const D: usize> Simulation<D> {
             extremes: StateExtremes::default(),
         };
         let solids = self.solid_names.len();
+        // Until this step stores its start (SSP-RK3), the guard has no start to go by.
+        self.step_start_stored = false;
         self.settle()?;
         let mut solid_force = vec![[0.0f64; 3]; solids];
         let add_force = |total: &mut Vec<[f64; 3]>, part: &[[f64; 3]], weight: f64| {
@@ -112,6 +114,7 @@ impl<const D: usize> Simulation<D> {
                         } else {
                             if k == 0 {
                                 bk.store_step_start(f);
+                                self.step_start_stored = true;
                             }
                             bk.rk_stage(f, report.dt as f32, a, b); // PAPER.md note 8
                         }
@@ -212,7 +215,9 @@ impl<const D: usize> Simulation<D> {
                 .collect();
             &moved
         };
-        let report = self.backend.keep_out(&mut self.fields, boxes, solids, margin);
+        let report = self
+            .backend
+            .keep_out(&mut self.fields, boxes, solids, margin, self.step_start_stored);
         self.stats.keep_out_pushes += report.pushes;
         report
     }

@@ -820,12 +820,20 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         boxes: &[KeepOutBox<D>],
         solids: usize,
         margin: f32,
+        from_step_start: bool,
     ) -> KeepOutReport {
         let mut report = KeepOutReport::none(solids);
         if boxes.is_empty() {
             return report;
         }
         let (kind, mass) = (&fields.kind, &fields.mass);
+        // The step's start positions, stored by `store_step_start` (SSP-RK3): the side each
+        // particle came from (`KeepOutBox::push_out`).
+        let start: &[Vector<D>] = if from_step_start {
+            &fields.position_start
+        } else {
+            &[]
+        };
         // Each particle's pushes (solid, axis, m Δu), gathered in index order and summed in that
         // order, so the result does not depend on the thread count.
         let pushes: Vec<Vec<(u32, usize, f64)>> = fields
@@ -837,10 +845,11 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 if kind[i] != FLUID {
                     return None;
                 }
+                let from = start.get(i);
                 let mut mine = Vec::new();
                 for b in boxes {
                     let before = *u;
-                    if let Some(axis) = b.push_out(x, u, margin) {
+                    if let Some(axis) = b.push_out(x, u, margin, from) {
                         let du = f64::from(u[axis]) - f64::from(before[axis]);
                         mine.push((b.solid, axis, f64::from(mass[i]) * du));
                     }

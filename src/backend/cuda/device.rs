@@ -1149,6 +1149,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         boxes: &[KeepOutBox<D>],
         solids: usize,
         margin: f32,
+        from_step_start: bool,
     ) -> KeepOutReport {
         let mut report = KeepOutReport::none(solids);
         if boxes.is_empty() || solids == 0 || self.error.is_some() {
@@ -1176,9 +1177,11 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return report;
         }
         let (n, count) = (self.n as u32, boxes.len() as u32);
+        let has_from = u32::from(from_step_start);
         launch!(self, "keeping fluid out of solids", "keep_out", self.n;
             &n, &count, &self.keep_out_boxes, &margin, &self.f.kind, &self.f.mass,
-            &mut self.f.position, &mut self.f.velocity, &mut self.keep_out_out);
+            &self.f.position_start, &has_from, &mut self.f.position, &mut self.f.velocity,
+            &mut self.keep_out_out);
         let out = self.stream.clone_dtoh(&self.keep_out_out);
         if let Some(v) = record(&mut self.error, "copying the guard's sums", out) {
             for (s, slot) in report.impulse.iter_mut().enumerate() {
