@@ -9,7 +9,8 @@
 /// velocity component, relative to the box, that points into it. The face: with has_from, where
 /// the segment from the step's start position `from` (SSP-RK3) enters the box (the axis entered
 /// last, ties to the lower axis); otherwise, or when `from` is inside the box, the nearest face
-/// (ties: lower axis, lower side). Per push, `out[4 s]` counts one and `out[4 s + 1 + k]` adds
+/// (ties: lower axis, lower side). With has_from, fluid outside a box whose segment from `from`
+/// passes through the box's interior is put back the same way. Per push, `out[4 s]` counts one and `out[4 s + 1 + k]` adds
 /// the fluid's momentum change `m du_k` [kg m/s] for the box's solid `s` (the host zeroes `out`,
 /// 4 doubles per solid). Twin of `KeepOutBox::push_out`.
 SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float margin,
@@ -28,11 +29,30 @@ SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float marg
         const float* wall = hi + D;
         bool inside = true;
         for (int k = 0; k < D; ++k) inside = inside && x.c[k] > lo[k] && x.c[k] < hi[k];
-        if (!inside) continue;
         int axis = 0;
         bool upper = false;
         bool entered = false;
-        if (has_from) {
+        if (!inside) {
+            // Outside: back only if the segment from the step's start passes through the box's
+            // interior (it went through the solid). Twin of `KeepOutBox::crossed_face`.
+            if (!has_from) continue;
+            float enter = 0.0f, leave = 1.0f;
+            bool missed = false;
+            for (int k = 0; k < D; ++k) {
+                const float d = x.c[k] - start.c[k];
+                if (d == 0.0f) {
+                    if (start.c[k] <= lo[k] || start.c[k] >= hi[k]) missed = true;
+                    continue;
+                }
+                const float at_min = (lo[k] - start.c[k]) / d;
+                const float at_max = (hi[k] - start.c[k]) / d;
+                const float near = d > 0.0f ? at_min : at_max;
+                const float far = d > 0.0f ? at_max : at_min;
+                if (near > enter) { enter = near; axis = k; upper = d < 0.0f; entered = true; }
+                leave = fminf(leave, far);
+            }
+            if (missed || !entered || !(enter < leave)) continue;
+        } else if (has_from) {
             float best = 0.0f;
             for (int k = 0; k < D; ++k) {
                 float t;
@@ -49,7 +69,7 @@ SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float marg
                 if (!entered || t > best) { axis = k; upper = up; best = t; entered = true; }
             }
         }
-        if (!entered) {
+        if (inside && !entered) {
             float depth = 3.402823466e38f;  // FLT_MAX: every depth of a finite x is below it
             for (int k = 0; k < D; ++k) {
                 const float below = x.c[k] - lo[k];

@@ -509,8 +509,9 @@ fn resting_block_with_large_step_stays_uncompressed_and_at_rest() {
 /// layers (inside starts at −0.015 m): the impact's speeds grow to several m/s within the
 /// first steps. dt = 3e-3 and 2e-3 s passed for 0.3 s when measured first; with symplectic Euler
 /// the block went through the walls at dt = 5e-3, 3e-3 and 2e-3 s, and dt = 1e-3 s passed.
-/// With the no-penetration guard it fails too (step 6: a particle that crossed a wall slab's
-/// midline in one move is put on the slab's *outer* face, the nearest): 5e-3 s is
+/// With the no-penetration guard it failed too (step 6: a particle that crossed a wall slab's
+/// midline in one move was put on the slab's *outer* face, the nearest; since the guard goes by
+/// each particle's step start, the correction stops unconverged at step 9 instead): 5e-3 s is
 /// `0.25 h / |u|`, which validation accepted until this was measured; it now accepts up to
 /// `0.1 h / |u|` = 2e-3 s here (`sph::scene::validate::CORRECTED_FLOW_FACTOR`,
 /// [`block_thrown_at_a_wall_at_the_largest_accepted_step_stays_inside_with_the_guard`]).

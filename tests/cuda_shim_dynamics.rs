@@ -1156,7 +1156,7 @@ fn integration_kernels_equal_the_cpu_stages_bitwise_3d() {
 /// pushed out through every face and the velocity rule sees moving and fixed walls. With
 /// `from_start`, every particle's step start lies up to 2 spacings away on each axis, so the
 /// entry-face rule picks faces the nearest-face rule would not (asserted: the two results
-/// differ).
+/// differ), and some particles outside every box went through one (asserted: they are moved).
 fn check_keep_out<const D: usize>(seed: u64, from_start: bool) -> Vec<Vector<D>> {
     let (mut f, _) = scene::<D>(seed);
     // Step starts off by a deterministic offset of up to 2 spacings per axis.
@@ -1215,6 +1215,22 @@ fn check_keep_out<const D: usize>(seed: u64, from_start: bool) -> Vec<Vector<D>>
             );
         }
     }
+    // With the starts, some particle outside every box went through one and came back (the
+    // crossing rule); without, none outside moved.
+    let outside_moved = (0..f.len())
+        .filter(|&i| f.kind[i] == FLUID && cf.position[i] != f.position[i])
+        .filter(|&i| {
+            let x = f.position[i];
+            !boxes
+                .iter()
+                .any(|b| (0..D).all(|k| x[k] > b.min[k] && x[k] < b.max[k]))
+        })
+        .count();
+    assert_eq!(
+        outside_moved > 0,
+        from_start,
+        "{D}D: {outside_moved} outside particles moved"
+    );
     // Nothing left inside any box.
     for i in (0..cf.len()).filter(|&i| cf.kind[i] == FLUID) {
         for b in &boxes {

@@ -114,7 +114,10 @@ impl<const D: usize> KeepOutBox<D> {
     /// box ([`KeepOutBox::entry_face`]); otherwise, or when `from` is itself inside, the nearest
     /// face. The nearest face alone is wrong for a particle that crossed the middle of a thin
     /// wall slab in one move: it would be put on the far side of the wall (measured: a block
-    /// thrown at a wall at 0.25 h/|u| left its box so, tests/correction.rs).
+    /// thrown at a wall at 0.25 h/|u| left its box so, tests/correction.rs). With `from`, a
+    /// particle outside the box whose segment from `from` passes through the box's interior
+    /// went through the solid: it too goes back to the face it entered by
+    /// ([`KeepOutBox::crossed_face`]).
     #[inline(always)]
     pub fn push_out(
         &self,
@@ -123,12 +126,13 @@ impl<const D: usize> KeepOutBox<D> {
         margin: Real,
         from: Option<&Vector<D>>,
     ) -> Option<usize> {
-        if !(0..D).all(|k| x[k] > self.min[k] && x[k] < self.max[k]) {
-            return None;
-        }
-        let (axis, upper) = from
-            .and_then(|from| self.entry_face(x, from))
-            .unwrap_or_else(|| self.nearest_face(x));
+        let (axis, upper) = if (0..D).all(|k| x[k] > self.min[k] && x[k] < self.max[k]) {
+            from.and_then(|from| self.entry_face(x, from))
+                .unwrap_or_else(|| self.nearest_face(x))
+        } else {
+            // Outside: back only if it went through the box since `from`.
+            from.and_then(|from| self.crossed_face(x, from))?
+        };
         let relative = u[axis] - self.velocity[axis];
         if upper {
             x[axis] = self.max[axis] + margin;
@@ -185,6 +189,36 @@ impl<const D: usize> KeepOutBox<D> {
         }
         best.map(|(k, upper, _)| (k, upper))
     }
+
+    /// The face where the segment from `from` to `x` enters the box's interior when both ends lie
+    /// outside it and the segment passes through the interior (it went through the solid):
+    /// `(axis, upper)`, as [`KeepOutBox::entry_face`]; `None` when the segment misses the
+    /// interior or only touches its boundary, or when `from` is inside.
+    #[inline(always)]
+    pub fn crossed_face(&self, x: &Vector<D>, from: &Vector<D>) -> Option<(usize, bool)> {
+        let (mut enter, mut leave) = (0.0 as Real, 1.0 as Real);
+        let mut face = None;
+        for k in 0..D {
+            let d = x[k] - from[k];
+            if d == 0.0 {
+                if from[k] <= self.min[k] || from[k] >= self.max[k] {
+                    return None;
+                }
+                continue;
+            }
+            let (at_min, at_max) = ((self.min[k] - from[k]) / d, (self.max[k] - from[k]) / d);
+            let (near, far, upper) = if d > 0.0 {
+                (at_min, at_max, false)
+            } else {
+                (at_max, at_min, true)
+            };
+            if near > enter {
+                (enter, face) = (near, Some((k, upper)));
+            }
+            leave = leave.min(far);
+        }
+        if enter < leave { face } else { None }
+    }
 }
 
 #[cfg(test)]
@@ -233,6 +267,32 @@ mod tests {
             b.entry_face(&Vector::<2>::new(1.5, 0.0), &Vector::<2>::new(1.0, 0.0)),
             None
         );
+    }
+
+    #[test]
+    fn a_particle_that_went_through_a_wall_comes_back_to_the_side_it_left() {
+        let b = KeepOutBox::<2>::fixed(Vector::<2>::new(0.0, -5.0), Vector::<2>::new(2.0, 5.0), 0);
+        let from = Vector::<2>::new(-1.0, 0.0);
+        // Through the slab and out beyond it: back on the near face.
+        let (mut x, mut u) = (Vector::<2>::new(2.5, 0.5), Vector::<2>::new(4.0, 1.0));
+        assert_eq!(b.crossed_face(&x, &from), Some((0, false)));
+        assert_eq!(b.push_out(&mut x, &mut u, 0.01, Some(&from)), Some(0));
+        assert_eq!((x, u), (Vector::<2>::new(-0.01, 0.5), Vector::<2>::new(0.0, 1.0)));
+        // Beside the slab, past its end: untouched; without a start: untouched.
+        let (mut x, mut u) = (Vector::<2>::new(2.5, 7.0), Vector::<2>::new(4.0, 1.0));
+        assert_eq!(
+            b.push_out(&mut x, &mut u, 0.01, Some(&Vector::<2>::new(-1.0, 6.0))),
+            None
+        );
+        let (mut x, mut u) = (Vector::<2>::new(2.5, 0.5), Vector::<2>::new(4.0, 1.0));
+        assert_eq!(b.push_out(&mut x, &mut u, 0.01, None), None);
+        // Along a face (touching only): not a crossing.
+        assert_eq!(
+            b.crossed_face(&Vector::<2>::new(3.0, 5.0), &Vector::<2>::new(-1.0, 5.0)),
+            None
+        );
+        // Staying on the near side: not a crossing.
+        assert_eq!(b.crossed_face(&Vector::<2>::new(-0.5, 3.0), &from), None);
     }
 
     #[test]
