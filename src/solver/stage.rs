@@ -404,7 +404,9 @@ impl SubStage {
             SubStage::CorrectionPressure => "pressure increments from the density error, added to pressure",
             SubStage::SolidForces => "the sweep's push on each named solid",
             SubStage::CorrectPositions => "move by dt^2 f^press/rho, velocity += dx/tau",
-            SubStage::KeepOut => "put fluid particles found inside a solid back outside it",
+            SubStage::KeepOut => {
+                "put fluid particles that entered a solid back through the face they came in by (SSP-RK3: from position_start)"
+            }
         }
     }
 
@@ -417,6 +419,8 @@ impl SubStage {
             SubStage::CorrectionPressure => &[Position, Density, Pressure, Kind],
             SubStage::SolidForces => &[Position, Density, Mass, Kind],
             SubStage::CorrectPositions => &[Position, Density, Mass, Kind],
+            // With SSP-RK3 it also reads PositionStart (the step start), which the plan
+            // holds for its RkStage; the description says so.
             SubStage::KeepOut => &[Position, Velocity, Mass, Kind],
         }
     }
