@@ -135,6 +135,13 @@ fn gather<T: Copy + Send + Sync>(field: &mut Vec<T>, perm: &[u32], scratch: &mut
     std::mem::swap(field, scratch);
 }
 
+/// Rest density `ρ0` [kg/m³] of particle `i`: its phase's from `rest_density`
+/// (`Fields::rest_density`, allocated only with the `multiphase` effect), else the scene's `rho0`.
+#[inline(always)]
+pub fn rest_density_of(rest_density: &[Real], i: usize, rho0: Real) -> Real {
+    rest_density.get(i).copied().unwrap_or(rho0)
+}
+
 impl<const D: usize> Fields<D> {
     /// Number of particles.
     pub fn len(&self) -> usize {

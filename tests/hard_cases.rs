@@ -112,7 +112,20 @@ fn rest_3d_wcsph() {
 /// residual grows leaves stages at the cap. One kernel for density and every gradient
 /// (Wendland C2, support h, as DualSPHysics and DFSPH codes use) keeps `rest_2d` within its
 /// bound for 1 s, but here rises 0.35 % with a steady −0.03 m/s mean vertical velocity that
-/// the positions do not follow (the stages' velocity, not a motion). Still open.
+/// the positions do not follow (the stages' velocity, not a motion).
+/// Fifth session: summing the density (18) with the spiky kernel (times the lattice factor
+/// ΣW_poly6/ΣW_spiky, 0.817 in 3D, so the lattice mass still gives ρ0), the kernel whose
+/// gradient the sweeps and the force stage use, makes the sweep operator symmetric. With wall
+/// increments of either sign (wall pressure kept ≥ 0) and β = 0.9 this case, `viscous_high_3d`
+/// and the property tests' free block then pass (every stage ≤ 78 sweeps, kinetic energy
+/// ~1e-4 J, energy never above the start). But in 2D the floor pressure then wanders with the
+/// tolerance: `rest_2d`'s mean bottom pressure swings 100–6,600 Pa around the hydrostatic 2,845
+/// at δ = 1e-4 and 2,300–3,600 Pa at δ = 1e-5; the sloshing tank at rest holds 8.2e-3 J/kg
+/// (`sloshing_2d_corrected` fails) and the two-layer tank is 6.6 % off (limit 3 %). Walls that
+/// give back only a fifth of a negative increment: this case 0.16 % at step 2, two-layer 4.0 %.
+/// Wall increments clamped at zero (as now) with the spiky density: this case 0.19 % at step 2,
+/// two-layer 3.6 % (1.55 % with poly6). Setting each wall to the extrapolation (with gravity) of
+/// the fluid's current pressure in every sweep does not calm 2D either. Still open.
 #[test]
 #[ignore = "known failure: the start-up step raises KE + PE by 0.37 % of |E0| (limit 0.1 %)"]
 fn rest_3d_corrected() {

@@ -210,7 +210,7 @@ pub fn render(scene: &Scene, origin: &str) -> String {
             _ => writeln!(out, "      then:"),
         };
         for sub in subs {
-            sub_stage_lines(&mut out, sub, multiphase);
+            sub_stage_lines(&mut out, sub, &stages, multiphase);
         }
     }
     let _ = writeln!(out, "\nafter each step:");
@@ -279,7 +279,7 @@ fn stage_lines(out: &mut String, number: usize, stage: &Stage, plan: &[Stage], m
 }
 
 /// The lines of one step the driver runs inside a stage.
-fn sub_stage_lines(out: &mut String, sub: SubStage, multiphase: bool) {
+fn sub_stage_lines(out: &mut String, sub: SubStage, plan: &[Stage], multiphase: bool) {
     let variant = sub.multiphase().filter(|_| multiphase);
     let description = match sub {
         SubStage::SortByCell => {
@@ -299,7 +299,7 @@ fn sub_stage_lines(out: &mut String, sub: SubStage, multiphase: bool) {
     let _ = writeln!(
         out,
         "          reads {} -> writes {}",
-        fields(&sub.reads_in(multiphase)),
+        fields(&sub.reads_in(plan, multiphase)),
         fields(sub.writes())
     );
 }

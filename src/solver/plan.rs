@@ -94,7 +94,7 @@ pub fn needed_fields(plan: &[Stage], solids: bool, multiphase: bool) -> Vec<Fiel
         needed.extend_from_slice(stage.writes());
         for sub in stage.sub_stages(solids) {
             if sub != SubStage::SortByCell {
-                needed.extend(sub.reads_in(multiphase));
+                needed.extend(sub.reads_in(plan, multiphase));
                 needed.extend_from_slice(sub.writes());
             }
         }
@@ -117,6 +117,24 @@ mod tests {
             integrator: Integrator::SymplecticEuler,
             corrected: false,
         }
+    }
+
+    #[test]
+    fn the_guard_reads_the_step_start_only_under_ssp_rk3() {
+        let euler = plan(PlanInputs {
+            solids: true,
+            ..inputs()
+        });
+        let rk3 = plan(PlanInputs {
+            solids: true,
+            integrator: Integrator::Rk3,
+            ..inputs()
+        });
+        let guard = SubStage::KeepOut;
+        assert!(!guard.reads_in(&euler, false).contains(&Field::PositionStart));
+        assert!(guard.reads_in(&rk3, false).contains(&Field::PositionStart));
+        assert!(needed_fields(&rk3, true, false).contains(&Field::PositionStart));
+        assert!(!needed_fields(&euler, true, false).contains(&Field::PositionStart));
     }
 
     #[test]

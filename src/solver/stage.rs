@@ -419,16 +419,21 @@ impl SubStage {
             SubStage::CorrectionPressure => &[Position, Density, Pressure, Kind],
             SubStage::SolidForces => &[Position, Density, Mass, Kind],
             SubStage::CorrectPositions => &[Position, Density, Mass, Kind],
-            // With SSP-RK3 it also reads PositionStart (the step start), which the plan
-            // holds for its RkStage; the description says so.
+            // With SSP-RK3 it also reads PositionStart (`reads_in`).
             SubStage::KeepOut => &[Position, Velocity, Mass, Kind],
         }
     }
 
-    /// The particle fields the step reads, with `Field::RestDensity` where the `multiphase`
+    /// The particle fields the step reads within `plan`: [`SubStage::reads`], the step start
+    /// `Field::PositionStart` for the no-penetration guard where the plan integrates with
+    /// SSP-RK3 ([`Stage::RkStage`] stores it; the guard puts a particle back through the face
+    /// its segment from there entered by), and `Field::RestDensity` where the `multiphase`
     /// effect's variant reads it.
-    pub fn reads_in(&self, multiphase: bool) -> Vec<Field> {
+    pub fn reads_in(&self, plan: &[Stage], multiphase: bool) -> Vec<Field> {
         let mut fields = self.reads().to_vec();
+        if *self == SubStage::KeepOut && plan.contains(&Stage::RkStage) {
+            fields.push(PositionStart);
+        }
         if multiphase && self.multiphase().is_some_and(|v| v.reads_rest_density) {
             fields.push(Field::RestDensity);
         }

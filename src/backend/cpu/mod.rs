@@ -10,7 +10,7 @@ use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::boundary::{
     solid_force::force_on_solid, wall_pressure::WallPressureSums, wall_velocity::WallVelocitySums,
 };
-use crate::fields::{FLUID, Fields, PermuteScratch};
+use crate::fields::{FLUID, Fields, PermuteScratch, rest_density_of};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector, max_each_in_order, max_or_nan, sum_by_group, sum_in_order, to_xyz};
 use crate::physics::{
@@ -65,7 +65,7 @@ impl<const D: usize> CpuBackend<D> {
         let f = &*fields;
         let (sigma, h) = (params.surface_tension_sigma, params.h);
         let w_dx = kernel.w(params.spacing * params.spacing);
-        let rest = |j: usize| f.rest_density.get(j).copied().unwrap_or(params.rho0);
+        let rest = |j: usize| rest_density_of(&f.rest_density, j, params.rho0);
         acceleration.par_iter_mut().enumerate().for_each(|(i, a)| {
             if f.kind[i] != FLUID {
                 return;
@@ -279,7 +279,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
             if kind[i] == FLUID {
                 // With the multiphase effect, each particle's own rest density ([HA06]).
-                let rho0 = if rest.is_empty() { params.rho0 } else { rest[i] };
+                let rho0 = rest_density_of(rest, i, params.rho0);
                 *p = eos::pressure(density[i], rho0, params.c2);
             }
         });
@@ -438,7 +438,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         // m_j/ρ0_j (`physics::surface_stress`: a colour field without the surface layer's
         // overshoot).
         let rest_volume = params.surface_tension_sigma > 0.0;
-        let rest = |j: usize| f.rest_density.get(j).copied().unwrap_or(params.rho0);
+        let rest = |j: usize| rest_density_of(&f.rest_density, j, params.rho0);
         normal.par_iter_mut().enumerate().for_each(|(i, n)| {
             let mut sum = Vector::zeros();
             if f.kind[i] == FLUID {
@@ -557,15 +557,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     fn state_extremes(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> StateExtremes {
         let f = fields;
         let n = f.len();
-        let rho0_scene = f64::from(params.rho0);
         // Each particle's own rest density with the multiphase effect ([HA06]).
         let rest = &f.rest_density;
         let error = |i: usize| {
-            let rho0 = if rest.is_empty() {
-                rho0_scene
-            } else {
-                f64::from(rest[i])
-            };
+            let rho0 = f64::from(rest_density_of(rest, i, params.rho0));
             (f64::from(f.density[i]) - rho0) / rho0
         };
         let fluid = |i: usize| f.kind[i] == FLUID;
@@ -663,7 +658,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let [compression, residual] = max_each_in_order(f.len(), |i| {
             if f.kind[i] == FLUID {
                 // (24) against the particle's own phase with the multiphase effect ([HA06]).
-                let rho0 = if rest.is_empty() { rho0 } else { rest[i] };
+                let rho0 = rest_density_of(rest, i, rho0);
                 [
                     correction::compression(f.density[i], rho0),
                     correction::residual(f.density[i], rho0, f.pressure[i]),
@@ -710,7 +705,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     // Heavy-ball momentum on the increments (see `physics::correction::MOMENTUM`).
                     let m = if has_prev { beta * prev[i] } else { 0.0 };
                     // The particle's own phase with the multiphase effect ([HA06]).
-                    let rho0 = if rest.is_empty() { rho0 } else { rest[i] };
+                    let rho0 = rest_density_of(rest, i, rho0);
                     correction::pressure_increment(density[i], rho0, *p + m, k) + m
                 } else {
                     0.0
