@@ -125,7 +125,12 @@ fn rest_3d_wcsph() {
 /// give back only a fifth of a negative increment: this case 0.16 % at step 2, two-layer 4.0 %.
 /// Wall increments clamped at zero (as now) with the spiky density: this case 0.19 % at step 2,
 /// two-layer 3.6 % (1.55 % with poly6). Setting each wall to the extrapolation (with gravity) of
-/// the fluid's current pressure in every sweep does not calm 2D either. Still open.
+/// the fluid's current pressure in every sweep does not calm 2D either. The wandering is the
+/// tolerance's: with the spiky density and walls of either sign at δ = 1e-5 the two-layer tank
+/// is 1.75 % off (passes) and this case stays flat (kinetic energy ~3e-5 J, ≤ 87 sweeps), but
+/// the sloshing test runs at the README's recommended δ = 1e-3, where the wandering is worst:
+/// landing it needs a stopping rule or pressure control that bounds the drift whatever δ.
+/// Still open.
 #[test]
 #[ignore = "known failure: the start-up step raises KE + PE by 0.37 % of |E0| (limit 0.1 %)"]
 fn rest_3d_corrected() {
