@@ -130,6 +130,32 @@ fn rest_3d_wcsph() {
 /// is 1.75 % off (passes) and this case stays flat (kinetic energy ~3e-5 J, ≤ 87 sweeps), but
 /// the sloshing test runs at the README's recommended δ = 1e-3, where the wandering is worst:
 /// landing it needs a stopping rule or pressure control that bounds the drift whatever δ.
+/// Sixth session: the wandering is a standing vertical wave of the whole column, not noise.
+/// `rest_2d`, sampled every 50 steps (dt = 2.1 ms) over 2 s: the carried pressure rises and
+/// falls by the same amount at every depth (spiky density, walls of either sign: bottom
+/// 276–6,331 Pa, mid-depth 0–4,257 Pa against 2,845 and 1,471 hydrostatic) while the mean
+/// vertical velocity swings ±0.016 m/s and the centre of mass barely moves. Today's code has the
+/// same wave, smaller (bottom 2,480–3,544 Pa, ±5.6e-3 m/s). The loop only reacts to density
+/// errors, so a carried pressure that is too high lifts the column until the floor layer
+/// expands past δ, one layer per stage: the correction behaves like a fluid whose sound speed
+/// is about dx/dt, and the period, ~0.2 s, matches 4H/(dx/dt). Always running at least 1 or 4
+/// sweeps changes nothing. A second solve after each stage's correction, on the velocities at
+/// fixed positions (the same sweeps with `ρ0 + τ dρ/dt` in place of ρ, and `Δu = τ a` without
+/// moving: a divergence-free projection as in DFSPH), removes the wave: with the spiky density
+/// the bottom settles at 2,923–3,353 Pa and mid-depth at 1,500 Pa, and this case stays at
+/// most 1.6e-4 |E0| above its start. With the poly6 density that solve blows up in 3D (a
+/// particle left the domain at step 107). Adding the velocity solve's increments to the carried
+/// pressure double counts them in impacts: the thrown block's velocity-solve residual grows
+/// 0.02, 0.64, 8.4, 186 over nine steps. Not adding them lets the pressure drift (bottom 9,800
+/// Pa by 1.5 s). A quarter of them, and the solve given up (velocities and pressure restored)
+/// when its residual doubles or after 200 sweeps: this case (at most 2.2e-4 |E0| above the
+/// start), `viscous_high_3d_corrected`, every other corrected hard case, both sloshing tanks,
+/// the thrown block at the accepted step and the property tests' free block pass (the resting
+/// block beyond the accepted step runs converged but reaches 0.11 m/s, limit 0.07); the
+/// two-layer tank is 9 % off (a uniform +165 Pa at its end time: a quarter of the increments
+/// damps the wave slowly, `rest_2d` needs 0.6 s) and the one-phase multiphase run no longer
+/// matches the plain one to rounding (9.7e-7 m after 2 steps: giving up is a discontinuous
+/// decision). CPU only so far, on the local branch `experiment/velocity-divergence`. Still open.
 /// Still open.
 #[test]
 #[ignore = "known failure: the start-up step raises KE + PE by 0.37 % of |E0| (limit 0.1 %)"]
