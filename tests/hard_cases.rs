@@ -141,23 +141,24 @@ fn rest_3d_wcsph() {
 /// is about dx/dt, and the period, ~0.2 s, matches 4H/(dx/dt). Always running at least 1 or 4
 /// sweeps changes nothing. A second solve after each stage's correction, on the velocities at
 /// fixed positions (the same sweeps with `ρ0 + τ dρ/dt` in place of ρ, and `Δu = τ a` without
-/// moving: a divergence-free projection as in DFSPH), removes the wave: with the spiky density
-/// the bottom settles at 2,923–3,353 Pa and mid-depth at 1,500 Pa, and this case stays at
-/// most 1.6e-4 |E0| above its start. With the poly6 density that solve blows up in 3D (a
+/// moving: a divergence-free projection as in DFSPH), damps the wave: with the spiky density
+/// the bottom stays within 2,443–3,353 Pa after 0.2 s (2,923–2,929 Pa from 1.1 to 1.5 s) and
+/// mid-depth within 1,150–1,793 Pa, and this case stays at most 2.7e-4 |E0| above its start
+/// (sampled every 5 steps). With the poly6 density that solve blows up in 3D (a
 /// particle left the domain at step 107). What the carried pressure keeps of the velocity
 /// solve's increments decides the rest: all of them count an impact twice (the thrown block's
-/// residual grew 0.02, 0.64, 8.4, 186 over nine steps), none let the pressure drift (bottom
+/// starting residual rose from 0.02 to 0.64, 8.4 and 186 over nine steps), none let the pressure drift (bottom
 /// 9,800 Pa by 1.5 s), only the decreases, `P = min(P, P_start)`, with momentum 0.9 and the
 /// solve given up (velocity and pressure restored) when its residual doubles or after 200
 /// sweeps, passes this case, `viscous_high_3d_corrected`, every other hard case, both sloshing
 /// tanks, the two-layer tank, the free block and the thrown block at 0.25 h/|u| (CPU and CUDA
 /// with shim tests: local branch `experiment/velocity-solve-full`). It fails the dam break
-/// (`tests/dam_break.rs`): the front runs 11.1 % ahead of Martin & Moyce, against 4.7 % today
-/// and 5.3 % for wcsph at C = 100 and 200 m/s, the incompressible limit of the same
-/// discretisation. The cause is the solve's density `ρ0 + τ dρ/dt`: a free-surface particle
+/// (`tests/dam_break.rs`): the front runs 11.1 % ahead of Martin & Moyce, against 4.8 % today
+/// (`sph run scenes/dam_break_2d.toml --end-time 0.48`) and 5.4 % and 5.3 % for wcsph at C = 100
+/// and 200 m/s (α C kept at 1.75 m/s), the incompressible limit of the same discretisation. The cause is the solve's density `ρ0 + τ dρ/dt`: a free-surface particle
 /// (P = 0, density well below ρ0) that is being compressed counts as compressed and is pushed
 /// apart (compression only, everywhere: 14.3 %). From its own density `ρ + τ dρ/dt` the front is
-/// right (5.4 %) but the interior's pressure drains to 30–900 Pa (the solve then undoes
+/// right (5.4 %) but the interior's pressure drains (`rest_2d` bottom 32–920 Pa over 2 s) (the solve then undoes
 /// expansions within δ); from ρ0 where P > 0 and `min(ρ, ρ0)` where P = 0 the front is right
 /// (5.2 %) but the wave is back (`rest_2d` bottom 1,881–3,452 Pa) and the two-layer tank is
 /// 6.7 % low. Still open.
