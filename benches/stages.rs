@@ -232,7 +232,13 @@ fn correction_sweep<const D: usize>(group: &mut BenchmarkGroup<WallTime>, p: &mu
     let config = p.sim.config();
     let kernel = Smoothing::<D>::new(params.h).expect("the simulation was built, so D is 2 or 3");
     let kappa = lattice_gradient_moment(&kernel, config.spacing, config.rho0);
-    let k = correction_stiffness(&kernel, config.spacing, config.rho0, kappa);
+    let k = correction_stiffness(
+        &kernel,
+        config.spacing,
+        config.rho0,
+        kappa,
+        f64::from(params.density_spiky_scale),
+    );
     let relaxation = config.correction.unwrap_or_default().relaxation;
     let tau = p.dt;
     let stiffness = (relaxation * k / (tau * tau)) as f32;

@@ -1,10 +1,11 @@
-// Eqs. (23)-(24): the position correction (section 2), one sweep as the CPU runs it. Twins of
-// `CpuBackend::correction_error`, `correction_pressure`, `correct_positions` and of
+// Eqs. (23)-(24): the position correction (section 2), one sweep as the CPU runs it, and the
+// velocity solve that follows it (`solver::step`). Twins of `CpuBackend::correction_error`,
+// `correction_pressure`, `correct_positions`, `correct_velocities`, `end_velocity_solve` and of
 // `physics::correction`. A sweep on the device:
 //   correction_pressure_fluid -> correction_pressure_wall -> correction_pressure_apply
 //   (= `correction_pressure`), then correction_displacement -> host scale -> apply_displacement
-//   (= `correct_positions`). Maxima are float bits in ints (see `extremes.cuh`); the host zeroes
-//   them before the launch.
+//   (= `correct_positions`) or -> apply_velocity_change (= `correct_velocities`). Maxima are
+//   float bits in ints (see `extremes.cuh`); the host zeroes them before the launch.
 #include "sph.cuh"
 #include "extremes.cuh"
 #include "pair_forces.cuh"
@@ -52,14 +53,17 @@ SPH_KERNEL(correction_pressure_fluid)(u32 n, float rho0, float k, float beta, in
     delta_p[i] = (fmaxf(p_m + k * (density[i] - rho0), 0.0f) - p_m) + m;
 }
 
-/// [A12] eq. (27) without gravity for solid particles: `delta_p_w = max(sum_f delta_p_f W_wf /
-/// sum_f W_wf, 0)` over fluid neighbours f (0 without any), as `WallPressureSums::pressure` with
-/// zero gravity. In place: solids read only fluid increments, which this kernel does not write.
+/// [A12] eq. (27) without gravity for solid particles, of either sign: `r = sum_f delta_p_f W_wf /
+/// sum_f W_wf` over fluid neighbours f (0 without any), as `WallPressureSums::increment`; then
+/// `delta_p_w = max(p_w + r, 0) - p_w`, which keeps the wall's accumulated pressure `p_w`
+/// non-negative (`CpuBackend::correction_pressure`). In place: solids read only fluid increments,
+/// which this kernel does not write; `pressure` is updated later by `correction_pressure_apply`.
 SPH_KERNEL(correction_pressure_wall)(u32 n, StepParams p, GridGeometry g,
                                      const u32* __restrict__ cell_start,
                                      const u32* __restrict__ cell_key, const float* __restrict__ pos,
-                                     const float* __restrict__ density, const u32* __restrict__ kind,
-                                     float* delta_p) {
+                                     const float* __restrict__ density,
+                                     const float* __restrict__ pressure,
+                                     const u32* __restrict__ kind, float* delta_p) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] == SPH_FLUID) return;
     const Smoothing s = smoothing(p.h);
@@ -77,13 +81,14 @@ SPH_KERNEL(correction_pressure_wall)(u32 n, StepParams p, GridGeometry g,
         pressure_sum += delta_p[j] * w;
         density_offset = vadd(density_offset, vscale(d, density[j] * w));
     });
-    float result = 0.0f;
-    if (weight > 0.0f) {
+    float increment = 0.0f;
+    if (!(weight <= 0.0f)) {  // as `WallPressureSums::increment`: a NaN weight falls through
         // g . sum rho_f (x_w - x_f) W with g = 0, kept so that non-finite values propagate alike.
         const float gravity_term = vdot(vzero(), density_offset);
-        result = fmaxf((pressure_sum + gravity_term) / weight, 0.0f);
+        increment = (pressure_sum + gravity_term) / weight;
     }
-    delta_p[i] = result;
+    const float p_w = pressure[i];
+    delta_p[i] = fmaxf(p_w + increment, 0.0f) - p_w;
 }
 
 /// End of `correction_pressure`: `p += delta_p` and `delta_p_prev = delta_p`, every particle.
@@ -146,4 +151,26 @@ SPH_KERNEL(apply_displacement)(u32 n, float scale, float tau, const u32* __restr
     for (int k = 0; k < D; ++k) u.c[k] += dx.c[k] / tau;
     vstore(pos, i, vadd(vload(pos, i), dx));
     vstore(vel, i, u);
+}
+
+/// The velocity solve's sweep applied, fluid only: `u += displacement * factor` with
+/// `factor = scale / tau` [1/s] computed once on the host in f32 (the displacement of eq. (23)
+/// divided by `tau`, `du = tau a^press(delta_p)`, scaled as in `apply_displacement`); positions
+/// unchanged. Twin of `CpuBackend::correct_velocities`.
+SPH_KERNEL(apply_velocity_change)(u32 n, float factor, const u32* __restrict__ kind,
+                                  const float* __restrict__ displacement,
+                                  float* __restrict__ vel) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    vstore(vel, i, vadd(vload(vel, i), vscale(vload(displacement, i), factor)));
+}
+
+/// End of an accepted velocity solve, every particle: `p = min(p, p_start)` [Pa], so the solve
+/// keeps only the pressure it released (`p_start` as `begin_velocity_solve` saved it; fminf
+/// ignores a NaN operand as `f32::min` does). Twin of `CpuBackend::end_velocity_solve` (`keep`).
+SPH_KERNEL(keep_pressure_decreases)(u32 n, const float* __restrict__ pressure_start,
+                                    float* __restrict__ pressure) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    pressure[i] = fminf(pressure[i], pressure_start[i]);
 }

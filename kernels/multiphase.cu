@@ -1,15 +1,16 @@
 // The `multiphase` effect's variants of the density, equation-of-state and correction stages
 // ([HA06] Hu & Adams, J. Comput. Phys. 213 (2006) 844; `physics::multiphase`). Twins of the
 // multiphase branches of `CpuBackend::density`, `equation_of_state`, `correction_error`,
-// `correction_pressure` and `correct_positions`, which run when `Fields::rest_density` is
-// allocated; `rest` is that field (kg/m^3, per particle). The force, wall-pressure, solid-force
-// and state-extremes variants are template flags of their own files (`forces_*_mp`,
-// `wall_pressure_multiphase`, `solid_forces_multiphase`, `state_extremes_multiphase`).
+// `correction_pressure`, `correct_positions` and `predicted_density` (also the branch of
+// `correct_velocities`), which run when `Fields::rest_density` is allocated; `rest` is that field
+// (kg/m^3, per particle). The force, wall-pressure, solid-force and state-extremes variants are
+// template flags of their own files (`forces_*_mp`, `wall_pressure_multiphase`,
+// `solid_forces_multiphase`, `state_extremes_multiphase`).
 #include "sph.cuh"
 #include "extremes.cuh"
 #include "multiphase.cuh"
 
-/// [HA06] density: rho_i = m_i sum_j W_poly6(|x_i - x_j|, h) (the number density times the
+/// [HA06] density: rho_i = m_i sum_j W(|x_i - x_j|, h) (`w_density`: the number density times the
 /// particle's own mass), fluid only. Twin of `multiphase::number_density_term` and `density`.
 SPH_KERNEL(density_multiphase)(u32 n, StepParams p, GridGeometry g,
                                const u32* __restrict__ cell_start,
@@ -26,10 +27,43 @@ SPH_KERNEL(density_multiphase)(u32 n, StepParams p, GridGeometry g,
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
             d = pair_offset(d, &r2, i, j, s.h);
-            sigma += w_poly6(s, r2);
+            sigma += w_density(s, p.density_spiky_scale, r2);
         }
     });
     density[i] = mass[i] * sigma;
+}
+
+/// [HA06] variant of `predicted_density` (density.cu): `rho*_i = base_i + tau m_i sum_{j != i}
+/// (u_i - u_j) . grad W_rho(x_i - x_j)` [kg/m^3] with the particle's own mass and rest density,
+/// fluid only (each term `m_i (u_i - u_j) . grad W`, summed, as the CPU). Twin of the multiphase
+/// branch of `CpuBackend::predicted_density`.
+SPH_KERNEL(predicted_density_multiphase)(u32 n, StepParams p, GridGeometry g,
+                                         const u32* __restrict__ cell_start,
+                                         const u32* __restrict__ cell_key,
+                                         const float* __restrict__ pos,
+                                         const float* __restrict__ vel,
+                                         const float* __restrict__ mass,
+                                         const float* __restrict__ rest,
+                                         const u32* __restrict__ kind,
+                                         const float* __restrict__ density_start, float tau,
+                                         float* __restrict__ density) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    const Smoothing s = smoothing(p.h);
+    const vec_t xi = vload(pos, i);
+    const vec_t ui = vload(vel, i);
+    const float m_i = mass[i];
+    float rate = 0.0f;  // d rho_i / dt [kg/(m^3 s)]
+    SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
+        vec_t d = vsub(xi, vload(pos, j));
+        float r2 = vdot(d, d);
+        if (r2 < s.h2 && j != i) {
+            d = pair_offset(d, &r2, i, j, s.h);
+            const vec_t grad = grad_w_density(s, p.density_spiky_scale, d, sqrtf(r2));
+            rate += m_i * vdot(vsub(ui, vload(vel, j)), grad);
+        }
+    });
+    density[i] = velocity_solve_base(density_start[i], rest[i]) + tau * rate;
 }
 
 /// Eq. (19) with each particle's own rest density: p = max(C^2 (rho - rho0_i), 0), fluid only.

@@ -78,6 +78,7 @@ struct StepParams {
     float surface_tension_gamma;    // [AAT13] gamma of the surface tension (0 without it)
     float surface_tension_sigma;    // sigma' of the surface stress (0 unless that model)
     float spacing;                  // initial particle spacing dx [m]
+    float density_spiky_scale;      // kernel of eq. (18): 0 poly6, else this times W_spiky
 };
 
 /// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of
@@ -178,12 +179,53 @@ __device__ __forceinline__ float w_poly6(const Smoothing& s, float r2) {
     return s.poly6 * q * q * q;
 }
 
+/// Spiky kernel (21) W(r) [1/m^D]. Twin of `Smoothing::w_spiky`.
+__device__ __forceinline__ float w_spiky(const Smoothing& s, float r) {
+    if (r >= s.h) return 0.0f;
+    float q = s.h - r;
+    return s.spiky * q * q * q;
+}
+
+/// The kernel of eq. (18) at squared distance r2 [1/m^D]: poly6 when `spiky_scale` is 0, else
+/// `spiky_scale * W_spiky(r)` (the corrected solver). Twin of `physics::density::density_kernel`.
+__device__ __forceinline__ float w_density(const Smoothing& s, float spiky_scale, float r2) {
+    return spiky_scale > 0.0f ? spiky_scale * w_spiky(s, sqrtf(r2)) : w_poly6(s, r2);
+}
+
 /// Gradient of the spiky kernel at offset x, |x| = r [1/m^(D+1)]; the magnitude is taken at r no
 /// smaller than SPH_R_MIN_FRACTION h, zero at r = 0. Twin of `Smoothing::grad_w_spiky`.
 __device__ __forceinline__ vec_t grad_w_spiky(const Smoothing& s, vec_t x, float r) {
     if (r >= s.h || r <= 0.0f) return vzero();
     float q = s.h - fmaxf(r, SPH_R_MIN_FRACTION * s.h);
     return vscale(x, -3.0f * s.spiky * q * q / r);
+}
+
+/// Gradient of eq. (20) at offset x, `-6 K (h^2 - r^2)^2 x` [1/m^(D+1)] (r^2 recomputed from x).
+/// Twin of `Smoothing::grad_w`.
+__device__ __forceinline__ vec_t grad_w_poly6(const Smoothing& s, vec_t x) {
+    const float r2 = vdot(x, x);
+    if (r2 >= s.h2) return vzero();
+    const float q = s.h2 - r2;
+    return vscale(x, -6.0f * s.poly6 * q * q);
+}
+
+/// Gradient of the kernel of eq. (18) (`w_density`) at offset x = x_i - x_j, |x| = r
+/// [1/m^(D+1)]: the poly6 gradient when `spiky_scale` is 0, else `spiky_scale` times the spiky
+/// gradient. Twin of `physics::density::density_kernel_gradient`.
+__device__ __forceinline__ vec_t grad_w_density(const Smoothing& s, float spiky_scale, vec_t x,
+                                                float r) {
+    return spiky_scale > 0.0f ? vscale(grad_w_spiky(s, x, r), spiky_scale) : grad_w_poly6(s, x);
+}
+
+/// Twin of `physics::density::SURFACE_DENSITY_RATIO`: below this rho/rho0 the velocity solve
+/// takes a particle for one at the free surface.
+#define SPH_SURFACE_DENSITY_RATIO 0.98f
+
+/// The velocity solve's base density [kg/m^3] from the particle's density (18) `rho` at the
+/// solve's start and its rest density `rho0`: rho0 inside the fluid, `rho` at the free surface.
+/// Twin of `physics::density::velocity_solve_base`.
+__device__ __forceinline__ float velocity_solve_base(float rho, float rho0) {
+    return rho >= SPH_SURFACE_DENSITY_RATIO * rho0 ? rho0 : rho;
 }
 
 /// Laplacian of the viscosity kernel [1/m^(D+2)].

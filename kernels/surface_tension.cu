@@ -7,15 +7,6 @@
 // `surface_tension` effect.
 #include "sph.cuh"
 
-/// Gradient of eq. (20) at offset x, `-6 K (h^2 - r^2)^2 x` [1/m^(D+1)]. Twin of
-/// `Smoothing::grad_w`.
-__device__ __forceinline__ vec_t grad_w_poly6(const Smoothing& s, vec_t x) {
-    const float r2 = vdot(x, x);
-    if (r2 >= s.h2) return vzero();
-    const float q = s.h2 - r2;
-    return vscale(x, -6.0f * s.poly6 * q * q);
-}
-
 /// [AAT13] eq. (2): the cohesion spline C(r) [1/m^D], normalised by 32/(pi h^9) in 3D and
 /// 25280/(627 pi h^8) in 2D. Twin of `surface_tension::cohesion_kernel`.
 __device__ __forceinline__ float cohesion_kernel(float r, float h) {

@@ -39,10 +39,12 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
         if (r2 < s.h2) {
             d = pair_offset(d, &r2, w, j, s.h);
             float wj = w_poly6(s, r2);
+            // Eq. (18)'s own kernel for the summed density (poly6, or the corrected solver's spiky).
+            const float wd = w_density(s, p.density_spiky_scale, r2);
             if (MULTIPHASE)
-                summed_density += wj;  // [HA06] number density
+                summed_density += wd;  // [HA06] number density
             else
-                summed_density += mass[j] * wj;
+                summed_density += mass[j] * wd;
             if (kind[j] == SPH_FLUID) {
                 weight += wj;
                 pressure_sum += pressure[j] * wj;

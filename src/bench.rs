@@ -33,7 +33,8 @@ pub struct BenchRow {
     pub seconds_per_step: f64,
     /// Seconds per sweep (density + equation of state + forces).
     pub seconds_per_sweep: f64,
-    /// Neighbour passes per step: force stages plus correction iterations.
+    /// Neighbour passes per step: force stages plus correction iterations (the position
+    /// correction's and the velocity solve's sweeps).
     pub sweeps_per_step: f64,
     /// Particles times steps per wall second.
     pub particle_steps_per_second: f64,
@@ -152,14 +153,18 @@ fn measure<const D: usize>(
     sim.use_backend(backend)?;
     let seconds_per_sweep = sim.time_sweeps(options.sweeps)?;
     sim.step(f64::INFINITY)?;
-    let before = sim.stats().correction.iterations;
+    let sweeps = |sim: &Simulation<D>| {
+        let c = sim.stats().correction;
+        c.iterations + c.velocity_iterations
+    };
+    let before = sweeps(&sim);
     let start = Instant::now();
     for _ in 0..options.steps {
         sim.step(f64::INFINITY)?;
     }
     sim.synchronize()?;
     let seconds_per_step = start.elapsed().as_secs_f64() / options.steps.max(1) as f64;
-    let iterations = (sim.stats().correction.iterations - before) as f64 / options.steps.max(1) as f64;
+    let iterations = (sweeps(&sim) - before) as f64 / options.steps.max(1) as f64;
     sim.time_stages(true);
     for _ in 0..options.steps {
         sim.step(f64::INFINITY)?;

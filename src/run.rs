@@ -587,6 +587,15 @@ fn drive<const D: usize>(
         extra.insert("correction_iterations_max".into(), cs.max_iterations.into());
         extra.insert("corrected_stages".into(), cs.stages.into());
         extra.insert("unconverged_stages".into(), cs.unconverged_stages.into());
+        extra.insert("velocity_solves".into(), cs.velocity_solves.into());
+        extra.insert(
+            "velocity_iterations_mean".into(),
+            cs.mean_velocity_iterations().into(),
+        );
+        extra.insert(
+            "velocity_solves_given_up".into(),
+            cs.velocity_solves_given_up.into(),
+        );
         extra.insert(
             "max_compression_after_correction".into(),
             cs.max_compression_after.into(),

@@ -1,5 +1,7 @@
 //! The force, integration and correction kernels of `kernels/` (`forces.cu`, `solid_forces.cu`,
-//! `state_extremes.cu`, `integrate.cu`, `correction.cu`, `keep_out.cu`, `move_solids.cu`), run on the CPU through the host shim
+//! `state_extremes.cu`, `integrate.cu`, `correction.cu`, `keep_out.cu`, `move_solids.cu`) and the
+//! velocity solve's (`predicted_density` of `density.cu`, `apply_velocity_change` and
+//! `keep_pressure_decreases` of `correction.cu`), run on the CPU through the host shim
 //! (`backend::cuda::shim`), against the rayon stage each mirrors, per particle `id`, in 2D and
 //! 3D. These run everywhere, GPU or not.
 //!
@@ -25,6 +27,7 @@ use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::physics::artificial_viscosity::artificial_viscous_acceleration;
 use sph::physics::correction::MOMENTUM;
+use sph::physics::density::{SURFACE_DENSITY_RATIO, density_kernel_gradient, velocity_solve_base};
 use sph::physics::pressure::pressure_acceleration;
 use sph::physics::rotating_frame::rotating_frame_acceleration;
 use sph::physics::viscosity::viscous_acceleration;
@@ -141,6 +144,7 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         surface_tension_gamma: 0.0,
         surface_tension_sigma: 0.0,
         spacing: 0.0,
+        density_spiky_scale: 0.0,
     };
     (f, p)
 }
@@ -485,6 +489,7 @@ fn correction_pressure_on_shim<const D: usize>(
         dev.cell_key.as_ptr(),
         dev.pos.as_ptr(),
         dev.density.as_ptr(),
+        dev.pressure.as_ptr(),
         dev.kind.as_ptr(),
         delta_p.as_mut_ptr(),
     );
@@ -717,6 +722,333 @@ fn correct_positions_matches_the_cpu_stage_with_scaling_2d() {
 #[test]
 fn correct_positions_matches_the_cpu_stage_with_scaling_3d() {
     check_correct_positions::<3>(0x7777_1111_2222_3333);
+}
+
+/// `predicted_density` against `CpuBackend::predicted_density` for the poly6 density (`wcsph`)
+/// and the scaled spiky one (`corrected`): fluid within [`SUM_ORDER`] of `τ Σ|m_j (u_i − u_j)·∇W_ρ|`
+/// (the neighbour sum's order) plus one f32 rounding of the result (the addition to ρ0); solids
+/// untouched, bitwise. Solids move with their own (rigid) velocities in the scene, so the walls'
+/// terms are in the sums; masses vary by ±20 % so that `m_j` cannot pass for `m_i`. The starting
+/// densities spread over `(0.98 ± 0.03) ρ0`, so that both sides of the base rule
+/// (`velocity_solve_base`: ρ0 inside, the own density at the free surface) are taken.
+fn check_predicted_density<const D: usize>(seed: u64, spiky_scale: f32) {
+    let (mut f, mut p) = scene::<D>(seed);
+    p.density_spiky_scale = spiky_scale;
+    let mut rng = Rng(seed ^ 0x600d);
+    for m in f.mass.iter_mut() {
+        *m *= 1.0 + rng.sym(0.2);
+    }
+    for rho in f.density.iter_mut() {
+        *rho = p.rho0 * (SURFACE_DENSITY_RATIO + rng.sym(0.03));
+    }
+    let surface = (0..f.len())
+        .filter(|&i| f.kind[i] == FLUID && f.density[i] < SURFACE_DENSITY_RATIO * p.rho0)
+        .count();
+    let fluid = (0..f.len()).filter(|&i| f.kind[i] == FLUID).count();
+    assert!(
+        surface > 0 && surface < fluid,
+        "{surface} of {fluid} below the ratio"
+    );
+    let mut dev = Device::new(&f, &p);
+    let mut cf = f.clone();
+    let mut cpu = CpuBackend::<D>::new();
+    cpu.sort_by_cell(&mut cf, p.h).expect("finite positions");
+    // About 1 % of ρ0 from the random velocities (|u| < 1 m/s over dx = 1 cm).
+    let tau = 1.0e-4f32;
+    cpu.begin_velocity_solve(&mut cf);
+    cpu.predicted_density(&mut cf, &p, tau);
+    let density_before = dev.density.clone();
+    launch!(
+        D,
+        sph_shim_predicted_density_2,
+        sph_shim_predicted_density_3,
+        dev.n(),
+        ptr(&p),
+        ptr(&dev.g),
+        dev.cell_start.as_ptr(),
+        dev.cell_key.as_ptr(),
+        dev.pos.as_ptr(),
+        dev.vel.as_ptr(),
+        dev.mass.as_ptr(),
+        dev.kind.as_ptr(),
+        density_before.as_ptr(),
+        tau,
+        dev.density.as_mut_ptr(),
+    );
+    let cpu_at = index_of_id(&cf.id);
+    let dev_at = dev.index_of_id();
+    let kernel = p.smoothing();
+    let eps = f64::from(f32::EPSILON);
+    let (mut worst, mut largest_change) = (0.0f64, 0.0f64);
+    for id in 0..f.len() {
+        let (shim, cpu_rho) = (dev.density[dev_at[id]], cf.density[cpu_at[id]]);
+        if f.kind[id] != FLUID {
+            assert_eq!(
+                shim.to_bits(),
+                density_before[dev_at[id]].to_bits(),
+                "solid {id} untouched"
+            );
+            assert_eq!(cpu_rho.to_bits(), f.density[id].to_bits());
+            continue;
+        }
+        let mut terms = 0.0f64;
+        for (j, d, r) in neighbours(&f, p.h, id) {
+            let grad = density_kernel_gradient(&kernel, spiky_scale, &d, r);
+            terms += f64::from(f.mass[j] * (f.velocity[id] - f.velocity[j]).dot(&grad)).abs();
+        }
+        let scale = f64::from(tau) * terms;
+        // The base rule itself, bitwise: the rate term is small against the base's distance.
+        let base = velocity_solve_base(f.density[id], p.rho0);
+        assert!(
+            f64::from(cpu_rho - base).abs() <= scale * 1.01 + eps * f64::from(base),
+            "{D}D: fluid {id}: cpu {cpu_rho} from base {base} (rate bound {scale})"
+        );
+        let diff = f64::from(shim - cpu_rho).abs();
+        assert!(
+            diff <= SUM_ORDER * scale + eps * f64::from(cpu_rho).abs(),
+            "{D}D, spiky scale {spiky_scale}: fluid {id}: shim {shim} cpu {cpu_rho} (scale {scale})"
+        );
+        worst = worst.max(diff);
+        largest_change = largest_change.max(f64::from(cpu_rho - p.rho0).abs());
+    }
+    eprintln!(
+        "{D}D predicted_density, spiky scale {spiky_scale}: largest |shim - cpu| = {worst:.2e} kg/m³ \
+         (f32 spacing at ρ0: {:.1e}), largest |ρ* − ρ0| = {largest_change:.3} kg/m³",
+        f32::from_bits(p.rho0.to_bits() + 1) - p.rho0
+    );
+    // A missing or wrong term moves ρ* by a whole term; the velocities must be visible at all.
+    assert!(
+        largest_change > 1.0,
+        "the velocities change the density: {largest_change}"
+    );
+}
+
+#[test]
+fn predicted_density_matches_the_cpu_stage_for_both_density_kernels_2d() {
+    for spiky_scale in [0.0, 0.82] {
+        check_predicted_density::<2>(0x2468_ace0_1357_9bdf, spiky_scale);
+    }
+}
+
+#[test]
+fn predicted_density_matches_the_cpu_stage_for_both_density_kernels_3d() {
+    for spiky_scale in [0.0, 0.82] {
+        check_predicted_density::<3>(0x1357_9bdf_2468_ace0, spiky_scale);
+    }
+}
+
+/// The velocity solve's sweep: one sweep's pressures on both sides, then
+/// `correction_displacement` + `apply_velocity_change` (factor `scale/τ` in f32, as the backend
+/// computes it) against `correct_velocities`, with `max_step` a quarter of the largest
+/// displacement so that the scaling is exercised. Velocities by id within [`SUM_ORDER`] of the
+/// displacement's term sum over τ (plus one f32 rounding of the value they are added to);
+/// positions untouched, bitwise, on both sides.
+fn check_correct_velocities<const D: usize>(seed: u64) {
+    let (f, p) = scene::<D>(seed);
+    let mut dev = Device::new(&f, &p);
+    let mut cf = f.clone();
+    let mut cpu = CpuBackend::<D>::new();
+    cpu.sort_by_cell(&mut cf, p.h).expect("finite positions");
+    cpu.begin_velocity_solve(&mut cf);
+    cpu.correction_pressure(&mut cf, &p, STIFFNESS);
+    let n = f.len();
+    let (mut delta_p, mut delta_p_prev) = (vec![0.0f32; n], vec![0.0f32; n]);
+    correction_pressure_on_shim(&mut dev, &p, STIFFNESS, false, &mut delta_p, &mut delta_p_prev);
+
+    let tau = 2.0e-3f32;
+    let mut displacement = vec![f32::NAN; n * D];
+    let mut largest = 0i32;
+    launch!(
+        D,
+        sph_shim_correction_displacement_2,
+        sph_shim_correction_displacement_3,
+        dev.n(),
+        ptr(&p),
+        ptr(&dev.g),
+        dev.cell_start.as_ptr(),
+        dev.cell_key.as_ptr(),
+        dev.pos.as_ptr(),
+        dev.mass.as_ptr(),
+        dev.density.as_ptr(),
+        delta_p.as_ptr(),
+        dev.kind.as_ptr(),
+        tau * tau,
+        displacement.as_mut_ptr(),
+        &mut largest,
+    );
+    let max_step = (0.25 * extremes::max_from_bits(largest)) as f32;
+    let sweep = extremes::sweep(largest, max_step);
+    let cpu_positions = cf.position.clone();
+    let cpu_sweep = cpu.correct_velocities(&mut cf, &p, tau, max_step);
+    assert!(sweep.scale < 0.3, "the scaling is exercised: {sweep:?}");
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+    assert!(
+        rel(sweep.scale, cpu_sweep.scale) <= SUM_ORDER,
+        "{sweep:?} vs {cpu_sweep:?}"
+    );
+    assert!(
+        rel(sweep.largest, cpu_sweep.largest) <= SUM_ORDER,
+        "{sweep:?} vs {cpu_sweep:?}"
+    );
+    assert_eq!(cf.position, cpu_positions, "the CPU's positions stay");
+    let (pos_before, vel_before) = (dev.pos.clone(), dev.vel.clone());
+    let factor = sweep.scale as f32 / tau;
+    launch!(
+        D,
+        sph_shim_apply_velocity_change_2,
+        sph_shim_apply_velocity_change_3,
+        dev.n(),
+        factor,
+        dev.kind.as_ptr(),
+        displacement.as_ptr(),
+        dev.vel.as_mut_ptr(),
+    );
+    assert_eq!(
+        dev.pos.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+        pos_before.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+        "the kernel moves nothing"
+    );
+
+    let cpu_at = index_of_id(&cf.id);
+    let dev_at = dev.index_of_id();
+    let dp_by_id: Vec<f32> = (0..n).map(|id| delta_p[dev_at[id]]).collect();
+    let kernel = p.smoothing();
+    let eps = f64::from(f32::EPSILON);
+    let (mut worst, mut changed) = (0.0f64, 0usize);
+    for id in 0..n {
+        let (i, c) = (dev_at[id], cpu_at[id]);
+        if f.kind[id] != FLUID {
+            for k in 0..D {
+                assert_eq!(dev.vel[i * D + k].to_bits(), vel_before[i * D + k].to_bits());
+                assert_eq!(cf.velocity[c][k].to_bits(), f.velocity[id][k].to_bits());
+            }
+            continue;
+        }
+        // Σ|terms| of Δx = τ² a^press(δp), times the scale.
+        let mut terms = 0.0f64;
+        for (j, d, r) in neighbours(&f, p.h, id) {
+            let grad = kernel.grad_w_spiky(&d, r) * p.pressure_gradient_scale;
+            let a = pressure_acceleration(
+                dp_by_id[id],
+                f.density[id],
+                dp_by_id[j],
+                f.density[j],
+                f.mass[j],
+                &grad,
+            );
+            terms += norm(&a);
+        }
+        // Once for the sum order of Δx, once for the scale (inherited from the largest |Δx|).
+        let du_tol = 2.0 * SUM_ORDER * f64::from(tau) * terms * sweep.scale;
+        for k in 0..D {
+            let (u, u_cpu) = (f64::from(dev.vel[i * D + k]), f64::from(cf.velocity[c][k]));
+            assert!(
+                (u - u_cpu).abs() <= du_tol + eps * u_cpu.abs(),
+                "{D}D: particle {id} axis {k}: u {u} vs {u_cpu} (tol {du_tol})"
+            );
+            if du_tol > 0.0 {
+                worst = worst.max((u - u_cpu).abs() / (du_tol / (2.0 * SUM_ORDER)));
+            }
+            changed += usize::from(dev.vel[i * D + k] != vel_before[i * D + k]);
+        }
+    }
+    eprintln!(
+        "{D}D correct_velocities: scale {:.4} vs {:.4}; largest |Δu| / Σ|Δu terms| = {worst:.2e}",
+        sweep.scale, cpu_sweep.scale
+    );
+    assert!(changed > n / 2, "most fluid velocities change ({changed})");
+}
+
+#[test]
+fn correct_velocities_matches_the_cpu_stage_with_scaling_2d() {
+    check_correct_velocities::<2>(0x3333_cccc_5678_1234);
+}
+
+#[test]
+fn correct_velocities_matches_the_cpu_stage_with_scaling_3d() {
+    check_correct_velocities::<3>(0x9999_4444_aaaa_bbbb);
+}
+
+/// `end_velocity_solve`: kept, `keep_pressure_decreases` against the CPU, per-particle
+/// `min(p, p_start)`, bitwise (a NaN pressure takes the start's, as `f32::min`), velocities
+/// untouched; discarded, the CPU's velocities and pressures are the start's again, bitwise (on
+/// the device that path is two device-to-device copies, no kernel).
+fn check_end_velocity_solve<const D: usize>(seed: u64) {
+    let (f, p) = scene::<D>(seed);
+    let mut rng = Rng(seed ^ 0x5a5a);
+    let mut dev = Device::new(&f, &p);
+    let n = f.len();
+    // What the solve did: every pressure moved up or down by up to 1 kPa (kept >= 0 as the
+    // correction keeps it), one fluid pressure NaN; random velocity changes.
+    let mut pressure = f.pressure.clone();
+    let mut velocity = f.velocity.clone();
+    for id in 0..n {
+        pressure[id] = (pressure[id] + rng.sym(1000.0)).max(0.0);
+        velocity[id] += Vector::<D>::from_fn(|_, _| rng.sym(0.5));
+    }
+    let nan_id = (0..n).find(|&id| f.kind[id] == FLUID).expect("fluid");
+    pressure[nan_id] = f32::NAN;
+    for keep in [true, false] {
+        let mut cf = f.clone();
+        let mut cpu = CpuBackend::<D>::new();
+        cpu.sort_by_cell(&mut cf, p.h).expect("finite positions");
+        let start = cf.clone();
+        cpu.begin_velocity_solve(&mut cf);
+        for c in 0..n {
+            let id = cf.id[c] as usize;
+            cf.pressure[c] = pressure[id];
+            cf.velocity[c] = velocity[id];
+        }
+        cpu.end_velocity_solve(&mut cf, keep);
+        if !keep {
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(
+                bits(&cf.pressure),
+                bits(&start.pressure),
+                "{D}D: pressures restored"
+            );
+            assert_eq!(cf.velocity, start.velocity, "{D}D: velocities restored");
+            continue;
+        }
+        let pressure_start = dev.pressure.clone();
+        for (i, &id) in dev.id.iter().enumerate() {
+            dev.pressure[i] = pressure[id as usize];
+        }
+        let vel_before = dev.vel.clone();
+        launch!(
+            D,
+            sph_shim_keep_pressure_decreases_2,
+            sph_shim_keep_pressure_decreases_3,
+            dev.n(),
+            pressure_start.as_ptr(),
+            dev.pressure.as_mut_ptr(),
+        );
+        assert_eq!(dev.vel, vel_before, "the kernel changes no velocity");
+        let cpu_at = index_of_id(&cf.id);
+        let dev_at = dev.index_of_id();
+        let mut lowered = 0usize;
+        for id in 0..n {
+            let (shim, cpu_p) = (dev.pressure[dev_at[id]], cf.pressure[cpu_at[id]]);
+            assert_eq!(
+                shim.to_bits(),
+                cpu_p.to_bits(),
+                "{D}D: particle {id}: {shim} vs {cpu_p}"
+            );
+            assert!(!shim.is_nan(), "{D}D: particle {id} keeps a number");
+            lowered += usize::from(shim < f.pressure[id]);
+        }
+        assert!(lowered > n / 4, "{D}D: the solve released pressure ({lowered})");
+    }
+}
+
+#[test]
+fn end_velocity_solve_keeps_pressure_decreases_as_the_cpu_2d() {
+    check_end_velocity_solve::<2>(0x0123_4567_89ab_cdef);
+}
+
+#[test]
+fn end_velocity_solve_keeps_pressure_decreases_as_the_cpu_3d() {
+    check_end_velocity_solve::<3>(0xfedc_ba98_7654_3210);
 }
 
 /// Solid forces of both sources (the force stage's pressures and viscosities; the correction's

@@ -112,6 +112,7 @@ fn droplet<const D: usize>(seed: u64, model: Model) -> (Fields<D>, StepParams<D>
         surface_tension_gamma: if model == Model::Akinci { 2.0 } else { 0.0 },
         surface_tension_sigma: if model == Model::Akinci { 0.0 } else { 5.0 },
         spacing: DX,
+        density_spiky_scale: 0.0,
     };
     (f, p)
 }

@@ -82,88 +82,15 @@ fn rest_3d_wcsph() {
     case("rest_3d.toml", "wcsph");
 }
 
-/// Fails today: the first step builds the pressure from zero at the viscous step limit
-/// (10 ms): its first stage is still at 7e-4 compression after 1,000 sweeps, and kinetic plus
-/// potential energy rise by 0.019 J (0.37 % of |E0|; the centre of mass rises 0.12 mm and the
-/// fluid gets 0.011 J of kinetic energy), then decay (−0.03 J by 1 s). A 1 ms step converges
-/// every stage (at most 89 sweeps) but the energy still rises (+0.09 J by 0.05 s): the
-/// correction turns its position changes into velocity `Δx/τ`, and a smaller `τ` makes that
-/// noise larger. The start-up settle (`Simulation::settle`) finds nothing to move here.
-/// Also measured: starting from the hydrostatic pressure (settle, then `P = ρ0 g depth`) the
-/// first step rises more (+0.034 J); symplectic Euler instead of SSP-RK3 rises as much (0.43 %
-/// by step 3). Without the sweeps' momentum (β = 0) the first three steps converge, every
-/// interior particle stays within 1e-4 of ρ0 and the kinetic energy near 6e-5 J, but the
-/// potential energy grows 1e-3 J per step: alternate layers rise ~40 µm and sink 2–13 µm, a
-/// layering the density constraint cannot see. Letting interior particles carry negative
-/// pressure (down to −50…−300 Pa) made it worse (0.4–0.9 %). The stages that hit the cap stall
-/// at interior particles one or two spacings from the side walls (999.3–999.5 kg/m³ with
-/// P > 0), where the walls' correction increments are never negative; allowing negative wall
-/// increments converges every stage and keeps the potential energy flat, but the first step
-/// still gains 7.7e-3 J of kinetic energy (1.56e-3 of |E0|). That energy is sideways noise,
-/// not bulk motion: in the last stage the residual falls to 1.3e-4 by sweep 60, then grows to
-/// 1.8e-3 by sweep 160 (heavy-ball sweeps with the spiky gradient are not a symmetric step, and
-/// a mode that shuffles particles sideways grows), leaving 0.05 m/s sideways near the floor.
-/// Measured fixes that failed elsewhere: the poly6 gradient (the density kernel's) in the
-/// sweeps, with walls of either sign, converges every stage here (≤ 81 sweeps, first-step
-/// kinetic energy 6e-5 J, pressure at the hydrostatic value), but the spiky force stage then
-/// sees pressure noise the sweeps cannot: `rest_2d` blows up by step 10 and this case passes
-/// the bound only until step 8; the poly6 gradient in the force stage too is stable in 2D and
-/// unstable in 3D (pairing) by step 15; β = 0.6–0.9 or restarting the momentum when the
-/// residual grows leaves stages at the cap. One kernel for density and every gradient
-/// (Wendland C2, support h, as DualSPHysics and DFSPH codes use) keeps `rest_2d` within its
-/// bound for 1 s, but here rises 0.35 % with a steady −0.03 m/s mean vertical velocity that
-/// the positions do not follow (the stages' velocity, not a motion).
-/// Fifth session: summing the density (18) with the spiky kernel (times the lattice factor
-/// ΣW_poly6/ΣW_spiky, 0.817 in 3D, so the lattice mass still gives ρ0), the kernel whose
-/// gradient the sweeps and the force stage use, makes the sweep operator symmetric. With wall
-/// increments of either sign (wall pressure kept ≥ 0) and β = 0.9 this case, `viscous_high_3d`
-/// and the property tests' free block then pass (every stage ≤ 78 sweeps, kinetic energy
-/// ~1e-4 J, energy never above the start). But in 2D the floor pressure then wanders with the
-/// tolerance: `rest_2d`'s mean bottom pressure swings 100–6,600 Pa around the hydrostatic 2,845
-/// at δ = 1e-4 and 2,300–3,600 Pa at δ = 1e-5; the sloshing tank at rest holds 8.2e-3 J/kg
-/// (`sloshing_2d_corrected` fails) and the two-layer tank is 6.6 % off (limit 3 %). Walls that
-/// give back only a fifth of a negative increment: this case 0.16 % at step 2, two-layer 4.0 %.
-/// Wall increments clamped at zero (as now) with the spiky density: this case 0.19 % at step 2,
-/// two-layer 3.6 % (1.55 % with poly6). Setting each wall to the extrapolation (with gravity) of
-/// the fluid's current pressure in every sweep does not calm 2D either. The wandering is the
-/// tolerance's: with the spiky density and walls of either sign at δ = 1e-5 the two-layer tank
-/// is 1.75 % off (passes) and this case stays flat (kinetic energy ~3e-5 J, ≤ 87 sweeps), but
-/// the sloshing test runs at the README's recommended δ = 1e-3, where the wandering is worst:
-/// landing it needs a stopping rule or pressure control that bounds the drift whatever δ.
-/// Sixth session: the wandering is a standing vertical wave of the whole column, not noise.
-/// `rest_2d`, sampled every 50 steps (dt = 2.1 ms) over 2 s: the carried pressure rises and
-/// falls by the same amount at every depth (spiky density, walls of either sign: bottom
-/// 276–6,331 Pa, mid-depth 0–4,257 Pa against 2,845 and 1,471 hydrostatic) while the mean
-/// vertical velocity swings ±0.016 m/s and the centre of mass barely moves. Today's code has the
-/// same wave, smaller (bottom 2,480–3,544 Pa, ±5.6e-3 m/s). The loop only reacts to density
-/// errors, so a carried pressure that is too high lifts the column until the floor layer
-/// expands past δ, one layer per stage: the correction behaves like a fluid whose sound speed
-/// is about dx/dt, and the period, ~0.2 s, matches 4H/(dx/dt). Always running at least 1 or 4
-/// sweeps changes nothing. A second solve after each stage's correction, on the velocities at
-/// fixed positions (the same sweeps with `ρ0 + τ dρ/dt` in place of ρ, and `Δu = τ a` without
-/// moving: a divergence-free projection as in DFSPH), damps the wave: with the spiky density
-/// the bottom stays within 2,443–3,353 Pa after 0.2 s (2,923–2,929 Pa from 1.1 to 1.5 s) and
-/// mid-depth within 1,150–1,793 Pa, and this case stays at most 2.7e-4 |E0| above its start
-/// (sampled every 5 steps). With the poly6 density that solve blows up in 3D (a
-/// particle left the domain at step 107). What the carried pressure keeps of the velocity
-/// solve's increments decides the rest: all of them count an impact twice (the thrown block's
-/// starting residual rose from 0.02 to 0.64, 8.4 and 186 over nine steps), none let the pressure drift (bottom
-/// 9,800 Pa by 1.5 s), only the decreases, `P = min(P, P_start)`, with momentum 0.9 and the
-/// solve given up (velocity and pressure restored) when its residual doubles or after 200
-/// sweeps, passes this case, `viscous_high_3d_corrected`, every other hard case, both sloshing
-/// tanks, the two-layer tank, the free block and the thrown block at 0.25 h/|u| (CPU and CUDA
-/// with shim tests: local branch `experiment/velocity-solve-full`). It fails the dam break
-/// (`tests/dam_break.rs`): the front runs 11.1 % ahead of Martin & Moyce, against 4.8 % today
-/// (`sph run scenes/dam_break_2d.toml --end-time 0.48`) and 5.4 % and 5.3 % for wcsph at C = 100
-/// and 200 m/s (α C kept at 1.75 m/s), the incompressible limit of the same discretisation. The cause is the solve's density `ρ0 + τ dρ/dt`: a free-surface particle
-/// (P = 0, density well below ρ0) that is being compressed counts as compressed and is pushed
-/// apart (compression only, everywhere: 14.3 %). From its own density `ρ + τ dρ/dt` the front is
-/// right (5.4 %) but the interior's pressure drains (`rest_2d` bottom 32–920 Pa over 2 s) (the solve then undoes
-/// expansions within δ); from ρ0 where P > 0 and `min(ρ, ρ0)` where P = 0 the front is right
-/// (5.2 %) but the wave is back (`rest_2d` bottom 1,881–3,452 Pa) and the two-layer tank is
-/// 6.7 % low. Still open.
+/// Water at rest in 3D under `corrected`, the case that found the corrected solver's three
+/// repairs (README "The position correction"): with the poly6 density (18) the sweep operator
+/// `J_poly6 · G_spiky` is not symmetric and the first step's stages stalled at the 1,000-sweep
+/// cap, raising KE + PE by 0.37 % of |E0|; with wall increments clamped at zero, stages stalled
+/// one or two spacings from the side walls; and the carried pressure rang as a standing vertical
+/// wave of the column, which only the velocity solve damps. With all three the energy stays
+/// below its start plus 1e-3 |E0| for the whole second (measured with the CPU backend, this
+/// test's output with `--nocapture`: at most 5.4e-4 |E0| above the start, at step 3).
 #[test]
-#[ignore = "known failure: the start-up step raises KE + PE by 0.37 % of |E0| (limit 0.1 %)"]
 fn rest_3d_corrected() {
     case("rest_3d.toml", "corrected");
 }
@@ -356,9 +283,16 @@ fn run_with<const D: usize>(scene: &Scene, mut sim: Simulation<D>, bound: Energy
         }
         trace.energy.push(e);
     }
-    // The guard is a last resort: report how often it acted (README "Hard cases").
+    // The guard is a last resort: report how often it acted (README "Hard cases"), and the
+    // largest energy above the start, as a share of |E0|, for the README's figures.
+    let (peak_step, peak) = trace
+        .energy
+        .iter()
+        .enumerate()
+        .map(|(n, e)| (n, (e - e0) / e0.abs().max(1e-12)))
+        .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
     eprintln!(
-        "{name} ({solver}): {} steps, {} no-penetration pushes",
+        "{name} ({solver}): {} steps, {} no-penetration pushes, energy at most {peak:.2e} |E0| above the start (step {peak_step})",
         trace.steps.len(),
         sim.stats().keep_out_pushes
     );
@@ -573,13 +507,10 @@ fn viscous_high_3d_wcsph() {
     viscous_high("viscous_high_3d.toml", "viscous_low_3d.toml", "wcsph");
 }
 
-/// Fails today: kinetic plus potential energy at step 2 is 0.995857 J, 1.04e-3 above the start's
-/// 0.994819 J (bound 1e-3): the corrected solver's first steps of the 10 Pa s dam break raise
-/// the column (the 1e-6 Pa s case stays below the bound). The front check is not reached. (With
-/// the viscosity's zero-velocity walls and no lattice scale, before issue 7's viscosity fixes,
-/// the rise was 1.6e-3: 0.99643 J.)
+/// The 10 Pa s dam break in 3D under `corrected`. Failed before the spiky density, the walls'
+/// increments of either sign and the velocity solve: the first steps raised the column, energy
+/// 1.04e-3 of |E0| above the start at step 2 (bound 1e-3).
 #[test]
-#[ignore = "known failure: energy 1.04e-3 above the start at step 2 (bound 1e-3)"]
 fn viscous_high_3d_corrected() {
     viscous_high("viscous_high_3d.toml", "viscous_low_3d.toml", "corrected");
 }

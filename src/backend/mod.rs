@@ -258,6 +258,31 @@ pub trait Backend<const D: usize> {
         kick_tau: f32,
         max_step: f32,
     ) -> Sweep;
+    /// Starts a stage's velocity solve (`solver::step`, after the position correction):
+    /// remembers every particle's velocity, pressure and density (18) and forgets the previous
+    /// sweep's increments.
+    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>);
+    /// The velocity solve's density: `ρ* = base_i + τ Σ_j m_j (u_i − u_j)·∇W_ρ(x_i − x_j)`
+    /// [kg/m³] for fluid particles into `density`, `base_i` from the density remembered by
+    /// `begin_velocity_solve` (`physics::density::velocity_solve_base`: ρ0_i inside the fluid,
+    /// the density itself at the free surface): the sum (18) that the current velocities give
+    /// `τ` [s] later, to first order, with the surface's missing neighbours discounted; `∇W_ρ` the gradient of the kernel of (18),
+    /// `physics::density::density_kernel_gradient`; with the multiphase effect `m_i` in place of
+    /// `m_j`, as in `physics::multiphase::density`). Solids move with their own velocity.
+    fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32);
+    /// The velocity solve's sweep: `Δu = τ a^press(δp)` for fluid, the displacement of
+    /// `correct_positions` divided by `τ` and scaled down the same way, positions unchanged.
+    fn correct_velocities(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+        max_step: f32,
+    ) -> Sweep;
+    /// Ends the velocity solve. `keep`: the velocities stay, and every particle's pressure
+    /// keeps only what the solve released, `P = min(P, P_start)`. Otherwise velocity and
+    /// pressure go back to what `begin_velocity_solve` remembered.
+    fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool);
     /// The no-penetration guard (`boundary::keep_out`): every fluid particle inside one of
     /// `boxes` is put `margin` [m] outside the face it came in through and loses the velocity
     /// that points into it, box after box in order (`KeepOutBox::push_out`). With

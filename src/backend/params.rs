@@ -51,6 +51,10 @@ pub struct StepParams<const D: usize> {
     /// The initial particle spacing `dx` [m] (the reference distance of the surface stress's
     /// artificial stress, `physics::surface_stress::tensile_factor`).
     pub spacing: Real,
+    /// The kernel of eq. (18) (`physics::density::density_kernel`): 0 for poly6 (20) (`wcsph`),
+    /// else the factor `c` of the spiky density `c W_spiky` (`corrected`,
+    /// `physics::lattice::lattice_spiky_scale`).
+    pub density_spiky_scale: Real,
 }
 
 impl<const D: usize> StepParams<D> {

@@ -45,4 +45,17 @@ impl<const D: usize> WallPressureSums<D> {
         }
         ((self.pressure + body.dot(&self.density_offset)) / self.weight).max(0.0)
     }
+
+    /// The position correction's wall increment: eq. (27) of the fluid increments without the
+    /// body term (gravity acts in the force stage, not in the sweeps) and of either sign,
+    /// `δp_w = Σ δp_f W / Σ W` [Pa]; zero without fluid neighbours. The caller keeps the wall's
+    /// accumulated pressure non-negative (`CpuBackend::correction_pressure`). The zero body
+    /// term stays in the sum so that a non-finite density propagates as in [`Self::pressure`].
+    #[inline(always)]
+    pub fn increment(&self) -> Real {
+        if self.weight <= 0.0 {
+            return 0.0;
+        }
+        (self.pressure + Vector::<D>::zeros().dot(&self.density_offset)) / self.weight
+    }
 }

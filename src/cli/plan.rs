@@ -14,7 +14,7 @@ use crate::scene::{Effect, Scene, load_scene};
 use crate::solver::Integrator;
 use crate::solver::plan::plan;
 use crate::solver::stage::{Stage, SubStage};
-use crate::solver::step::RESORT_DRIFT;
+use crate::solver::step::{RESORT_DRIFT, VELOCITY_SOLVE_CAP};
 use anyhow::Context;
 use std::fmt::Write;
 use std::path::Path;
@@ -211,6 +211,18 @@ pub fn render(scene: &Scene, origin: &str) -> String {
         };
         for sub in subs {
             sub_stage_lines(&mut out, sub, &stages, multiphase);
+        }
+        let velocity = stage.velocity_sub_stages(solids);
+        if let (false, Some(c)) = (velocity.is_empty(), &c) {
+            let _ = writeln!(
+                out,
+                "      then, once converged, the velocity solve, each sweep until its residual is below delta \
+                 (at most {} sweeps):",
+                VELOCITY_SOLVE_CAP.min(c.max_iterations)
+            );
+            for sub in velocity {
+                sub_stage_lines(&mut out, sub, &stages, multiphase);
+            }
         }
     }
     let _ = writeln!(out, "\nafter each step:");

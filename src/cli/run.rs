@@ -168,6 +168,18 @@ pub fn run(
                 .unwrap_or(f64::NAN)
         );
     }
+    if let (Some(solves), Some(mean)) = (
+        summary.extra.get("velocity_solves").and_then(|v| v.as_u64()),
+        summary
+            .extra
+            .get("velocity_iterations_mean")
+            .and_then(|v| v.as_f64()),
+    ) {
+        println!(
+            "velocity solve: {mean:.1} iterations per solve on average, {} of {solves} given up",
+            summary.extra.get("velocity_solves_given_up").unwrap_or(&0.into())
+        );
+    }
     if let Some(pushes) = summary
         .extra
         .get("keep_out_pushes")

@@ -84,12 +84,26 @@ pub fn lattice_laplacian_moment<const D: usize>(kernel: &Smoothing<D>, dx: f64, 
     sum / (2 * D) as f64
 }
 
+/// The factor `c = Σ_lattice W_poly6 / Σ_lattice W_spiky` that makes the spiky density of the
+/// `corrected` solver, `Σ_j m c W_spiky` (`physics::density`), sum exactly `ρ0` on the lattice
+/// with the lattice mass of [`lattice_mass`] (0.797 at h = 2dx in 2D, 0.817 in 3D).
+pub fn lattice_spiky_scale<const D: usize>(kernel: &Smoothing<D>, dx: f64) -> f64 {
+    let (mut poly6, mut spiky) = (0.0f64, 0.0f64);
+    for_each_lattice_offset::<D>(f64::from(kernel.h), dx, |r2| {
+        poly6 += f64::from(kernel.w(r2 as Real));
+        spiky += f64::from(kernel.w_spiky(r2.sqrt() as Real));
+    });
+    poly6 / spiky
+}
+
 /// The step scale of the position correction (PAPER.md note 5), `K = ρ0² / (2 m² S)` with
-/// `S = Σ_j ∇W(x_ij) · ∇W^press(x_ij)/κ` over a full lattice neighbourhood (poly6 gradient of
-/// the density (18) dotted with the scaled spiky gradient of the force (16)).
+/// `S = Σ_j ∇W_ρ(x_ij) · ∇W^press(x_ij)/κ` over a full lattice neighbourhood (the gradient of
+/// the density kernel of (18) dotted with the scaled spiky gradient of the force (16)).
+/// `spiky_scale` is the density kernel's (`physics::density::density_kernel`): 0 for poly6,
+/// else the factor of the spiky density.
 ///
-/// Derivation (the PCISPH argument of Solenthaler & Pajarola 2009, with our two kernels): give
-/// particle `i` the correction pressure `δp_i` and move it and its neighbours by eq. (23),
+/// Derivation (the PCISPH argument of Solenthaler & Pajarola 2009): give particle `i` the
+/// correction pressure `δp_i` and move it and its neighbours by eq. (23),
 /// `Δx = τ² a^press`. On the lattice (`ρ ≈ ρ0`, `Σ_j ∇W_ij = 0`) the displacements it causes
 /// change its summed density (18) by `Δρ_i = −2 τ² m² δp_i S / ρ0²`. Choosing
 /// `δp_i = (K/τ²) (ρ_i − ρ0)` therefore removes the error of an isolated particle in one sweep,
@@ -97,7 +111,13 @@ pub fn lattice_laplacian_moment<const D: usize>(kernel: &Smoothing<D>, dx: f64, 
 /// diverges once `τ ≫ sqrt(K)/C`. The solver uses `ω K/τ²` with a relaxation `ω ≤ 1`, because
 /// neighbours that are corrected at the same time (Jacobi sweep) add up. Units: `K` [m²], so
 /// `K/τ²` [m²/s²] plays the role of `C²` in (19).
-pub fn correction_stiffness<const D: usize>(kernel: &Smoothing<D>, dx: f64, rho0: f64, kappa: f64) -> f64 {
+pub fn correction_stiffness<const D: usize>(
+    kernel: &Smoothing<D>,
+    dx: f64,
+    rho0: f64,
+    kappa: f64,
+    spiky_scale: f64,
+) -> f64 {
     let mass = lattice_mass(kernel, dx, rho0);
     let h = f64::from(kernel.h);
     let mut s = 0.0f64;
@@ -106,9 +126,13 @@ pub fn correction_stiffness<const D: usize>(kernel: &Smoothing<D>, dx: f64, rho0
         if r > 0.0 && r < h {
             let mut x = crate::math::Vector::<D>::zeros();
             x[0] = r as Real;
-            let g6 = kernel.grad_w(&x);
             let gs = kernel.grad_w_spiky(&x, r as Real);
-            s += f64::from(g6.dot(&gs)) / kappa;
+            let g_rho = if spiky_scale > 0.0 {
+                gs * spiky_scale as Real
+            } else {
+                kernel.grad_w(&x)
+            };
+            s += f64::from(g_rho.dot(&gs)) / kappa;
         }
     });
     rho0 * rho0 / (2.0 * mass * mass * s)

@@ -38,10 +38,11 @@ use crate::math::{Real, Vector};
 use crate::smoothing::Smoothing;
 
 /// [HA06] number density: contribution of a neighbour at squared distance `r2` [m²] to
-/// `σ_i = Σ_j W_ij` [1/m^D] (the sum includes `j = i`).
+/// `σ_i = Σ_j W_ij` [1/m^D] (the sum includes `j = i`), with the density kernel of (18)
+/// (`physics::density::density_kernel`, `spiky_scale` 0 for poly6).
 #[inline(always)]
-pub fn number_density_term<const D: usize>(kernel: &Smoothing<D>, r2: Real) -> Real {
-    kernel.w(r2)
+pub fn number_density_term<const D: usize>(kernel: &Smoothing<D>, spiky_scale: Real, r2: Real) -> Real {
+    crate::physics::density::density_kernel(kernel, spiky_scale, r2)
 }
 
 /// [HA06] density from the number density: `ρ_i = m_i σ_i` [kg/m³], mass `m_i` [kg] (per unit
@@ -96,7 +97,7 @@ pub fn buoyant_acceleration(g: f64, rho_f: f64, rho_b: f64, c_a: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::lattice::lattice_mass;
+    use crate::physics::lattice::{lattice_mass, lattice_spiky_scale};
 
     #[test]
     fn uniform_pressure_exerts_no_force_across_a_lattice_interface() {
@@ -142,20 +143,23 @@ mod tests {
         for (dx, ratio) in [(0.01f64, 2.0f64), (0.02, 1.5)] {
             let kernel = Smoothing::<2>::new((ratio * dx) as Real).expect("2D");
             let n = (ratio).ceil() as i32 + 1;
-            let mut sigma = 0.0 as Real;
-            for i in -n..=n {
-                for j in -n..=n {
-                    let r2 = ((i * i + j * j) as f64 * dx * dx) as Real;
-                    sigma += number_density_term(&kernel, r2);
+            // Both density kernels: poly6 (wcsph) and the scaled spiky one (corrected).
+            for spiky_scale in [0.0, lattice_spiky_scale(&kernel, dx) as Real] {
+                let mut sigma = 0.0 as Real;
+                for i in -n..=n {
+                    for j in -n..=n {
+                        let r2 = ((i * i + j * j) as f64 * dx * dx) as Real;
+                        sigma += number_density_term(&kernel, spiky_scale, r2);
+                    }
                 }
-            }
-            for rho0 in [500.0, 800.0, 1000.0, 2000.0] {
-                let m = lattice_mass(&kernel, dx, rho0) as Real;
-                let rho = density(m, sigma);
-                assert!(
-                    ((f64::from(rho) - rho0) / rho0).abs() < 1e-5,
-                    "dx {dx}, rho0 {rho0}: {rho}"
-                );
+                for rho0 in [500.0, 800.0, 1000.0, 2000.0] {
+                    let m = lattice_mass(&kernel, dx, rho0) as Real;
+                    let rho = density(m, sigma);
+                    assert!(
+                        ((f64::from(rho) - rho0) / rho0).abs() < 1e-5,
+                        "dx {dx}, rho0 {rho0}, spiky scale {spiky_scale}: {rho}"
+                    );
+                }
             }
         }
     }

@@ -34,19 +34,21 @@ impl RawProblem {
 }
 
 /// Estimated memory per particle \[bytes\] in `dim` dimensions:
-/// `4 * (8 * dim + 14) + 64`.
+/// `4 * (9 * dim + 16) + 64`.
 ///
-/// An upper bound (216 bytes in 3D, 184 in 2D) of what a run holds per particle: the `f32`/`u32`
+/// An upper bound (236 bytes in 3D, 200 in 2D) of what a run holds per particle: the `f32`/`u32`
 /// particle fields (three vectors, density, pressure, mass, kind, id), SSP-RK3's start-of-step
 /// position and velocity, the neighbour grid's keys, sort pairs, permutation and cell ranges, the
-/// reorder and wall-pressure scratch buffers, and the correction's increments and displacements.
+/// reorder and wall-pressure scratch buffers, the correction's increments and displacements, and
+/// the velocity solve's saved velocity, pressure and density (`dim + 2` values).
 /// Measured with `sph run scenes/dam_break_column_3d.toml --end-time 0.02`: 110 bytes per
-/// particle with `wcsph`, 185 with `--set solver.kind=corrected` (`summary.json`,
-/// `extra.memory_bytes_per_particle`); the margin covers frame output.
+/// particle with `wcsph`; with `--set solver.kind=corrected --end-time 0.04`, 215
+/// (`summary.json`, `extra.memory_bytes_per_particle`; 185 before the velocity solve); the
+/// margin covers frame output.
 pub fn bytes_per_particle(dim: usize) -> u64 {
     let dim = u64::try_from(dim).unwrap_or(u64::MAX);
-    dim.saturating_mul(8)
-        .saturating_add(14)
+    dim.saturating_mul(9)
+        .saturating_add(16)
         .saturating_mul(4)
         .saturating_add(64)
 }

@@ -19,6 +19,7 @@ use crate::math::{Real, Vector, sum_in_order};
 use crate::physics::gravity::gravity_at;
 use crate::physics::lattice::{
     correction_stiffness, lattice_gradient_moment, lattice_laplacian_moment, lattice_mass,
+    lattice_spiky_scale,
 };
 use crate::physics::surface_stress::calibrated_stress;
 use crate::physics::surface_tension::gamma_for_surface_tension;
@@ -287,6 +288,15 @@ pub struct CorrectionStats {
     pub max_residual_after: f64,
     /// Iterations of the last stage.
     pub last_iterations: u32,
+    /// Velocity solves run (one after every stage whose positions converged).
+    #[serde(default)]
+    pub velocity_solves: u64,
+    /// Velocity-solve sweeps summed over solves.
+    #[serde(default)]
+    pub velocity_iterations: u64,
+    /// Velocity solves given up (velocity and pressure restored).
+    #[serde(default)]
+    pub velocity_solves_given_up: u64,
 }
 
 impl CorrectionStats {
@@ -296,6 +306,15 @@ impl CorrectionStats {
             0.0
         } else {
             self.iterations as f64 / self.stages as f64
+        }
+    }
+
+    /// Mean sweeps per velocity solve.
+    pub fn mean_velocity_iterations(&self) -> f64 {
+        if self.velocity_solves == 0 {
+            0.0
+        } else {
+            self.velocity_iterations as f64 / self.velocity_solves as f64
         }
     }
 }
@@ -325,6 +344,9 @@ pub struct Simulation<const D: usize> {
     solid_names: Vec<String>,
     /// `1/κ` of the pressure gradient (see `physics::lattice`).
     pressure_gradient_scale: Real,
+    /// The kernel of eq. (18): 0 for poly6 (`wcsph`), else the lattice factor of the spiky
+    /// density (`corrected`; `physics::density`).
+    density_spiky_scale: Real,
     /// `1/λ` of the viscous force (17) (`physics::lattice::lattice_laplacian_moment`); 1 when
     /// the scene has no viscosity.
     viscosity_scale: Real,
@@ -407,7 +429,15 @@ impl<const D: usize> Simulation<D> {
         let kernel = Smoothing::<D>::new(config.h as Real)?;
         let mass = lattice_mass(&kernel, config.spacing, config.rho0) as Real;
         let kappa = lattice_gradient_moment(&kernel, config.spacing, config.rho0);
-        let stiffness = correction_stiffness(&kernel, config.spacing, config.rho0, kappa);
+        // The corrected solver sums the kernel whose gradient its correction moves particles
+        // along (`physics::density`); wcsph keeps the paper's poly6.
+        let density_spiky_scale = if config.correction.is_some() {
+            lattice_spiky_scale(&kernel, config.spacing)
+        } else {
+            0.0
+        };
+        let stiffness =
+            correction_stiffness(&kernel, config.spacing, config.rho0, kappa, density_spiky_scale);
         let viscosity_scale = if config.viscosity.is_some() {
             (1.0 / lattice_laplacian_moment(&kernel, config.spacing, config.rho0)) as Real
         } else {
@@ -464,6 +494,7 @@ impl<const D: usize> Simulation<D> {
             plan,
             solid_names: solids.iter().map(|(n, _)| n.clone()).collect(),
             pressure_gradient_scale: (1.0 / kappa) as Real,
+            density_spiky_scale: density_spiky_scale as Real,
             viscosity_scale,
             surface_tension_gamma,
             surface_tension_sigma,
@@ -888,6 +919,7 @@ impl<const D: usize> Simulation<D> {
             surface_tension_gamma: self.surface_tension_gamma,
             surface_tension_sigma: self.surface_tension_sigma,
             spacing: c.spacing as Real,
+            density_spiky_scale: self.density_spiky_scale,
         }
     }
 

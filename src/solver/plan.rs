@@ -92,7 +92,11 @@ pub fn needed_fields(plan: &[Stage], solids: bool, multiphase: bool) -> Vec<Fiel
     for stage in plan.iter().filter(|s| **s != Stage::SortByCell) {
         needed.extend(stage.reads_in(plan, multiphase));
         needed.extend_from_slice(stage.writes());
-        for sub in stage.sub_stages(solids) {
+        for sub in stage
+            .sub_stages(solids)
+            .into_iter()
+            .chain(stage.velocity_sub_stages(solids))
+        {
             if sub != SubStage::SortByCell {
                 needed.extend(sub.reads_in(plan, multiphase));
                 needed.extend_from_slice(sub.writes());

@@ -265,6 +265,27 @@ impl Stage {
             _ => Vec::new(),
         }
     }
+
+    /// The steps of the velocity solve the driver runs after the correction loop of a stage
+    /// (`Simulation::solve_velocities`): its start, each sweep, its end. Empty for every other
+    /// stage.
+    pub fn velocity_sub_stages(&self, solids: bool) -> Vec<SubStage> {
+        if *self != Stage::Correction {
+            return Vec::new();
+        }
+        let mut steps = vec![
+            SubStage::BeginVelocitySolve,
+            SubStage::PredictedDensity,
+            SubStage::CorrectionError,
+            SubStage::CorrectionPressure,
+        ];
+        if solids {
+            steps.push(SubStage::SolidForces);
+        }
+        steps.push(SubStage::CorrectVelocities);
+        steps.push(SubStage::EndVelocitySolve);
+        steps
+    }
 }
 
 /// What a stage or sub-stage runs instead with the `multiphase` effect ([HA06] Hu & Adams,
@@ -342,7 +363,14 @@ impl SubStage {
                 description: "increments from each particle's own rest density",
                 reads_rest_density: true,
             }),
-            SubStage::SolidForces | SubStage::CorrectPositions => Some(MP_PRESSURE),
+            SubStage::SolidForces | SubStage::CorrectPositions | SubStage::CorrectVelocities => {
+                Some(MP_PRESSURE)
+            }
+            SubStage::PredictedDensity => Some(MultiphaseVariant {
+                equation: "[HA06] m_i, own rho0",
+                description: "the particle's own mass in the rate and its own rest density",
+                reads_rest_density: true,
+            }),
             _ => None,
         }
     }
@@ -366,6 +394,15 @@ pub enum SubStage {
     CorrectPositions,
     /// The no-penetration guard (`boundary::keep_out`).
     KeepOut,
+    /// The velocity solve's start: remembers velocity, pressure and density.
+    BeginVelocitySolve,
+    /// The density `base + τ dρ/dt` the velocities would give `τ` later (`base`: ρ0 inside the
+    /// fluid, the particle's own density at the free surface).
+    PredictedDensity,
+    /// The velocity solve's sweep: `Δu = τ a^press(δp)`, positions fixed.
+    CorrectVelocities,
+    /// The velocity solve's end: pressure keeps only what it released, or everything is restored.
+    EndVelocitySolve,
 }
 
 impl SubStage {
@@ -379,6 +416,10 @@ impl SubStage {
             SubStage::SolidForces => "solid_forces",
             SubStage::CorrectPositions => "correct_positions",
             SubStage::KeepOut => "keep_out",
+            SubStage::BeginVelocitySolve => "begin_velocity_solve",
+            SubStage::PredictedDensity => "predicted_density",
+            SubStage::CorrectVelocities => "correct_velocities",
+            SubStage::EndVelocitySolve => "end_velocity_solve",
         }
     }
 
@@ -392,6 +433,9 @@ impl SubStage {
             SubStage::SolidForces => "Fig. 4: (16)",
             SubStage::CorrectPositions => "(23), note 7",
             SubStage::KeepOut => "boundary::keep_out",
+            SubStage::BeginVelocitySolve | SubStage::EndVelocitySolve => "velocity solve",
+            SubStage::PredictedDensity => "continuity with (18)'s kernel",
+            SubStage::CorrectVelocities => "(16), positions fixed",
         }
     }
 
@@ -407,6 +451,14 @@ impl SubStage {
             SubStage::KeepOut => {
                 "put fluid particles that entered a solid back through the face they came in by (SSP-RK3: from position_start)"
             }
+            SubStage::BeginVelocitySolve => "remember velocity, pressure and density",
+            SubStage::PredictedDensity => {
+                "density the velocities would give tau later: base + tau drho/dt (base rho0, own density at the free surface)"
+            }
+            SubStage::CorrectVelocities => "velocity += tau f^press/rho, positions unchanged",
+            SubStage::EndVelocitySolve => {
+                "pressure keeps only what the solve released; given up (residual doubled or cap): velocity and pressure restored"
+            }
         }
     }
 
@@ -421,6 +473,10 @@ impl SubStage {
             SubStage::CorrectPositions => &[Position, Density, Mass, Kind],
             // With SSP-RK3 it also reads PositionStart (`reads_in`).
             SubStage::KeepOut => &[Position, Velocity, Mass, Kind],
+            SubStage::BeginVelocitySolve => &[Velocity, Pressure, Density],
+            SubStage::EndVelocitySolve => &[Velocity, Pressure],
+            SubStage::PredictedDensity => &[Position, Velocity, Mass, Kind],
+            SubStage::CorrectVelocities => &[Position, Velocity, Density, Mass, Kind],
         }
     }
 
@@ -448,6 +504,10 @@ impl SubStage {
             SubStage::CorrectionError | SubStage::SolidForces => &[],
             SubStage::CorrectionPressure => &[Pressure],
             SubStage::CorrectPositions | SubStage::KeepOut => &[Position, Velocity],
+            SubStage::BeginVelocitySolve => &[],
+            SubStage::PredictedDensity => &[Density],
+            SubStage::CorrectVelocities => &[Velocity],
+            SubStage::EndVelocitySolve => &[Velocity, Pressure],
         }
     }
 }

@@ -16,7 +16,7 @@ use crate::math::{Real, Vector, max_each_in_order, max_or_nan, sum_by_group, sum
 use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration,
     correction,
-    density::density_term,
+    density::{density_kernel_gradient, density_term, velocity_solve_base},
     eos, multiphase,
     pressure::{pressure_acceleration_from_terms, pressure_term},
     rotating_frame::{centrifugal_acceleration, rotating_frame_acceleration},
@@ -49,6 +49,13 @@ pub struct CpuBackend<const D: usize> {
     wet: Vec<u32>,
     /// The correction increments of the `wet` solids [Pa], before they are scattered.
     wet_increments: Vec<Real>,
+    /// Velocities [m/s] at the start of the velocity solve (`begin_velocity_solve`).
+    velocity_solve_start: Vec<Vector<D>>,
+    /// Pressures [Pa] at the start of the velocity solve.
+    pressure_solve_start: Vec<Real>,
+    /// Densities (18) [kg/m³] at the start of the velocity solve, for its base density
+    /// (`physics::density::velocity_solve_base`).
+    density_solve_start: Vec<Real>,
     /// `p/ρ²` per particle (`physics::pressure::pressure_term`) of the current pressure loop.
     pressure_terms: Vec<Real>,
     /// Scratch of `find_dry_solids`: fluid particles before each sorted index.
@@ -110,12 +117,77 @@ impl<const D: usize> CpuBackend<D> {
         self.grid.heap_bytes()
             + self.wall.capacity() * 8
             + self.delta_p.capacity() * 4
+            + self.delta_p_previous.capacity() * 4
+            + self.velocity_solve_start.capacity() * D * 4
+            + self.pressure_solve_start.capacity() * 4
+            + self.density_solve_start.capacity() * 4
             + self.displacement.capacity() * D * 4
             + self.dry.capacity()
             + self.wet.capacity() * 4
             + self.wet_increments.capacity() * 4
             + self.pressure_terms.capacity() * 4
             + self.fluid_before.capacity() * 4
+    }
+
+    /// Eq. (23) without moving anything: `Δx = τ² a^press(δp)` of every fluid particle into
+    /// `displacement`, and one scale for all that keeps the largest within `max_step` [m]
+    /// (pair displacements stay antisymmetric, so momentum stays conserved).
+    fn correction_displacements(
+        &mut self,
+        fields: &Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+        max_step: f32,
+    ) -> Sweep {
+        let kernel = params.smoothing();
+        let grid = &self.grid;
+        let n = fields.len();
+        let f = fields;
+        let multiphase = !f.rest_density.is_empty();
+        if multiphase {
+            fill_volume_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.mass, &f.density);
+        } else {
+            fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.density);
+        }
+        let q = &self.pressure_terms;
+        let tau2 = tau * tau;
+        self.displacement.resize(n, Vector::zeros());
+        // The displacements and their largest length in one pass.
+        let largest = self
+            .displacement
+            .par_iter_mut()
+            .enumerate()
+            .map(|(i, out)| {
+                *out = if f.kind[i] != FLUID {
+                    Vector::zeros()
+                } else {
+                    let mut a = Vector::<D>::zeros();
+                    grid.for_each_neighbour(&f.position, i, |j, d, r2| {
+                        if j == i {
+                            return;
+                        }
+                        let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
+                        if multiphase {
+                            a += multiphase::pressure_acceleration(q[i], q[j], f.mass[i], &grad); // [HA06]
+                        } else {
+                            a += pressure_acceleration_from_terms(q[i], q[j], f.mass[j], &grad);
+                        }
+                    });
+                    a * tau2 // eq. (23)
+                };
+                f64::from(out.norm())
+            })
+            .reduce(|| f64::NEG_INFINITY, max_or_nan)
+            .max(0.0);
+        let scale = if largest > f64::from(max_step) {
+            (f64::from(max_step) / largest) as Real
+        } else {
+            1.0
+        };
+        Sweep {
+            largest: largest * f64::from(scale),
+            scale: f64::from(scale),
+        }
     }
 
     /// Whether particle `i` is a solid without fluid candidates since the last sort.
@@ -246,6 +318,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
         let kernel = params.smoothing();
+        let spiky = params.density_spiky_scale;
         let grid = &self.grid;
         let (position, mass, kind) = (&fields.position, &fields.mass, &fields.kind);
         if !fields.rest_density.is_empty() {
@@ -256,7 +329,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 }
                 let mut sigma = 0.0;
                 grid.for_each_neighbour(position, i, |_, _, r2| {
-                    sigma += multiphase::number_density_term(&kernel, r2)
+                    sigma += multiphase::number_density_term(&kernel, spiky, r2)
                 });
                 *rho = multiphase::density(mass[i], sigma);
             });
@@ -267,7 +340,9 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 return;
             }
             let mut sum = 0.0;
-            grid.for_each_neighbour(position, i, |j, _, r2| sum += density_term(&kernel, mass[j], r2));
+            grid.for_each_neighbour(position, i, |j, _, r2| {
+                sum += density_term(&kernel, spiky, mass[j], r2)
+            });
             *rho = sum;
         });
     }
@@ -334,9 +409,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             grid.for_each_neighbour(&f.position, w, |j, d, r2| {
                 let weight = kernel.w(r2);
                 if multiphase {
-                    summed_density += multiphase::number_density_term(&kernel, r2);
+                    summed_density +=
+                        multiphase::number_density_term(&kernel, params.density_spiky_scale, r2);
                 } else {
-                    summed_density += density_term(&kernel, f.mass[j], r2);
+                    summed_density += density_term(&kernel, params.density_spiky_scale, f.mass[j], r2);
                 }
                 if f.kind[j] == FLUID {
                     // [A12] (27) with each fluid neighbour's own density (its phase's, [HA06]).
@@ -715,9 +791,13 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let f = &*fields;
         // Then the solids with fluid candidates (the others get 0): [A12] extrapolation of the
         // fluid increments, without the gravity term (gravity acts in the force stage, not in
-        // the correction), and never negative: a wall next to particles that give pressure back
-        // must not pull a compressed particle onto itself (measured: that held a particle
-        // against the floor of the dam break through 1000 sweeps).
+        // the correction), of either sign, with the wall's accumulated pressure kept
+        // non-negative: a wall must not pull a compressed particle onto itself (measured: that
+        // held a particle against the floor of the dam break through 1000 sweeps), but it must
+        // give back pressure its fluid gives back. With increments clamped at zero instead, a
+        // wall's pressure only grew and pushed its neighbours below ρ0 while they still carried
+        // pressure: on `scenes/hard/rest_3d.toml` stages stalled at the 1,000-sweep cap at
+        // 999.3–999.5 kg/m³ one or two spacings from the side walls.
         let (grid, fluid_dp) = (&self.grid, &self.delta_p);
         self.wet_increments.clear();
         self.wet_increments.par_extend(self.wet.par_iter().map(|&w| {
@@ -727,11 +807,13 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     sums.add(fluid_dp[j], f.density[j], &d, kernel.w(r2));
                 }
             });
-            sums.pressure(&Vector::zeros())
+            sums.increment()
         }));
         for (&w, &dp) in self.wet.iter().zip(&self.wet_increments) {
+            let p = &mut fields.pressure[w as usize];
+            let dp = (*p + dp).max(0.0) - *p;
             self.delta_p[w as usize] = dp;
-            fields.pressure[w as usize] += dp;
+            *p += dp;
         }
     }
 
@@ -743,52 +825,8 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         kick_tau: f32,
         max_step: f32,
     ) -> Sweep {
-        let kernel = params.smoothing();
-        let grid = &self.grid;
-        let n = fields.len();
-        let f = &*fields;
-        let multiphase = !f.rest_density.is_empty();
-        if multiphase {
-            fill_volume_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.mass, &f.density);
-        } else {
-            fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.density);
-        }
-        let q = &self.pressure_terms;
-        let tau2 = tau * tau;
-        self.displacement.resize(n, Vector::zeros());
-        // The displacements and their largest length in one pass.
-        let largest = self
-            .displacement
-            .par_iter_mut()
-            .enumerate()
-            .map(|(i, out)| {
-                *out = if f.kind[i] != FLUID {
-                    Vector::zeros()
-                } else {
-                    let mut a = Vector::<D>::zeros();
-                    grid.for_each_neighbour(&f.position, i, |j, d, r2| {
-                        if j == i {
-                            return;
-                        }
-                        let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
-                        if multiphase {
-                            a += multiphase::pressure_acceleration(q[i], q[j], f.mass[i], &grad); // [HA06]
-                        } else {
-                            a += pressure_acceleration_from_terms(q[i], q[j], f.mass[j], &grad);
-                        }
-                    });
-                    a * tau2 // eq. (23)
-                };
-                f64::from(out.norm())
-            })
-            .reduce(|| f64::NEG_INFINITY, max_or_nan)
-            .max(0.0);
-        // One factor for all particles keeps every pair's displacements antisymmetric.
-        let scale = if largest > f64::from(max_step) {
-            (f64::from(max_step) / largest) as Real
-        } else {
-            1.0
-        };
+        let sweep = self.correction_displacements(fields, params, tau, max_step);
+        let scale = sweep.scale as Real;
         let displacement = &self.displacement;
         let kind = &fields.kind;
         fields
@@ -803,9 +841,77 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     *u += dx / kick_tau; // PAPER.md note 7: the projection's velocity change
                 }
             });
-        Sweep {
-            largest: largest * f64::from(scale),
-            scale: f64::from(scale),
+        sweep
+    }
+
+    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
+        self.delta_p_previous.clear();
+        self.delta_p.clear();
+        self.velocity_solve_start.clone_from(&fields.velocity);
+        self.pressure_solve_start.clone_from(&fields.pressure);
+        self.density_solve_start.clone_from(&fields.density);
+    }
+
+    fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
+        let kernel = params.smoothing();
+        let spiky = params.density_spiky_scale;
+        let grid = &self.grid;
+        let (position, velocity, mass, kind) =
+            (&fields.position, &fields.velocity, &fields.mass, &fields.kind);
+        let rest = &fields.rest_density;
+        let multiphase = !rest.is_empty();
+        let start = &self.density_solve_start;
+        assert_eq!(
+            start.len(),
+            fields.len(),
+            "predicted_density outside a velocity solve"
+        );
+        fields.density.par_iter_mut().enumerate().for_each(|(i, rho)| {
+            if kind[i] != FLUID {
+                return;
+            }
+            let mut rate = 0.0;
+            grid.for_each_neighbour(position, i, |j, d, r2| {
+                if j != i {
+                    let grad = density_kernel_gradient(&kernel, spiky, &d, r2.sqrt());
+                    let m = if multiphase { mass[i] } else { mass[j] };
+                    rate += m * (velocity[i] - velocity[j]).dot(&grad);
+                }
+            });
+            *rho = velocity_solve_base(start[i], rest_density_of(rest, i, params.rho0)) + tau * rate;
+        });
+    }
+
+    fn correct_velocities(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+        max_step: f32,
+    ) -> Sweep {
+        let sweep = self.correction_displacements(fields, params, tau, max_step);
+        let factor = sweep.scale as Real / tau;
+        let displacement = &self.displacement;
+        let kind = &fields.kind;
+        fields.velocity.par_iter_mut().enumerate().for_each(|(i, u)| {
+            if kind[i] == FLUID {
+                *u += displacement[i] * factor;
+            }
+        });
+        sweep
+    }
+
+    fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {
+        if keep {
+            let start = &self.pressure_solve_start;
+            fields
+                .pressure
+                .par_iter_mut()
+                .zip(start.par_iter())
+                .for_each(|(p, p0)| *p = p.min(*p0));
+        } else {
+            fields.velocity.clone_from(&self.velocity_solve_start);
+            fields.pressure.clone_from(&self.pressure_solve_start);
         }
     }
 

@@ -30,6 +30,12 @@ unsafe impl<const D: usize> DeviceRepr for GridGeometry<D> {}
 // SAFETY: `#[repr(C)]` mirror of `Extremes` in `kernels/extremes.cuh`.
 unsafe impl DeviceRepr for DeviceExtremes {}
 
+/// What a sweep reports when nothing ran (no grid yet, or an earlier failure).
+const NO_SWEEP: Sweep = Sweep {
+    largest: 0.0,
+    scale: 1.0,
+};
+
 /// Threads per block of every launch (the host shim uses the same shape).
 const THREADS: u32 = 256;
 /// Items per thread at each level of the cell-count scan: a level of `m` items leaves `m/64`
@@ -121,6 +127,14 @@ pub struct CudaBackend<const D: usize> {
     delta_p_previous: CudaSlice<f32>,
     has_previous: bool,
     displacement: CudaSlice<f32>,
+    /// Velocities (`D` floats per particle) and pressures at `begin_velocity_solve`, for
+    /// `end_velocity_solve`. They live within one velocity solve, which no sort interrupts, so
+    /// `sort_by_cell` does not gather them.
+    velocity_solve_start: CudaSlice<f32>,
+    pressure_solve_start: CudaSlice<f32>,
+    /// Densities (18) at `begin_velocity_solve`, for the solve's base density
+    /// (`velocity_solve_base`, kernels/sph.cuh).
+    density_solve_start: CudaSlice<f32>,
     reduce_i32: CudaSlice<i32>,
     extremes: CudaSlice<DeviceExtremes>,
     solid_out: CudaSlice<f64>,
@@ -270,6 +284,9 @@ impl<const D: usize> CudaBackend<D> {
             delta_p_previous: zeros_f32(n)?,
             has_previous: false,
             displacement: zeros_f32(n * D)?,
+            velocity_solve_start: zeros_f32(n * D)?,
+            pressure_solve_start: zeros_f32(n)?,
+            density_solve_start: zeros_f32(n)?,
             reduce_i32: stream.alloc_zeros::<i32>(2).map_err(|e| up("allocating", e))?,
             extremes: stream
                 .clone_htod(&[DeviceExtremes::initial()])
@@ -454,6 +471,35 @@ macro_rules! launch {
     }};
 }
 
+impl<const D: usize> CudaBackend<D> {
+    /// Eq. (23) without moving anything, shared by `correct_positions` and `correct_velocities`
+    /// (as `CpuBackend::correction_displacements`): `Δx = τ² a^press(δp)` of every fluid particle
+    /// into `displacement`, and the one scale that keeps the largest within `max_step` [m].
+    /// `None` without a grid or after a failure.
+    fn correction_displacements(&mut self, params: &StepParams<D>, tau: f32, max_step: f32) -> Option<Sweep> {
+        let g = self.grid.as_ref()?;
+        if self.error.is_some() {
+            return None;
+        }
+        let r = self.stream.memset_zeros(&mut self.reduce_i32);
+        record(&mut self.error, "clearing the largest displacement", r)?;
+        let n = self.n as u32;
+        let tau2 = tau * tau;
+        let name = if self.f.rest_density.is_some() {
+            "correction_displacement_multiphase"
+        } else {
+            "correction_displacement"
+        };
+        launch!(self, "computing displacements", name, self.n;
+            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
+            &self.f.density, &self.delta_p, &self.f.kind, &tau2, &mut self.displacement,
+            &mut self.reduce_i32);
+        let out = self.stream.clone_dtoh(&self.reduce_i32);
+        let out = record(&mut self.error, "copying the largest displacement", out)?;
+        Some(sweep(out[0], max_step))
+    }
+}
+
 impl<const D: usize> Backend<D> for CudaBackend<D> {
     fn name(&self) -> &'static str {
         "cuda"
@@ -479,6 +525,9 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             &self.delta_p,
             &self.delta_p_previous,
             &self.displacement,
+            &self.velocity_solve_start,
+            &self.pressure_solve_start,
+            &self.density_solve_start,
             &self.solid_motion,
             &self.wall_acc,
         ]
@@ -1094,7 +1143,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         }
         launch!(self, "extrapolating pressure increments to walls", "correction_pressure_wall", self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position,
-            &self.f.density, &self.f.kind, &mut self.delta_p);
+            &self.f.density, &self.f.pressure, &self.f.kind, &mut self.delta_p);
         launch!(self, "adding pressure increments", "correction_pressure_apply", self.n;
             &n, &self.delta_p, &mut self.f.pressure, &mut self.delta_p_previous);
         self.has_previous = true;
@@ -1108,39 +1157,94 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         kick_tau: f32,
         max_step: f32,
     ) -> Sweep {
-        let none = Sweep {
-            largest: 0.0,
-            scale: 1.0,
+        let Some(sweep) = self.correction_displacements(params, tau, max_step) else {
+            return NO_SWEEP;
         };
-        let Some(g) = self.grid.as_ref() else { return none };
-        if self.error.is_some() {
-            return none;
-        }
-        let r = self.stream.memset_zeros(&mut self.reduce_i32);
-        if record(&mut self.error, "clearing the largest displacement", r).is_none() {
-            return none;
-        }
         let n = self.n as u32;
-        let tau2 = tau * tau;
-        let name = if self.f.rest_density.is_some() {
-            "correction_displacement_multiphase"
-        } else {
-            "correction_displacement"
-        };
-        launch!(self, "computing displacements", name, self.n;
-            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            &self.f.density, &self.delta_p, &self.f.kind, &tau2, &mut self.displacement,
-            &mut self.reduce_i32);
-        let out = self.stream.clone_dtoh(&self.reduce_i32);
-        let Some(out) = record(&mut self.error, "copying the largest displacement", out) else {
-            return none;
-        };
-        let sweep = sweep(out[0], max_step);
         let scale = sweep.scale as Real;
         launch!(self, "moving particles", "apply_displacement", self.n;
             &n, &scale, &kick_tau, &self.f.kind, &self.displacement, &mut self.f.position,
             &mut self.f.velocity);
         sweep
+    }
+
+    fn begin_velocity_solve(&mut self, _fields: &mut Fields<D>) {
+        self.has_previous = false;
+        if self.error.is_some() {
+            return;
+        }
+        let r = self
+            .stream
+            .memcpy_dtod(&self.f.velocity, &mut self.velocity_solve_start)
+            .and_then(|()| {
+                self.stream
+                    .memcpy_dtod(&self.f.pressure, &mut self.pressure_solve_start)
+            })
+            .and_then(|()| {
+                self.stream
+                    .memcpy_dtod(&self.f.density, &mut self.density_solve_start)
+            });
+        record(
+            &mut self.error,
+            "remembering the velocities, pressures and densities",
+            r,
+        );
+    }
+
+    fn predicted_density(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
+        let Some(g) = self.grid.as_ref() else { return };
+        let n = self.n as u32;
+        if let Some(rest) = self.f.rest_density.as_ref() {
+            // [HA06] each particle's own mass and rest density (kernels/multiphase.cu).
+            launch!(self, "predicting the density", "predicted_density_multiphase", self.n;
+                &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position,
+                &self.f.velocity, &self.f.mass, rest, &self.f.kind, &self.density_solve_start, &tau,
+                &mut self.f.density);
+            return;
+        }
+        launch!(self, "predicting the density", "predicted_density", self.n;
+            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.velocity,
+            &self.f.mass, &self.f.kind, &self.density_solve_start, &tau, &mut self.f.density);
+    }
+
+    fn correct_velocities(
+        &mut self,
+        _fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+        max_step: f32,
+    ) -> Sweep {
+        let Some(sweep) = self.correction_displacements(params, tau, max_step) else {
+            return NO_SWEEP;
+        };
+        let n = self.n as u32;
+        // As the CPU: one f32 factor, `Δu = Δx · (scale/τ)`.
+        let factor = sweep.scale as Real / tau;
+        launch!(self, "changing velocities", "apply_velocity_change", self.n;
+            &n, &factor, &self.f.kind, &self.displacement, &mut self.f.velocity);
+        sweep
+    }
+
+    fn end_velocity_solve(&mut self, _fields: &mut Fields<D>, keep: bool) {
+        if self.error.is_some() {
+            return;
+        }
+        if keep {
+            let n = self.n as u32;
+            launch!(self, "keeping the released pressure", "keep_pressure_decreases", self.n;
+                &n, &self.pressure_solve_start, &mut self.f.pressure);
+            return;
+        }
+        // The saved buffers hold at least one entry; copy exactly the fields' lengths back.
+        let (nv, np) = (self.f.velocity.len(), self.f.pressure.len());
+        let r = self
+            .stream
+            .memcpy_dtod(&self.velocity_solve_start.slice(..nv), &mut self.f.velocity)
+            .and_then(|()| {
+                self.stream
+                    .memcpy_dtod(&self.pressure_solve_start.slice(..np), &mut self.f.pressure)
+            });
+        record(&mut self.error, "restoring the velocities and pressures", r);
     }
 
     fn keep_out(
@@ -1279,6 +1383,9 @@ const KERNEL_NAMES: &[&str] = &[
     "correction_pressure_apply",
     "correction_displacement",
     "apply_displacement",
+    "apply_velocity_change",
+    "keep_pressure_decreases",
+    "predicted_density",
     "keep_out",
     "density_multiphase",
     "equation_of_state_multiphase",
@@ -1296,4 +1403,5 @@ const KERNEL_NAMES: &[&str] = &[
     "correction_error_multiphase",
     "correction_pressure_fluid_multiphase",
     "correction_displacement_multiphase",
+    "predicted_density_multiphase",
 ];

@@ -3,8 +3,9 @@
 //! `forces_pvar`, `solid_forces`, `state_extremes`,
 //! `integrate`, `store_step_start`, `rk_stage`, `correction_error`, `correction_pressure_fluid`,
 //! `correction_pressure_wall`, `correction_pressure_apply`, `correction_displacement`,
-//! `apply_displacement`, `keep_out`, `move_solids`, `surface_normals`, `surface_tension`. Same
-//! arguments as the kernels, `StepParams` and `GridGeometry` by pointer.
+//! `apply_displacement`, `apply_velocity_change`, `keep_pressure_decreases` (the velocity
+//! solve's), `keep_out`, `move_solids`, `surface_normals`, `surface_tension`. Same arguments
+//! as the kernels, `StepParams` and `GridGeometry` by pointer.
 #![allow(missing_docs)]
 
 use crate::backend::cuda::extremes::DeviceExtremes;
@@ -253,6 +254,7 @@ unsafe extern "C" {
         cell_key: *const u32,
         pos: *const f32,
         density: *const f32,
+        pressure: *const f32,
         kind: *const u32,
         delta_p: *mut f32,
     );
@@ -286,6 +288,14 @@ unsafe extern "C" {
         pos: *mut f32,
         vel: *mut f32,
     );
+    pub fn sph_shim_apply_velocity_change_2(
+        n: u32,
+        factor: f32,
+        kind: *const u32,
+        displacement: *const f32,
+        vel: *mut f32,
+    );
+    pub fn sph_shim_keep_pressure_decreases_2(n: u32, pressure_start: *const f32, pressure: *mut f32);
     pub fn sph_shim_keep_out_2(
         n: u32,
         boxes: u32,
@@ -545,6 +555,7 @@ unsafe extern "C" {
         cell_key: *const u32,
         pos: *const f32,
         density: *const f32,
+        pressure: *const f32,
         kind: *const u32,
         delta_p: *mut f32,
     );
@@ -578,6 +589,14 @@ unsafe extern "C" {
         pos: *mut f32,
         vel: *mut f32,
     );
+    pub fn sph_shim_apply_velocity_change_3(
+        n: u32,
+        factor: f32,
+        kind: *const u32,
+        displacement: *const f32,
+        vel: *mut f32,
+    );
+    pub fn sph_shim_keep_pressure_decreases_3(n: u32, pressure_start: *const f32, pressure: *mut f32);
     pub fn sph_shim_keep_out_3(
         n: u32,
         boxes: u32,

@@ -1,6 +1,6 @@
 //! Launchers of the `multiphase` effect's kernels (`kernels/shim/exports_multiphase.inc`), 2D:
-//! `density_multiphase`, `equation_of_state_multiphase`, `wall_pressure_multiphase`,
-//! `forces_p_mp`, `forces_pv_mp`, and the correction's `correction_error_multiphase`,
+//! `density_multiphase`, `predicted_density_multiphase`, `equation_of_state_multiphase`,
+//! `wall_pressure_multiphase`, `forces_p_mp`, `forces_pv_mp`, and the correction's `correction_error_multiphase`,
 //! `correction_pressure_fluid_multiphase`, `correction_displacement_multiphase`, and
 //! `solid_forces_multiphase`, `state_extremes_multiphase`.
 #![allow(missing_docs)]
@@ -20,6 +20,21 @@ unsafe extern "C" {
         pos: *const f32,
         mass: *const f32,
         kind: *const u32,
+        density: *mut f32,
+    );
+    pub fn sph_shim_predicted_density_multiphase_2(
+        n: u32,
+        p: *const StepParams<2>,
+        g: *const GridGeometry<2>,
+        cell_start: *const u32,
+        cell_key: *const u32,
+        pos: *const f32,
+        vel: *const f32,
+        mass: *const f32,
+        rest: *const f32,
+        kind: *const u32,
+        density_start: *const f32,
+        tau: f32,
         density: *mut f32,
     );
     pub fn sph_shim_equation_of_state_multiphase_2(

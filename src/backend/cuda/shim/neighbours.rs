@@ -1,7 +1,7 @@
 //! Launchers of the neighbour-search and density-side kernels (`kernels/shim/exports_neighbours.inc`):
 //! `sort_by_cell` (`cell_hash`, `scan_chunks`, `scan_chunk_sums`, `scan_add`, `scatter`,
-//! `order_cells`, `gather_*`), `density`, `equation_of_state`, `wall_pressure`, `wall_velocity`, and the test-only
-//! `neighbour_list`. Vectors are `D` floats per particle; `GridGeometry` and `StepParams` come by
+//! `order_cells`, `gather_*`), `density`, `predicted_density` (the velocity solve's),
+//! `equation_of_state`, `wall_pressure`, `wall_velocity`, and the test-only `neighbour_list`. Vectors are `D` floats per particle; `GridGeometry` and `StepParams` come by
 //! pointer.
 #![allow(missing_docs)]
 
@@ -40,6 +40,20 @@ unsafe extern "C" {
         pos: *const f32,
         mass: *const f32,
         kind: *const u32,
+        density: *mut f32,
+    );
+    pub fn sph_shim_predicted_density_2(
+        n: u32,
+        p: *const StepParams<2>,
+        g: *const GridGeometry<2>,
+        cell_start: *const u32,
+        cell_key: *const u32,
+        pos: *const f32,
+        vel: *const f32,
+        mass: *const f32,
+        kind: *const u32,
+        density_start: *const f32,
+        tau: f32,
         density: *mut f32,
     );
     pub fn sph_shim_equation_of_state_2(
@@ -121,6 +135,20 @@ unsafe extern "C" {
         pos: *const f32,
         mass: *const f32,
         kind: *const u32,
+        density: *mut f32,
+    );
+    pub fn sph_shim_predicted_density_3(
+        n: u32,
+        p: *const StepParams<3>,
+        g: *const GridGeometry<3>,
+        cell_start: *const u32,
+        cell_key: *const u32,
+        pos: *const f32,
+        vel: *const f32,
+        mass: *const f32,
+        kind: *const u32,
+        density_start: *const f32,
+        tau: f32,
         density: *mut f32,
     );
     pub fn sph_shim_equation_of_state_3(
