@@ -281,7 +281,9 @@ pub trait Backend<const D: usize> {
     ) -> Sweep;
     /// Ends the velocity solve. `keep`: the velocities stay, and every particle's pressure
     /// keeps only what the solve released, `P = min(P, P_start)`. Otherwise velocity and
-    /// pressure go back to what `begin_velocity_solve` remembered.
+    /// pressure go back to what `begin_velocity_solve` remembered. Either way `density` gets
+    /// back the sum (18) remembered there (positions did not move), in place of the predicted
+    /// density, without a neighbour pass.
     fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool);
     /// The no-penetration guard (`boundary::keep_out`): every fluid particle inside one of
     /// `boxes` is put `margin` [m] outside the face it came in through and loses the velocity

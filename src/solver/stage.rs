@@ -457,7 +457,7 @@ impl SubStage {
             }
             SubStage::CorrectVelocities => "velocity += tau f^press/rho, positions unchanged",
             SubStage::EndVelocitySolve => {
-                "pressure keeps only what the solve released; given up (residual doubled or cap): velocity and pressure restored"
+                "pressure keeps only what the solve released; given up (residual doubled or cap): velocity and pressure restored; density (18) restored"
             }
         }
     }
@@ -507,7 +507,7 @@ impl SubStage {
             SubStage::BeginVelocitySolve => &[],
             SubStage::PredictedDensity => &[Density],
             SubStage::CorrectVelocities => &[Velocity],
-            SubStage::EndVelocitySolve => &[Velocity, Pressure],
+            SubStage::EndVelocitySolve => &[Velocity, Pressure, Density],
         }
     }
 }

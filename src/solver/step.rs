@@ -368,8 +368,6 @@ impl<const D: usize> Simulation<D> {
                 }
             }
         }
-        // Back to the sum (18) for the stages that read the density next.
-        bk.density(f, params);
         let s = &mut self.stats.correction;
         s.velocity_solves += 1;
         s.velocity_iterations += u64::from(iterations);

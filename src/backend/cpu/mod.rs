@@ -913,6 +913,8 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             fields.velocity.clone_from(&self.velocity_solve_start);
             fields.pressure.clone_from(&self.pressure_solve_start);
         }
+        // Positions did not move: the sum (18) is still the one remembered at the start.
+        fields.density.clone_from(&self.density_solve_start);
     }
 
     fn keep_out(

@@ -1229,22 +1229,28 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         if self.error.is_some() {
             return;
         }
+        // The saved buffers hold at least one entry; copy exactly the fields' lengths back.
+        let (nv, np) = (self.f.velocity.len(), self.f.pressure.len());
         if keep {
             let n = self.n as u32;
             launch!(self, "keeping the released pressure", "keep_pressure_decreases", self.n;
                 &n, &self.pressure_solve_start, &mut self.f.pressure);
-            return;
+        } else {
+            let r = self
+                .stream
+                .memcpy_dtod(&self.velocity_solve_start.slice(..nv), &mut self.f.velocity)
+                .and_then(|()| {
+                    self.stream
+                        .memcpy_dtod(&self.pressure_solve_start.slice(..np), &mut self.f.pressure)
+                });
+            record(&mut self.error, "restoring the velocities and pressures", r);
         }
-        // The saved buffers hold at least one entry; copy exactly the fields' lengths back.
-        let (nv, np) = (self.f.velocity.len(), self.f.pressure.len());
+        // Positions did not move: the sum (18) is still the one remembered at the start.
+        let nd = self.f.density.len();
         let r = self
             .stream
-            .memcpy_dtod(&self.velocity_solve_start.slice(..nv), &mut self.f.velocity)
-            .and_then(|()| {
-                self.stream
-                    .memcpy_dtod(&self.pressure_solve_start.slice(..np), &mut self.f.pressure)
-            });
-        record(&mut self.error, "restoring the velocities and pressures", r);
+            .memcpy_dtod(&self.density_solve_start.slice(..nd), &mut self.f.density);
+        record(&mut self.error, "restoring the densities", r);
     }
 
     fn keep_out(
