@@ -289,6 +289,16 @@ pub fn compare(scene: &Scene, log: &ProbeLog) -> Result<Vec<ProbeComparison>, Pr
     Ok(out)
 }
 
+/// Reads every reference file the scene's probes name and checks it holds what the probe
+/// compares with (the series asked for; gravity for a front), so that `sph run` fails at its
+/// start rather than after the run.
+pub fn check_references(scene: &Scene) -> Result<(), ProbeError> {
+    for probe in &scene.probes {
+        compare_samples(scene, probe, &[])?;
+    }
+    Ok(())
+}
+
 /// Compares one probe's samples `(t [s], value [m])` with its reference data; `None` when the
 /// probe names none.
 pub fn compare_samples(

@@ -251,6 +251,8 @@ pub fn run_scene(
     options: &RunOptions,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Summary, Error> {
+    // A missing or malformed reference file must stop the run before it computes, not after.
+    crate::probe::check_references(scene)?;
     if options.backend == BackendKind::Cuda {
         cuda::probe()?;
     }

@@ -191,6 +191,43 @@ fn cli_reports_bad_input_without_panicking() {
     std::fs::remove_dir_all(&out).expect("cleanup");
 }
 
+/// A probe whose reference file is missing stops `sph run` before it computes, with an error
+/// naming the probe and the file, and leaves no output folder (it used to fail only after the
+/// whole run, when the comparison was made).
+#[test]
+fn run_with_a_missing_probe_reference_fails_at_the_start() {
+    let dir = scratch("missing_reference");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let text = std::fs::read_to_string("scenes/dam_break_2d.toml").expect("shipped scene");
+    let text = text.replace("martin_moyce_1952_surge_front.csv", "no_such_reference.csv");
+    assert!(
+        text.contains("no_such_reference.csv"),
+        "the scene names a reference file"
+    );
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).expect("write scene");
+    let out = dir.join("run");
+    let err = sph::cli::run([
+        "sph",
+        "run",
+        scene.to_str().expect("utf-8"),
+        "--end-time",
+        "10",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ])
+    .expect_err("missing reference");
+    let text = format!("{err:#}");
+    assert!(
+        text.contains("no_such_reference.csv") && text.contains("front"),
+        "{text}"
+    );
+    assert!(text.contains("nothing written"), "{text}");
+    // The output folder is made before the first step: none means nothing was computed.
+    assert!(!out.exists(), "no output folder for a run that never started");
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}
+
 /// `sph compare` draws two runs' force probes against the Yeh & Petroff record and refuses a run
 /// without that probe, naming it.
 #[test]

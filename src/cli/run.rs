@@ -134,11 +134,15 @@ pub fn run(
     });
     bar.finish_and_clear();
     let summary = summary.with_context(|| {
-        format!(
-            "running scene {} (results so far in {})",
-            path.display(),
-            out.display()
-        )
+        if out.exists() {
+            format!(
+                "running scene {} (results so far in {})",
+                path.display(),
+                out.display()
+            )
+        } else {
+            format!("running scene {} (nothing written)", path.display())
+        }
     })?;
     println!(
         "{}: {} particles ({} fluid), {} steps to t = {:.4} s in {:.1} s wall, {:.3e} particle-steps/s; results in {}",

@@ -123,7 +123,13 @@ pub struct CudaBackend<const D: usize> {
     grid: Option<DeviceGrid<D>>,
     scratch_vec: CudaSlice<f32>,
     scratch_u32: CudaSlice<u32>,
+    /// The correction's pressure `Δp` (eq. 19) and the sweep's displacements (`D` floats per
+    /// particle). These and the three `*_solve_start` buffers below serve the `corrected`
+    /// solver alone: they hold one element until its first stage
+    /// (`ensure_correction_buffers`), so a `wcsph` run holds none of them.
     delta_p: CudaSlice<f32>,
+    /// The previous sweep's `Δp` (the momentum term), and the scratch of `sort_by_cell`'s
+    /// gathers for every solver (so always `n` floats).
     delta_p_previous: CudaSlice<f32>,
     has_previous: bool,
     displacement: CudaSlice<f32>,
@@ -280,13 +286,13 @@ impl<const D: usize> CudaBackend<D> {
             scratch_u32: stream
                 .alloc_zeros::<u32>(n.max(1))
                 .map_err(|e| up("allocating", e))?,
-            delta_p: zeros_f32(n)?,
+            delta_p: zeros_f32(1)?,
             delta_p_previous: zeros_f32(n)?,
             has_previous: false,
-            displacement: zeros_f32(n * D)?,
-            velocity_solve_start: zeros_f32(n * D)?,
-            pressure_solve_start: zeros_f32(n)?,
-            density_solve_start: zeros_f32(n)?,
+            displacement: zeros_f32(1)?,
+            velocity_solve_start: zeros_f32(1)?,
+            pressure_solve_start: zeros_f32(1)?,
+            density_solve_start: zeros_f32(1)?,
             reduce_i32: stream.alloc_zeros::<i32>(2).map_err(|e| up("allocating", e))?,
             extremes: stream
                 .clone_htod(&[DeviceExtremes::initial()])
@@ -472,6 +478,26 @@ macro_rules! launch {
 }
 
 impl<const D: usize> CudaBackend<D> {
+    /// Sizes the `corrected` solver's buffers (`delta_p`, `displacement`, the `*_solve_start`
+    /// copies) to the particle count at its first stage; later calls find them sized. Particles
+    /// are never added, so `n` is fixed.
+    fn ensure_correction_buffers(&mut self) {
+        if self.delta_p.len() >= self.n || self.error.is_some() {
+            return;
+        }
+        let (n, dn) = (self.n.max(1), (self.n * D).max(1));
+        let stream = self.stream.clone();
+        let r = (|| -> Result<(), DriverError> {
+            self.delta_p = stream.alloc_zeros::<f32>(n)?;
+            self.displacement = stream.alloc_zeros::<f32>(dn)?;
+            self.velocity_solve_start = stream.alloc_zeros::<f32>(dn)?;
+            self.pressure_solve_start = stream.alloc_zeros::<f32>(n)?;
+            self.density_solve_start = stream.alloc_zeros::<f32>(n)?;
+            Ok(())
+        })();
+        record(&mut self.error, "allocating the correction's buffers", r);
+    }
+
     /// Eq. (23) without moving anything, shared by `correct_positions` and `correct_velocities`
     /// (as `CpuBackend::correction_displacements`): `Δx = τ² a^press(δp)` of every fluid particle
     /// into `displacement`, and the one scale that keeps the largest within `max_step` [m].
@@ -1125,6 +1151,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
 
     fn begin_correction(&mut self, _fields: &mut Fields<D>) {
         self.has_previous = false;
+        self.ensure_correction_buffers();
     }
 
     fn correction_pressure(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
@@ -1170,6 +1197,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
 
     fn begin_velocity_solve(&mut self, _fields: &mut Fields<D>) {
         self.has_previous = false;
+        self.ensure_correction_buffers();
         if self.error.is_some() {
             return;
         }
