@@ -54,6 +54,10 @@ pub struct BenchRow {
     /// Seconds per step in each stage of the plan (timed in extra steps, each stage waiting for
     /// the backend to finish).
     pub stages: Vec<(String, f64)>,
+    /// Position-correction sweeps and velocity-solve sweeps per step in those extra steps
+    /// (zero for `wcsph`): with `stages`' `correct_positions` and `velocity_solve`, the cost of
+    /// one sweep of each kind.
+    pub stage_sweeps: (f64, f64),
 }
 
 /// What to measure.
@@ -165,10 +169,20 @@ fn measure<const D: usize>(
     sim.synchronize()?;
     let seconds_per_step = start.elapsed().as_secs_f64() / options.steps.max(1) as f64;
     let iterations = (sweeps(&sim) - before) as f64 / options.steps.max(1) as f64;
+    let counts = |sim: &Simulation<D>| {
+        let c = sim.stats().correction;
+        (c.iterations as f64, c.velocity_iterations as f64)
+    };
+    let counted = counts(&sim);
     sim.time_stages(true);
     for _ in 0..options.steps {
         sim.step(f64::INFINITY)?;
     }
+    let per_step = options.steps.max(1) as f64;
+    let stage_sweeps = {
+        let after = counts(&sim);
+        ((after.0 - counted.0) / per_step, (after.1 - counted.1) / per_step)
+    };
     let stages = sim
         .stage_seconds()
         .iter()
@@ -196,6 +210,7 @@ fn measure<const D: usize>(
         neighbours,
         speedup: None,
         stages,
+        stage_sweeps,
     })
 }
 

@@ -70,7 +70,38 @@ fn one_cpu_row_is_measured_and_written() {
         "the wcsph plan with walls and viscosity (no-slip walls: wall_velocity), in order"
     );
     assert!(r.stages.iter().all(|(_, t)| *t >= 0.0));
+    assert_eq!(r.stage_sweeps, (0.0, 0.0), "wcsph has no correction sweeps");
     let csv = to_csv(&rows);
     assert_eq!(csv.lines().count(), 2);
     assert!(csv.starts_with("particles,backend,device,"));
+}
+
+/// A `corrected` row times the position sweeps (`correct_positions`) and the velocity solve
+/// (`velocity_solve`) as separate stages and counts the sweeps of each in the same steps, so
+/// that `sph bench` can give the cost of one sweep of each kind.
+#[test]
+fn corrected_row_times_position_and_velocity_sweeps_apart() {
+    let options = BenchOptions {
+        sizes: vec![3_000],
+        backends: vec![BackendKind::Cpu],
+        steps: 1,
+        sweeps: 1,
+        threads: 1,
+    };
+    let sets = ["solver.kind=corrected".to_string()];
+    let rows = bench(Path::new(SCENE), &sets, &options, &mut |_| {}).expect("runs");
+    let r = &rows[0];
+    let time = |name: &str| r.stages.iter().find(|(n, _)| n == name).map(|(_, t)| *t);
+    let (position, velocity) = r.stage_sweeps;
+    assert!(
+        position >= 3.0,
+        "at least one position sweep per RK3 stage: {position}"
+    );
+    assert!(velocity >= 1.0, "the velocity solve sweeps too: {velocity}");
+    assert!(
+        time("correct_positions").is_some_and(|t| t > 0.0),
+        "{:?}",
+        r.stages
+    );
+    assert!(time("velocity_solve").is_some_and(|t| t > 0.0), "{:?}", r.stages);
 }

@@ -554,6 +554,7 @@ fn bench_chart_is_log_log_with_one_line_per_backend() {
         neighbours: 30.0,
         speedup: None,
         stages: Vec::new(),
+        stage_sweeps: (0.0, 0.0),
     };
     let rows = [
         row(100_000, "cpu", "2 threads", 0.5),

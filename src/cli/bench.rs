@@ -110,6 +110,21 @@ pub fn run_bench(
             .map(|(name, t)| format!("{name} {:.3}", 1e3 * t))
             .collect();
         println!("{:>11} {:>5}: {}", r.particles, r.backend, parts.join(", "));
+        let stage = |name: &str| r.stages.iter().find(|(n, _)| n == name).map(|(_, t)| *t);
+        let (position, velocity) = r.stage_sweeps;
+        if let (Some(t), true) = (stage("correct_positions"), position > 0.0) {
+            let mut line = format!(
+                "{position:.1} position sweeps per step, {:.3} ms each",
+                1e3 * t / position
+            );
+            if let (Some(v), true) = (stage("velocity_solve"), velocity > 0.0) {
+                line += &format!(
+                    "; {velocity:.1} velocity sweeps, {:.3} ms each",
+                    1e3 * v / velocity
+                );
+            }
+            println!("{:>11} {:>5}: {line}", "", "");
+        }
     }
     println!("wrote {} and {}", csv.display(), stages.display());
     if plot {

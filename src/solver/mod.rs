@@ -336,6 +336,9 @@ pub struct Simulation<const D: usize> {
     backend: Box<dyn Backend<D> + Send>,
     /// Wall seconds per stage name since [`Simulation::time_stages`] turned timing on.
     stage_seconds: Option<Vec<(&'static str, f64)>>,
+    /// Seconds the velocity solves of the current correction stage took, while stages are
+    /// timed; moved into `stage_seconds` as `velocity_solve` when the stage ends.
+    velocity_solve_seconds: f64,
     /// `fields` lags the backend's state (a device-resident backend ran stages since the last
     /// [`Simulation::sync_fields`]).
     fields_stale: bool,
@@ -490,6 +493,7 @@ impl<const D: usize> Simulation<D> {
             fields,
             backend: Box::new(CpuBackend::new()),
             stage_seconds: None,
+            velocity_solve_seconds: 0.0,
             fields_stale: false,
             plan,
             solid_names: solids.iter().map(|(n, _)| n.clone()).collect(),
@@ -817,7 +821,8 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Wall seconds spent in each stage of the plan since timing was turned on, by stage name
-    /// in plan order (the correction loop counts as `correct_positions`).
+    /// in plan order (the correction loop counts as `correct_positions`, the velocity solves
+    /// after it as `velocity_solve`).
     pub fn stage_seconds(&self) -> &[(&'static str, f64)] {
         self.stage_seconds.as_deref().unwrap_or(&[])
     }

@@ -144,11 +144,19 @@ impl<const D: usize> Simulation<D> {
                 }
                 if let Some(t0) = started {
                     self.backend.synchronize();
-                    let elapsed = t0.elapsed().as_secs_f64();
+                    // The correction stage's velocity solve is timed on its own
+                    // (`velocity_solve`), so that `correct_positions` holds the position sweeps.
+                    let velocity = std::mem::take(&mut self.velocity_solve_seconds);
+                    let elapsed = t0.elapsed().as_secs_f64() - velocity;
                     if let Some(times) = self.stage_seconds.as_mut() {
-                        match times.iter_mut().find(|(name, _)| *name == stage.name()) {
-                            Some((_, total)) => *total += elapsed,
-                            None => times.push((stage.name(), elapsed)),
+                        for (name, seconds) in [(stage.name(), elapsed), ("velocity_solve", velocity)] {
+                            if name == "velocity_solve" && seconds == 0.0 {
+                                continue;
+                            }
+                            match times.iter_mut().find(|(n, _)| *n == name) {
+                                Some((_, total)) => *total += seconds,
+                                None => times.push((name, seconds)),
+                            }
                         }
                     }
                 }
@@ -446,6 +454,7 @@ impl<const D: usize> Simulation<D> {
         // The velocity solve, only after a stage whose positions converged (the start-up settle
         // gives no velocity).
         if kick_tau.is_finite() && error.residual < delta {
+            let started = self.stage_seconds.is_some().then(std::time::Instant::now);
             self.solve_velocities(
                 tau,
                 params,
@@ -455,6 +464,10 @@ impl<const D: usize> Simulation<D> {
                 &mut drift,
                 &mut solid_force,
             )?;
+            if let Some(t0) = started {
+                self.backend.synchronize();
+                self.velocity_solve_seconds += t0.elapsed().as_secs_f64();
+            }
         }
         self.grid_fresh = drift <= RESORT_DRIFT * h;
         self.density_fresh = true;
