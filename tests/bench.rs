@@ -21,15 +21,20 @@ fn scaled_scene_has_about_the_asked_particle_count() {
     }
 }
 
-#[test]
-fn one_cpu_row_is_measured_and_written() {
-    let options = BenchOptions {
+/// One row of about 3,000 particles on the CPU, one timed step and sweep, one thread.
+fn small_cpu_options() -> BenchOptions {
+    BenchOptions {
         sizes: vec![3_000],
         backends: vec![BackendKind::Cpu],
         steps: 1,
         sweeps: 1,
         threads: 1,
-    };
+    }
+}
+
+#[test]
+fn one_cpu_row_is_measured_and_written() {
+    let options = small_cpu_options();
     let mut reported = 0;
     let rows = bench(Path::new(SCENE), &[], &options, &mut |_| reported += 1).expect("runs");
     assert_eq!((rows.len(), reported), (1, 1));
@@ -81,13 +86,7 @@ fn one_cpu_row_is_measured_and_written() {
 /// that `sph bench` can give the cost of one sweep of each kind.
 #[test]
 fn corrected_row_times_position_and_velocity_sweeps_apart() {
-    let options = BenchOptions {
-        sizes: vec![3_000],
-        backends: vec![BackendKind::Cpu],
-        steps: 1,
-        sweeps: 1,
-        threads: 1,
-    };
+    let options = small_cpu_options();
     let sets = ["solver.kind=corrected".to_string()];
     let rows = bench(Path::new(SCENE), &sets, &options, &mut |_| {}).expect("runs");
     let r = &rows[0];
