@@ -157,9 +157,14 @@ fn measure<const D: usize>(
     sim.use_backend(backend)?;
     let seconds_per_sweep = sim.time_sweeps(options.sweeps)?;
     sim.step(f64::INFINITY)?;
-    let sweeps = |sim: &Simulation<D>| {
+    // Position-correction and velocity-solve sweeps so far.
+    let counts = |sim: &Simulation<D>| {
         let c = sim.stats().correction;
-        c.iterations + c.velocity_iterations
+        (c.iterations as f64, c.velocity_iterations as f64)
+    };
+    let sweeps = |sim: &Simulation<D>| {
+        let (position, velocity) = counts(sim);
+        position + velocity
     };
     let before = sweeps(&sim);
     let start = Instant::now();
@@ -168,11 +173,7 @@ fn measure<const D: usize>(
     }
     sim.synchronize()?;
     let seconds_per_step = start.elapsed().as_secs_f64() / options.steps.max(1) as f64;
-    let iterations = (sweeps(&sim) - before) as f64 / options.steps.max(1) as f64;
-    let counts = |sim: &Simulation<D>| {
-        let c = sim.stats().correction;
-        (c.iterations as f64, c.velocity_iterations as f64)
-    };
+    let iterations = (sweeps(&sim) - before) / options.steps.max(1) as f64;
     let counted = counts(&sim);
     sim.time_stages(true);
     for _ in 0..options.steps {
