@@ -1,13 +1,15 @@
 //! The neighbour grid (`sph::grid`) against brute force, in 2D and 3D: after `sort`, permuting
 //! the positions by the returned permutation and `link`, `for_each_neighbour` visits exactly the
 //! particles `neighbours_naive` finds, once each, with the right offsets and squared distances.
-//! Also: memory independent of empty space, errors (not panics) for bad input, and
-//! `Fields::permute` moving every particle field.
+//! Also: the velocity solve's `NeighbourList` visiting exactly what the grid visits (same order,
+//! bitwise the same offsets), memory independent of empty space, errors (not panics) for bad
+//! input, and `Fields::permute` moving every particle field.
 
 use proptest::prelude::*;
 use sph::fields::{Fields, PermuteScratch};
 use sph::grid::{Grid, GridError, neighbours_naive};
 use sph::math::{Real, Vector};
+use sph::neighbour_list::NeighbourList;
 
 /// Sorts `cloud` with `grid`, checks the permutation, permutes, links and compares every
 /// particle's neighbours with brute force. Returns the positions in sorted order.
@@ -54,7 +56,43 @@ fn assert_neighbours_match<const D: usize>(
             positions[i]
         );
     }
+    assert_list_matches_grid(grid, &positions);
     positions
+}
+
+/// Every `(j, offset, r²)` the grid passes for particle `i`, in its order, as bits.
+type Visits = Vec<(usize, Vec<u32>, u32)>;
+
+fn visits<const D: usize>(visit: impl FnOnce(&mut dyn FnMut(usize, Vector<D>, Real))) -> Visits {
+    let mut out = Vec::new();
+    visit(&mut |j, d: Vector<D>, r2: Real| {
+        out.push((j, d.iter().map(|c| c.to_bits()).collect(), r2.to_bits()));
+    });
+    out
+}
+
+/// A `NeighbourList` built from the linked `grid` visits, for each selected particle, exactly
+/// the grid's pairs in the grid's order with bitwise the same offsets (so a sweep over it sums
+/// the same floats), and nothing for the others. Built twice into one list (all particles, then
+/// every third one skipped), as the backend reuses it between velocity solves.
+fn assert_list_matches_grid<const D: usize>(grid: &Grid<D>, positions: &[Vector<D>]) {
+    let mut list = NeighbourList::default();
+    for skip_every_third in [false, true] {
+        let selected = |i: usize| !(skip_every_third && i % 3 == 0);
+        list.build(grid, positions, selected);
+        assert_eq!(list.len(), positions.len(), "the list covers every particle");
+        for i in 0..positions.len() {
+            let from_list = visits::<D>(|f| list.for_each_neighbour(positions, i, f));
+            if selected(i) {
+                let from_grid = visits::<D>(|f| grid.for_each_neighbour(positions, i, f));
+                assert_eq!(from_list, from_grid, "particle {i}: list vs grid");
+            } else {
+                assert!(from_list.is_empty(), "particle {i} was not selected");
+            }
+        }
+    }
+    list.clear();
+    assert!(list.is_empty());
 }
 
 fn check<const D: usize>(cloud: &[Vector<D>], h: Real) -> Vec<Vector<D>> {

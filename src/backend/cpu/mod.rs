@@ -13,6 +13,7 @@ use crate::boundary::{
 use crate::fields::{FLUID, Fields, PermuteScratch, rest_density_of};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector, max_each_in_order, max_or_nan, sum_by_group, sum_in_order, to_xyz};
+use crate::neighbour_list::{NeighbourList, Neighbours};
 use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration,
     correction,
@@ -60,6 +61,9 @@ pub struct CpuBackend<const D: usize> {
     pressure_terms: Vec<Real>,
     /// Scratch of `find_dry_solids`: fluid particles before each sorted index.
     fluid_before: Vec<u32>,
+    /// The fluid's pairs at the velocity solve's fixed positions, built by
+    /// `begin_velocity_solve` and cleared by `end_velocity_solve` (`crate::neighbour_list`).
+    velocity_neighbours: NeighbourList,
 }
 
 impl<const D: usize> CpuBackend<D> {
@@ -127,6 +131,16 @@ impl<const D: usize> CpuBackend<D> {
             + self.wet_increments.capacity() * 4
             + self.pressure_terms.capacity() * 4
             + self.fluid_before.capacity() * 4
+            + self.velocity_neighbours.heap_bytes()
+    }
+
+    /// The velocity solve's `list` while one runs (positions fixed), else the `grid`.
+    fn neighbours<'a>(grid: &'a Grid<D>, list: &'a NeighbourList) -> Neighbours<'a, D> {
+        if list.is_empty() {
+            Neighbours::Grid(grid)
+        } else {
+            Neighbours::List(list)
+        }
     }
 
     /// Eq. (23) without moving anything: `Δx = τ² a^press(δp)` of every fluid particle into
@@ -140,7 +154,7 @@ impl<const D: usize> CpuBackend<D> {
         max_step: f32,
     ) -> Sweep {
         let kernel = params.smoothing();
-        let grid = &self.grid;
+        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
         let n = fields.len();
         let f = fields;
         let multiphase = !f.rest_density.is_empty();
@@ -162,7 +176,7 @@ impl<const D: usize> CpuBackend<D> {
                     Vector::zeros()
                 } else {
                     let mut a = Vector::<D>::zeros();
-                    grid.for_each_neighbour(&f.position, i, |j, d, r2| {
+                    neighbours.for_each_neighbour(&f.position, i, |j, d, r2| {
                         if j == i {
                             return;
                         }
@@ -576,7 +590,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         source: SolidForceSource,
     ) -> Vec<[f64; 3]> {
         let kernel = params.smoothing();
-        let grid = &self.grid;
+        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
         let f = fields;
         // The correction moves particles by pressure alone: its own pressures, no viscous terms.
         let params = source.params(params);
@@ -600,7 +614,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 return None;
             }
             let mut force = Vector::<D>::zeros();
-            grid.for_each_neighbour(&f.position, s, |j, d, r2| {
+            neighbours.for_each_neighbour(&f.position, s, |j, d, r2| {
                 if f.kind[j] != FLUID {
                     return;
                 }
@@ -798,11 +812,12 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         // wall's pressure only grew and pushed its neighbours below ρ0 while they still carried
         // pressure: on `scenes/hard/rest_3d.toml` stages stalled at the 1,000-sweep cap at
         // 999.3–999.5 kg/m³ one or two spacings from the side walls.
-        let (grid, fluid_dp) = (&self.grid, &self.delta_p);
+        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
+        let fluid_dp = &self.delta_p;
         self.wet_increments.clear();
         self.wet_increments.par_extend(self.wet.par_iter().map(|&w| {
             let mut sums = WallPressureSums::<D>::default();
-            grid.for_each_neighbour(&f.position, w as usize, |j, d, r2| {
+            neighbours.for_each_neighbour(&f.position, w as usize, |j, d, r2| {
                 if f.kind[j] == FLUID {
                     sums.add(fluid_dp[j], f.density[j], &d, kernel.w(r2));
                 }
@@ -847,6 +862,11 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
         self.delta_p_previous.clear();
         self.delta_p.clear();
+        // The fluid and the solids with fluid candidates: the loops of the solve's sweeps.
+        let (kind, dry) = (&fields.kind, &self.dry);
+        self.velocity_neighbours.build(&self.grid, &fields.position, |i| {
+            kind[i] == FLUID || !dry.get(i).copied().unwrap_or(false)
+        });
         self.velocity_solve_start.clone_from(&fields.velocity);
         self.pressure_solve_start.clone_from(&fields.pressure);
         self.density_solve_start.clone_from(&fields.density);
@@ -855,7 +875,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
         let kernel = params.smoothing();
         let spiky = params.density_spiky_scale;
-        let grid = &self.grid;
+        let list = &self.velocity_neighbours;
         let (position, velocity, mass, kind) =
             (&fields.position, &fields.velocity, &fields.mass, &fields.kind);
         let rest = &fields.rest_density;
@@ -871,7 +891,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 return;
             }
             let mut rate = 0.0;
-            grid.for_each_neighbour(position, i, |j, d, r2| {
+            list.for_each_neighbour(position, i, |j, d, r2| {
                 if j != i {
                     let grad = density_kernel_gradient(&kernel, spiky, &d, r2.sqrt());
                     let m = if multiphase { mass[i] } else { mass[j] };
@@ -915,6 +935,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         }
         // Positions did not move: the sum (18) is still the one remembered at the start.
         fields.density.clone_from(&self.density_solve_start);
+        self.velocity_neighbours.clear();
     }
 
     fn keep_out(
