@@ -192,8 +192,8 @@ fn second_period_end(scene: &Scene) -> f64 {
 /// twice that of the tank's own sway, `½ (|A| ω)²/2` (at resonance the sloshing carries more
 /// than the rigid motion; measured 7–11 times), and, where the same tank's run at rest is given
 /// (`rest_kinetic`, its largest value in that period [J/kg]; the long version), at least 20
-/// times that (measured 56 times for `corrected` in 2D, whose resting tank keeps velocities of
-/// ~0.07 m/s at its ~10 ms step, and 160–580 times otherwise). And the horizontal force on the
+/// times that (measured 440–8,660 times in the ninth session; 56 times for `corrected` in 2D
+/// before the velocity solve, when its resting tank kept ~0.07 m/s). And the horizontal force on the
 /// tank oscillates at the forcing frequency (the largest spectral amplitude over 0.4–2.5 ω lies
 /// within 10 % of ω) with at least half the amplitude `M |A| ω²` that the fluid's mass alone,
 /// carried rigidly, would need.
