@@ -61,8 +61,9 @@ pub struct CpuBackend<const D: usize> {
     pressure_terms: Vec<Real>,
     /// Scratch of `find_dry_solids`: fluid particles before each sorted index.
     fluid_before: Vec<u32>,
-    /// The fluid's pairs at the velocity solve's fixed positions, built by
-    /// `begin_velocity_solve` and cleared by `end_velocity_solve` (`crate::neighbour_list`).
+    /// The pairs of the fluid and the wet solids at the velocity solve's fixed positions,
+    /// built by `begin_velocity_solve` and cleared by `end_velocity_solve`
+    /// (`crate::neighbour_list`). Non-empty exactly while a solve runs (it lists every particle).
     velocity_neighbours: NeighbourList,
 }
 
@@ -134,7 +135,8 @@ impl<const D: usize> CpuBackend<D> {
             + self.velocity_neighbours.heap_bytes()
     }
 
-    /// The velocity solve's `list` while one runs (positions fixed), else the `grid`.
+    /// The velocity solve's `list` while one runs (positions fixed; the list is empty
+    /// otherwise), else the `grid`.
     fn neighbours<'a>(grid: &'a Grid<D>, list: &'a NeighbourList) -> Neighbours<'a, D> {
         if list.is_empty() {
             Neighbours::Grid(grid)
