@@ -14,7 +14,7 @@
 use crate::fields::{FLUID, Fields};
 use crate::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
 use crate::output::{CsvTable, CsvValue, OutputError};
-use crate::scene::{Probe, ProbeKind, Scene};
+use crate::scene::{Probe, ProbeKind, ProbeReference, ReferenceLocation, Scene};
 use crate::validation::{CurveError, read_column_force, read_surge_front, relative_error};
 use std::path::{Path, PathBuf};
 
@@ -266,6 +266,17 @@ pub enum ProbeError {
         /// Probe name.
         probe: String,
     },
+    /// The probe's reference file was never looked up in a reference directory.
+    #[error(
+        "probe {probe}: reference file {file} was not looked up in a reference directory \
+         (scene::locate_references)"
+    )]
+    Unlocated {
+        /// Probe name.
+        probe: String,
+        /// The file as the scene names it.
+        file: String,
+    },
     /// The reference file has none of the series the probe names.
     #[error("probe {probe}: {file} has no points of the series {series:?}")]
     NoSeries {
@@ -299,18 +310,34 @@ pub fn check_references(scene: &Scene) -> Result<(), ProbeError> {
     Ok(())
 }
 
+/// The path of a probe's reference file: `None` when the probe names none or its file is not
+/// available (the comparison is skipped, see [`crate::scene::references`]).
+fn reference_path(probe: &Probe) -> Result<Option<(&ProbeReference, &Path)>, ProbeError> {
+    let Some(reference) = &probe.reference else {
+        return Ok(None);
+    };
+    match &reference.location {
+        ReferenceLocation::Found(path) => Ok(Some((reference, path))),
+        ReferenceLocation::Missing(_) => Ok(None),
+        ReferenceLocation::Unlocated => Err(ProbeError::Unlocated {
+            probe: probe.name.clone(),
+            file: reference.file.display().to_string(),
+        }),
+    }
+}
+
 /// Compares one probe's samples `(t [s], value [m])` with its reference data; `None` when the
-/// probe names none.
+/// probe names none or its reference file is not available.
 pub fn compare_samples(
     scene: &Scene,
     probe: &Probe,
     samples: &[(f64, f64)],
 ) -> Result<Option<ProbeComparison>, ProbeError> {
-    let Some(reference) = &probe.reference else {
+    let Some((reference, path)) = reference_path(probe)? else {
         return Ok(None);
     };
     if probe.kind == ProbeKind::Force {
-        return compare_force(probe, reference, samples).map(Some);
+        return compare_force(probe, reference, path, samples).map(Some);
     }
     let g = scene
         .gravity
@@ -322,7 +349,7 @@ pub fn compare_samples(
         })?;
     let a = reference.length;
     let time_scale = (g / a).sqrt();
-    let points = read_surge_front(&reference.file).map_err(|source| ProbeError::Reference {
+    let points = read_surge_front(path).map_err(|source| ProbeError::Reference {
         probe: probe.name.clone(),
         source,
     })?;
@@ -339,7 +366,7 @@ pub fn compare_samples(
     if series.is_empty() {
         return Err(ProbeError::NoSeries {
             probe: probe.name.clone(),
-            file: reference.file.display().to_string(),
+            file: path.display().to_string(),
             series: reference.series.clone(),
         });
     }
@@ -384,10 +411,11 @@ fn onset_in(points: &[(f64, f64)], range: (f64, f64), level: f64) -> Option<f64>
 /// A force probe against a force record (time [s], force [N]): the first peak.
 fn compare_force(
     probe: &Probe,
-    reference: &crate::scene::ProbeReference,
+    reference: &ProbeReference,
+    path: &Path,
     samples: &[(f64, f64)],
 ) -> Result<ProbeComparison, ProbeError> {
-    let points = read_column_force(&reference.file).map_err(|source| ProbeError::Reference {
+    let points = read_column_force(path).map_err(|source| ProbeError::Reference {
         probe: probe.name.clone(),
         source,
     })?;

@@ -626,6 +626,15 @@ fn drive<const D: usize>(
         };
         probe_errors.insert(c.name.clone(), value);
     }
+    // A probe whose reference file is not available was sampled but not compared.
+    for skipped in crate::scene::skipped_references(scene) {
+        let value = serde_json::json!({
+            "status": "skipped",
+            "reference_file": skipped.file.display().to_string(),
+            "reason": skipped.reason.to_string(),
+        });
+        probe_errors.insert(skipped.probe, value);
+    }
     if !probe_errors.is_empty() {
         extra.insert("probe_errors".into(), probe_errors.into());
     }

@@ -3,7 +3,7 @@
 //! delta = 1e-4, SSP-RK3, CFL 0.2 on the flow speed) run to T = t sqrt(g/a) = 3.
 //!
 //! Asserted: the surge front (largest fluid x) stays within 8 % of Martin & Moyce's square-column
-//! data (both n^2 = 1 digitisations in `../shared/validation`) at every data point with
+//! data (both n^2 = 1 digitisations, in `SPH_REFERENCE_DIR`) at every data point with
 //! 1 <= T <= 3 (measured: 4.7 % max, 3.8 % mean; the front runs ahead of the experiment, as in
 //! most SPH and MPS results; Martin & Moyce's release was not instantaneous). The correction
 //! converges in all but a few of the ~1500 stages (measured: one stage at t = 0.038 s, a particle
@@ -11,15 +11,23 @@
 //! 200-sweep cap), so at most 0.2 % of stages may hit the cap and the compression after
 //! correction must stay below 3 delta; at the start of every step it is asserted below 3 delta too.
 
+//!
+//! Part of the validation suite: `cargo test --release --features validation-data`.
+
+mod reference_data;
+
 use sph::run::{RunOptions, run_scene};
-use sph::scene::load_scene;
+use sph::scene::{load_scene, locate_references};
 use std::path::Path;
 
 #[test]
 fn corrected_dam_break_front_within_8_percent_of_martin_moyce() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/dam_break_2d.toml");
     // T = 3 is t = 3 sqrt(a/g) = 0.4789 s.
-    let scene = load_scene(&path, &["solver.end_time=0.48".to_string()]).expect("scene loads");
+    let mut scene = load_scene(&path, &["solver.end_time=0.48".to_string()]).expect("scene loads");
+    reference_data::reference_file("martin_moyce_1952_surge_front.csv");
+    let skipped = locate_references(&mut scene, Some(&reference_data::reference_dir()));
+    assert!(skipped.is_empty(), "reference data missing: {skipped:?}");
     let options = RunOptions {
         out_dir: None,
         backend: Default::default(),

@@ -109,7 +109,9 @@ fn force_peak_is_found_within_the_reference_range() {
         "{SCENE}\n[probe.reference]\nfile = {:?}\ntime_range = [0.0, 0.8]\n",
         record.display().to_string()
     );
-    let scene = parse_scene(&text, "probe test", &[]).expect("valid scene");
+    let mut scene = parse_scene(&text, "probe test", &[]).expect("valid scene");
+    // An absolute file needs no reference directory.
+    assert!(sph::scene::locate_references(&mut scene, None).is_empty());
     let samples = [(0.1, 1.0), (0.35, 40.0), (0.5, 25.0), (0.85, 99.0)];
     let c = compare_samples(&scene, &scene.probes[1], &samples)
         .expect("reads the record")

@@ -748,35 +748,49 @@ fn overrides_reach_probes() {
 }
 
 #[test]
-fn load_scene_resolves_reference_paths_against_the_scene_directory() {
+fn reference_files_are_looked_up_in_the_reference_directory() {
     let dir = std::env::temp_dir().join(format!("sph_scene_solver_test_{}", std::process::id()));
     let scenes = dir.join("scenes");
+    let data = dir.join("data");
     std::fs::create_dir_all(&scenes).unwrap();
+    std::fs::create_dir_all(&data).unwrap();
     let path = scenes.join("corrected.toml");
     std::fs::write(&path, CORRECTED).unwrap();
 
-    // The file does not exist: that is only reported when it is read.
-    let s = sc::load_scene(&path, &[]).unwrap();
-    let file = &s.probes[0].reference.as_ref().unwrap().file;
-    assert_eq!(file, &scenes.join("data/martin_moyce.csv"));
-    assert!(!file.exists());
+    // load_scene keeps the file as the scene names it, not yet looked up.
+    let mut s = sc::load_scene(&path, &[]).unwrap();
+    let r = s.probes[0].reference.as_ref().unwrap();
+    assert_eq!(r.file, Path::new("data/martin_moyce.csv"));
+    assert_eq!(r.location, sc::ReferenceLocation::Unlocated);
 
-    // An absolute path is kept; an overridden relative one is also resolved.
-    let abs = dir.join("elsewhere.csv");
-    let set = format!("probe.0.reference.file={}", abs.display());
-    let s = sc::load_scene(&path, &[set]).unwrap();
-    assert_eq!(s.probes[0].reference.as_ref().unwrap().file, abs);
-    let s = sc::load_scene(&path, &["probe.0.reference.file=../ref.csv".to_string()]).unwrap();
+    // Not beside the scene: in the reference directory, and only there.
+    std::fs::write(scenes.join("data_martin_moyce.csv"), "x\n").unwrap();
+    let skipped = sc::locate_references(&mut s, Some(&dir));
+    assert_eq!(skipped.len(), 1);
     assert_eq!(
-        s.probes[0].reference.as_ref().unwrap().file,
-        scenes.join("../ref.csv")
+        skipped[0].reason,
+        sc::MissingReason::NotFound(dir.join("data/martin_moyce.csv"))
     );
-
-    // parse_scene leaves it relative to the current directory.
-    let s = parse(CORRECTED).unwrap();
+    std::fs::write(data.join("martin_moyce.csv"), "x\n").unwrap();
+    assert!(sc::locate_references(&mut s, Some(&dir)).is_empty());
     assert_eq!(
-        s.probes[0].reference.as_ref().unwrap().file,
-        Path::new("data/martin_moyce.csv")
+        s.probes[0].reference.as_ref().unwrap().location,
+        sc::ReferenceLocation::Found(dir.join("data/martin_moyce.csv"))
+    );
+    // Without a directory a relative file is skipped, and the skip is listed.
+    let skipped = sc::locate_references(&mut s, None);
+    assert_eq!(skipped[0].reason, sc::MissingReason::NoDirectory);
+    assert_eq!(sc::skipped_references(&s), skipped);
+
+    // An absolute path is used as it is, with or without a directory.
+    let abs = dir.join("elsewhere.csv");
+    std::fs::write(&abs, "x\n").unwrap();
+    let set = format!("probe.0.reference.file={}", abs.display());
+    let mut s = sc::load_scene(&path, &[set]).unwrap();
+    assert!(sc::locate_references(&mut s, None).is_empty());
+    assert_eq!(
+        s.probes[0].reference.as_ref().unwrap().location,
+        sc::ReferenceLocation::Found(abs)
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -69,11 +69,14 @@ fn three_dimensional_scenes_run_a_short_time() {
 #[test]
 fn run_writes_summary_frames_and_forces() {
     let out = scratch("dam");
-    let scene = load_scene(
+    let mut scene = load_scene(
         Path::new("scenes/dam_break_2d.toml"),
         &["solver.end_time=0.05".into()],
     )
     .expect("valid");
+    // A bare clone has no reference data: the front is sampled, its comparison skipped.
+    let skipped = sph::scene::locate_references(&mut scene, None);
+    assert_eq!(skipped.len(), 1, "{skipped:?}");
     let options = RunOptions {
         out_dir: Some(out.clone()),
         backend: sph::backend::BackendKind::Cpu,
@@ -88,6 +91,15 @@ fn run_writes_summary_frames_and_forces() {
     assert_eq!(written.fluid_particles, 2500);
     assert!((written.simulated_time - 0.05).abs() < 1e-12);
     assert!(written.particle_steps_per_second > 0.0);
+    let front = &written.extra["probe_errors"]["front"];
+    assert_eq!(front["status"], "skipped", "{front}");
+    assert_eq!(front["reference_file"], "martin_moyce_1952_surge_front.csv");
+    assert!(
+        front["reason"]
+            .as_str()
+            .is_some_and(|r| r.contains("SPH_REFERENCE_DIR")),
+        "{front}"
+    );
     let series = PvdSeries::read(&out.join("particles.pvd")).expect("pvd");
     assert_eq!(series.len(), 4, "frames at t = 0, 0.02, 0.04, 0.05");
     let (_, last) = series.entries().last().expect("frames").clone();
@@ -191,40 +203,52 @@ fn cli_reports_bad_input_without_panicking() {
     std::fs::remove_dir_all(&out).expect("cleanup");
 }
 
-/// A probe whose reference file is missing stops `sph run` before it computes, with an error
-/// naming the probe and the file, and leaves no output folder (it used to fail only after the
-/// whole run, when the comparison was made).
+/// A reference file that is there but malformed stops `sph run` before it computes, naming the
+/// probe and the file, and leaves no output folder; a missing one is reported in one line, the
+/// run goes on and `summary.json` records the comparison as skipped.
 #[test]
-fn run_with_a_missing_probe_reference_fails_at_the_start() {
+fn run_refuses_a_malformed_reference_and_skips_a_missing_one() {
     let dir = scratch("missing_reference");
-    std::fs::create_dir_all(&dir).expect("dir");
-    let text = std::fs::read_to_string("scenes/dam_break_2d.toml").expect("shipped scene");
-    let text = text.replace("martin_moyce_1952_surge_front.csv", "no_such_reference.csv");
-    assert!(
-        text.contains("no_such_reference.csv"),
-        "the scene names a reference file"
-    );
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, text).expect("write scene");
+    let data = dir.join("data");
+    std::fs::create_dir_all(&data).expect("dir");
+    std::fs::write(
+        data.join("martin_moyce_1952_surge_front.csv"),
+        "series,T\nx,not a number\n",
+    )
+    .expect("write");
     let out = dir.join("run");
-    let err = sph::cli::run([
-        "sph",
-        "run",
-        scene.to_str().expect("utf-8"),
-        "--end-time",
-        "10",
-        "--out",
-        out.to_str().expect("utf-8"),
-    ])
-    .expect_err("missing reference");
+    let run = |out: &Path, refs: &Path| {
+        sph::cli::run([
+            "sph",
+            "run",
+            "scenes/dam_break_2d.toml",
+            "--end-time",
+            "0.002",
+            "--reference-dir",
+            refs.to_str().expect("utf-8"),
+            "--out",
+            out.to_str().expect("utf-8"),
+        ])
+    };
+    let err = run(&out, &data).expect_err("malformed reference");
     let text = format!("{err:#}");
     assert!(
-        text.contains("no_such_reference.csv") && text.contains("front"),
+        text.contains("martin_moyce_1952_surge_front.csv") && text.contains("front"),
         "{text}"
     );
     assert!(text.contains("nothing written"), "{text}");
     // The output folder is made before the first step: none means nothing was computed.
     assert!(!out.exists(), "no output folder for a run that never started");
+
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).expect("dir");
+    run(&out, &empty).unwrap_or_else(|e| panic!("a missing reference is not an error: {e:#}"));
+    let summary = read_summary(&out.join("summary.json")).expect("summary.json");
+    let front = &summary.extra["probe_errors"]["front"];
+    assert_eq!(front["status"], "skipped", "{front}");
+    let reason = front["reason"].as_str().expect("reason");
+    assert!(reason.contains(&empty.display().to_string()), "{reason}");
+    assert!(out.join("probes.csv").exists(), "the probe is still sampled");
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
 
@@ -234,6 +258,22 @@ fn run_with_a_missing_probe_reference_fails_at_the_start() {
 fn compare_draws_runs_against_the_reference() {
     let out = scratch("compare");
     std::fs::create_dir_all(&out).expect("dir");
+    // A made-up force record in the reference directory (the scene names the file).
+    let mut record = String::from("time_s,force_x_N\n");
+    for k in 0..=80 {
+        let t = f64::from(k) * 0.01;
+        record.push_str(&format!(
+            "{t},{}\n",
+            if (0.3..0.4).contains(&t) { 35.0 } else { 0.0 }
+        ));
+    }
+    for file in [
+        "yeh_petroff_column_force_pysph.csv",
+        "yeh_petroff_column_force_anuga.csv",
+    ] {
+        std::fs::write(out.join(file), &record).expect("write");
+    }
+    let refs = out.to_str().expect("utf-8").to_string();
     for (name, peak) in [("a", 30.0), ("b", 40.0)] {
         let dir = out.join(name);
         std::fs::create_dir_all(&dir).expect("dir");
@@ -259,6 +299,8 @@ fn compare_draws_runs_against_the_reference() {
         "column_force_pysph",
         "--t-max",
         "0.8",
+        "--reference-dir",
+        &refs,
         "--out",
         figure.to_str().expect("utf-8"),
     ])

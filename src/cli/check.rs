@@ -1,12 +1,16 @@
 //! `sph check SCENE`: validate and report.
 
-use crate::scene::{bytes_per_particle, count_particles, load_scene};
+use crate::scene::{bytes_per_particle, count_particles, skipped_references};
 use anyhow::Context;
 use std::path::Path;
 
 /// Validates the scene and prints counts, memory and plan.
-pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
-    let scene = load_scene(path, sets).with_context(|| format!("checking scene {}", path.display()))?;
+/// Reads every reference file the scene's probes name that is available (a malformed one is an
+/// error, as `sph run` would refuse it); one that is not is reported as `sph run` reports it.
+pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyhow::Result<()> {
+    let scene = super::load_located(path, sets, reference_dir, false)
+        .with_context(|| format!("checking scene {}", path.display()))?;
+    crate::probe::check_references(&scene).with_context(|| format!("checking scene {}", path.display()))?;
     let counts = count_particles(&scene)?;
     println!(
         "scene {}: valid ({}D, solver {}, integrator {}{})",
@@ -57,5 +61,12 @@ pub fn check(path: &Path, sets: &[String]) -> anyhow::Result<()> {
         names.join(" → "),
         if viscosity { " (forces with viscosity)" } else { "" }
     );
+    for probe in scene.probes.iter().filter(|p| p.reference.is_some()) {
+        let skipped = skipped_references(&scene);
+        match skipped.iter().find(|s| s.probe == probe.name) {
+            Some(s) => println!("  warning: {s}"),
+            None => println!("  probe {}: reference data found and read", probe.name),
+        }
+    }
     Ok(())
 }

@@ -5,7 +5,6 @@
 
 use crate::output::plot::write_png;
 use crate::probe::{ProbeComparison, front_figure};
-use crate::scene::load_scene;
 use crate::sweep::comparisons_from_csv;
 use anyhow::Context;
 use std::path::{Path, PathBuf};
@@ -27,10 +26,17 @@ pub fn compare(
     out: &Path,
     t_max: Option<f64>,
     sets: &[String],
+    reference_dir: Option<&Path>,
 ) -> anyhow::Result<()> {
     anyhow::ensure!(!runs.is_empty(), "give at least one --run LABEL=DIR");
-    let scene =
-        load_scene(scene_path, sets).with_context(|| format!("loading scene {}", scene_path.display()))?;
+    let scene = super::load_located(scene_path, sets, reference_dir, true)
+        .with_context(|| format!("loading scene {}", scene_path.display()))?;
+    if let Some(skipped) = crate::scene::skipped_references(&scene)
+        .into_iter()
+        .find(|s| s.probe == probe)
+    {
+        anyhow::bail!("{skipped}: sph compare draws runs against their reference data");
+    }
     let mut found: Vec<(String, ProbeComparison)> = Vec::new();
     for run in runs {
         let (label, dir) = run

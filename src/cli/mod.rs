@@ -25,8 +25,33 @@ use std::path::PathBuf;
 #[derive(Parser, Debug)]
 #[command(name = "sph", version, about)]
 pub struct Cli {
+    /// Directory holding the experimental reference data that scenes' probes name (their
+    /// `[probe.reference] file` is relative to it); default: the environment variable
+    /// SPH_REFERENCE_DIR. Without it, comparisons are skipped (docs/validation.md lists the
+    /// files and their public sources).
+    #[arg(long, global = true, value_name = "DIR")]
+    reference_dir: Option<PathBuf>,
     #[command(subcommand)]
     command: Command,
+}
+
+/// Loads the scene at `path` with `sets`, looks its probes' reference files up in the reference
+/// directory (`--reference-dir`, else `SPH_REFERENCE_DIR`) and prints one line per file that is
+/// not available when `warn` (the comparison is skipped, the rest goes on).
+pub(crate) fn load_located(
+    path: &std::path::Path,
+    sets: &[String],
+    reference_dir: Option<&std::path::Path>,
+    warn: bool,
+) -> Result<crate::scene::Scene, crate::scene::SceneError> {
+    let mut scene = crate::scene::load_scene(path, sets)?;
+    let dir = crate::scene::reference_dir(reference_dir);
+    for skipped in crate::scene::locate_references(&mut scene, dir.as_deref()) {
+        if warn {
+            eprintln!("warning: {skipped}");
+        }
+    }
+    Ok(scene)
 }
 
 /// Backend choice on the command line.
@@ -217,6 +242,7 @@ where
     T: Into<std::ffi::OsString> + Clone,
 {
     let cli = Cli::try_parse_from(args).unwrap_or_else(|e| e.exit());
+    let refs = cli.reference_dir.as_deref();
     match cli.command {
         Command::Run {
             scene,
@@ -235,7 +261,7 @@ where
                 every: checkpoint_every,
                 resume,
             };
-            run::run(scene.as_deref(), out, threads, backend, &sets, checkpoint)
+            run::run(scene.as_deref(), out, threads, backend, &sets, checkpoint, refs)
         }
         Command::Sweep {
             scene,
@@ -248,9 +274,9 @@ where
             if let Some(t) = end_time {
                 sets.push(format!("solver.end_time={t:e}"));
             }
-            sweep::sweep(&scene, out, threads, backend, &sets)
+            sweep::sweep(&scene, out, threads, backend, &sets, refs)
         }
-        Command::Check { scene, sets } => check::check(&scene, &sets),
+        Command::Check { scene, sets } => check::check(&scene, &sets, refs),
         Command::Plan { scene, sets } => plan::print_plan(&scene, &sets),
         Command::Surface { run_dir, radius } => surface::surface(&run_dir, radius),
         Command::Compare {
@@ -260,7 +286,7 @@ where
             out,
             t_max,
             sets,
-        } => compare::compare(&scene, &runs, &probe, &out, t_max, &sets),
+        } => compare::compare(&scene, &runs, &probe, &out, t_max, &sets, refs),
         Command::Bench {
             scene,
             backend,
@@ -285,6 +311,6 @@ where
             scene,
             sets,
             out,
-        } => plot::plot(&run_dir, out, scene.as_deref(), &sets),
+        } => plot::plot(&run_dir, out, scene.as_deref(), &sets, refs),
     }
 }

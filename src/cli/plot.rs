@@ -5,7 +5,6 @@
 //! when it is still there.
 
 use crate::charts::write_run_charts;
-use crate::scene::load_scene;
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 
@@ -15,16 +14,18 @@ pub fn plot(
     out: Option<PathBuf>,
     scene: Option<&Path>,
     sets: &[String],
+    reference_dir: Option<&Path>,
 ) -> anyhow::Result<()> {
     anyhow::ensure!(
         scene.is_some() || sets.is_empty(),
         "--set needs --scene (it overrides the scene's keys)"
     );
     let scene = match scene {
-        Some(path) => {
-            Some(load_scene(path, sets).with_context(|| format!("loading scene {}", path.display()))?)
-        }
-        None => run_scene(run_dir),
+        Some(path) => Some(
+            super::load_located(path, sets, reference_dir, true)
+                .with_context(|| format!("loading scene {}", path.display()))?,
+        ),
+        None => run_scene(run_dir, reference_dir),
     };
     let out = out.unwrap_or_else(|| run_dir.join("plots"));
     // The errors name the directory or file at fault; no further context needed.
@@ -36,10 +37,10 @@ pub fn plot(
 /// The scene the run in `run_dir` was started from, as its `summary.json` names it, if that file
 /// still loads; otherwise none (the charts are drawn without reference data, and a line says
 /// why when the file was named).
-fn run_scene(run_dir: &Path) -> Option<crate::scene::Scene> {
+fn run_scene(run_dir: &Path, reference_dir: Option<&Path>) -> Option<crate::scene::Scene> {
     let summary = crate::output::read_summary(&run_dir.join("summary.json")).ok()?;
     let file = summary.scene_file?;
-    match load_scene(&file, &summary.scene_overrides) {
+    match super::load_located(&file, &summary.scene_overrides, reference_dir, true) {
         Ok(scene) => Some(scene),
         Err(e) => {
             eprintln!(

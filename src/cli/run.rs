@@ -3,7 +3,6 @@
 use super::BackendArg;
 use crate::backend::BackendKind;
 use crate::run::{CHECKPOINT_FILE, Restart, RunOptions, RunState, run_scene};
-use crate::scene::load_scene;
 use crate::solver::checkpoint::read_header;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -49,6 +48,7 @@ pub fn run(
     backend: BackendArg,
     sets: &[String],
     checkpoint: CheckpointArgs,
+    reference_dir: Option<&Path>,
 ) -> anyhow::Result<()> {
     anyhow::ensure!(
         checkpoint.every != Some(0),
@@ -79,7 +79,8 @@ pub fn run(
         }
     };
     let path = path.as_path();
-    let scene = load_scene(path, &sets).with_context(|| format!("loading scene {}", path.display()))?;
+    let scene = super::load_located(path, &sets, reference_dir, true)
+        .with_context(|| format!("loading scene {}", path.display()))?;
     let stem = stem(path);
     // Stored absolute, so that --resume works from any folder.
     let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
@@ -198,6 +199,15 @@ pub fn run(
     if let Some(serde_json::Value::Object(errors)) = summary.extra.get("probe_errors") {
         for (name, e) in errors {
             let num = |k: &str| e.get(k).and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
+            if e.get("status").and_then(|v| v.as_str()) == Some("skipped") {
+                println!(
+                    "probe {name}: not compared with {} (reference data not available)",
+                    e.get("reference_file")
+                        .and_then(|v| v.as_str())
+                        .unwrap_or("its reference")
+                );
+                continue;
+            }
             match (e.get("error_max"), e.get("peak_N")) {
                 (Some(_), _) => println!(
                     "probe {name}: error against reference max {:.1} %, mean {:.1} %",

@@ -16,11 +16,20 @@ pub fn sweep(
     threads: Option<usize>,
     backend: BackendArg,
     sets: &[String],
+    reference_dir: Option<&Path>,
 ) -> anyhow::Result<()> {
     let sweep = Sweep::from_sets(sets)?;
-    let scenes = sweep
+    let mut scenes = sweep
         .load(path)
         .with_context(|| format!("loading scene {}", path.display()))?;
+    let dir = crate::scene::reference_dir(reference_dir);
+    for (k, scene) in scenes.iter_mut().enumerate() {
+        for skipped in crate::scene::locate_references(scene, dir.as_deref()) {
+            if k == 0 {
+                eprintln!("warning: {skipped}");
+            }
+        }
+    }
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())

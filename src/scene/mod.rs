@@ -21,6 +21,7 @@ pub use crate::boundary::motion::Sway;
 
 pub mod generate;
 pub mod overrides;
+pub mod references;
 pub mod schema;
 pub mod validate;
 
@@ -28,6 +29,10 @@ pub use generate::{
     Layout, ParticleCounts, SolidParticles, count_particles, fluid_rest_density, generate, wall_layers,
 };
 pub use overrides::apply_overrides;
+pub use references::{
+    MissingReason, REFERENCE_DIR_ENV, ReferenceLocation, SkippedReference, locate_references, reference_dir,
+    skipped_references,
+};
 pub use schema::{Effect, Integrator, ProbeKind, SceneFile, SolidShape, SolverKind};
 pub use validate::{bytes_per_particle, validate};
 
@@ -182,10 +187,11 @@ pub struct Probe {
 /// Normalised reference curves for a [`Probe`] (`[probe.reference]`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ProbeReference {
-    /// The CSV file. [`load_scene`] resolves a relative path against the scene file's
-    /// directory; [`parse_scene`] leaves it relative to the current directory. Not checked
-    /// to exist: a missing file is reported when it is read.
+    /// The CSV file as the scene names it: relative to the reference directory, or absolute
+    /// (see [`references`]).
     pub file: PathBuf,
+    /// Where the file was found, once [`locate_references`] has looked it up.
+    pub location: ReferenceLocation,
     /// Series (columns) to compare with; empty means all series of the file.
     pub series: Vec<String>,
     /// Front: length scale a \[m\] > 0 for Z = x / a and T = t sqrt(g / a); 0 for a force.
@@ -363,8 +369,8 @@ impl SceneError {
 
 /// Reads, overrides, deserializes and validates the scene file at `path`.
 ///
-/// `sets` are `KEY=VALUE` overrides (see [`apply_overrides`]). Relative probe
-/// reference files are resolved against the directory of `path`. Errors: the
+/// `sets` are `KEY=VALUE` overrides (see [`apply_overrides`]). Probe reference files are
+/// left as the scene names them ([`locate_references`] looks them up). Errors: the
 /// file is missing, a directory or unreadable ([`SceneError::Io`]); not UTF-8,
 /// bad TOML, schema mismatch or invalid values ([`SceneError::Invalid`]).
 pub fn load_scene(path: &Path, sets: &[String]) -> Result<Scene, SceneError> {
@@ -391,19 +397,12 @@ pub fn load_scene(path: &Path, sets: &[String]) -> Result<Scene, SceneError> {
             });
         }
     };
-    let mut scene = parse_scene(&text, &origin, sets)?;
-    let base = path.parent().unwrap_or(Path::new(""));
-    for reference in scene.probes.iter_mut().filter_map(|p| p.reference.as_mut()) {
-        if reference.file.is_relative() {
-            reference.file = base.join(&reference.file);
-        }
-    }
-    Ok(scene)
+    parse_scene(&text, &origin, sets)
 }
 
 /// Parses scene `text` (named `origin` in messages), applies the `sets`
-/// overrides, deserializes and validates it. Relative probe reference files
-/// stay relative (to the current directory).
+/// overrides, deserializes and validates it. Probe reference files are left as the scene
+/// names them ([`locate_references`] looks them up).
 pub fn parse_scene(text: &str, origin: &str, sets: &[String]) -> Result<Scene, SceneError> {
     let invalid = |problems: Vec<Problem>| SceneError::Invalid {
         origin: origin.to_string(),

@@ -945,6 +945,7 @@ fn check_probe(
             match (length, time_range) {
                 (Some(length), Some(time_range)) => Some(Some(ProbeReference {
                     file: PathBuf::from(&r.file),
+                    location: super::ReferenceLocation::Unlocated,
                     series,
                     length,
                     time_range,
