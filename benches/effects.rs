@@ -1,4 +1,4 @@
-//! Cost proof of the effect pipeline (issue 7): the step time of the 3D column scene with only the
+//! Cost of the effect pipeline: the step time of the 3D column scene with only the
 //! effects it needs, with each optional effect switched on, and with each of its own optional
 //! terms switched off.
 //!
@@ -21,8 +21,8 @@
 //! Each variant is built, stepped [`WARM_STEPS`] times, then `Simulation::step` is timed (ids
 //! `full_step/cpu/column_3d/<variant>`). The step is adaptive, so the variants take slightly
 //! different `dt`, which does not change the work per step. Run with
-//! `cargo bench --bench effects -- --noplot` (about 45 s on 2 cores after the build); the README's table
-//! "What an effect costs" comes from it.
+//! `cargo bench --bench effects -- --noplot` (about 45 s on 2 cores after the build); the table
+//! "What an effect costs" of docs/effects.md comes from it.
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
 use sph::scene::parse_scene;

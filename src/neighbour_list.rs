@@ -3,7 +3,7 @@
 //! no particle moves, so the pairs within `h` are found once from the grid and then visited
 //! without the grid's candidate test. In 3D the grid's `3^D` cells of side `h` hold about 216
 //! candidates per particle at `h = 2 dx`, of which about 33 (the sphere's share, 15 %) lie
-//! within `h`; the candidate test took about half of a sweep's time (`perf`, eighth session).
+//! within `h`; the candidate test takes about half of a grid sweep's time (`perf`).
 //!
 //! The list keeps the grid's visiting order and recomputes the pair offset exactly as
 //! [`Grid::for_each_neighbour`] does, so a sweep over it gives bitwise the same sums: the

@@ -36,9 +36,9 @@
 //! One ignored test reproduces a defect these properties found that is still open (robustness
 //! issue; run it with `-- --ignored`, its doc says what happens): a block at rest on a floor
 //! with no dissipation at all and a step nine times what validation accepts does not quite stay
-//! at rest. Two more that they found (a block thrown at a wall at 0.25 h/|u|, and a free block
-//! at one spacing per step, both beyond the accepted step) pass since the spiky density and the
-//! velocity solve (README "The position correction"). The solver gets no solid volumes here, so the
+//! at rest. Two more inputs they found (a block thrown at a wall at 0.25 h/|u|, and a free block
+//! at one spacing per step, both beyond the accepted step) are kept as named tests and pass
+//! (docs/method.md, "The position correction"). The solver gets no solid volumes here, so the
 //! no-penetration guard (`boundary::keep_out`) does not act: these properties test the
 //! correction and the particle boundary alone. One deterministic test gives it the guard, as a
 //! scene run has: the thrown block at the largest step validation accepts.
@@ -417,8 +417,9 @@ fn check_case<const D: usize>(case: &Case, wall_tolerance: Option<(f64, f64)>) -
 
 proptest! {
     // Random cases each local run (CI fixes the seed, `.ci/run`): failures found are kept as
-    // named tests (`block_against_walls_in_3d_found_by_ci`,
-    // `large_step_with_gravity_in_2d_found_by_seed`, `free_block_at_one_spacing_per_step_in_2d_found_by_ci`).
+    // named tests (`block_against_walls_in_3d_stays_off_the_wall_layer`,
+    // `large_step_with_gravity_in_2d_converges`,
+    // `free_block_at_one_spacing_per_step_in_2d_converges`).
     #![proptest_config(ProptestConfig { cases: 192, ..ProptestConfig::default() })]
 
     #[test]
@@ -436,14 +437,13 @@ proptest! {
     }
 }
 
-/// Found by the 3D property test (random seed) in a CI run on 2026-11-27: a 7 x 8 x 6 block at
-/// up to 0.5 m/s in a closed box; at step 2 a fluid particle passed the innermost wall layer by
-/// 8 µm (0.0016 dx). Cause: the jitter compresses the block by up to 12 %, and the first stage
-/// turned that overlap into velocity `Δx/τ` (20 m/s); fixed by the start-up settle
-/// (`Simulation::settle`). These property tests give the solver no solid volumes, so the
+/// A 3D property-test input: a 7 x 8 x 6 block at up to 0.5 m/s in a closed box. The jitter
+/// compresses the block by up to 12 %; corrected inside the first stage, that overlap would
+/// become velocity `Δx/τ` (20 m/s) and a fluid particle would pass the innermost wall layer by
+/// 8 µm (0.0016 dx) at step 2. The start-up settle (`Simulation::settle`) removes it first. These property tests give the solver no solid volumes, so the
 /// no-penetration guard (`boundary::keep_out`) does not act: they test the correction alone.
 #[test]
-fn block_against_walls_in_3d_found_by_ci() {
+fn block_against_walls_in_3d_stays_off_the_wall_layer() {
     let case = Case {
         dx: 0.005,
         block: [7, 8, 6],
@@ -472,13 +472,8 @@ fn expect_ok(result: Result<(), TestCaseError>) {
 /// converges, the compression stays below δ after every step, and the water is at rest at the
 /// end (largest speed below 5 % of sqrt(g H) = 0.07 m/s).
 ///
-/// Still fails (no viscosity and no artificial viscosity at all here), but less: every step
-/// converges and the largest speed after 0.5 s is 0.11 m/s (measured with the spiky density, the
-/// walls' increments of either sign and the velocity solve). Before them the largest speed grew
-/// from 0.01 m/s (step 2) to 0.35 m/s (step 59) and step 61 stopped with `Unconverged`; before
-/// the loop also removed the excess pressure of expanded particles it reached 7.6 m/s by step
-/// 40. With the scenes' artificial viscosity (α C = 1.75 m/s) the block ran the 0.5 s with a
-/// largest speed of 0.07 m/s (measured before the velocity solve). A scene cannot ask for this
+/// Fails (no viscosity and no artificial viscosity at all here): every step converges, but the
+/// largest speed after 0.5 s is 0.11 m/s. A scene cannot ask for this
 /// step: 5e-3 s is nine times the largest fixed step validation accepts for `corrected` with
 /// gravity here, `0.0125 sqrt(h/g)` = 0.56 ms (`sph::scene::validate::CORRECTED_GRAVITY_FACTOR`).
 #[test]
@@ -511,11 +506,9 @@ fn resting_block_with_large_step_stays_uncompressed_and_at_rest() {
 /// dx = 0.01 m, dt = 5e-3 s (half a spacing per step), SSP-RK3, δ = 1e-4, 12 steps: the
 /// correction must stop the block at the wall.
 ///
-/// Passes since the spiky density, the walls' increments of either sign and the velocity solve
-/// (with momentum 0.9; at 0.95 it still stopped unconverged). Before: at step 6 a fluid particle
-/// lay below the floor's wall layers, and with the no-penetration guard the correction stopped
-/// unconverged at step 9. 5e-3 s is `0.25 h / |u|`, which validation accepted until this was
-/// measured; it now accepts up to `0.1 h / |u|` = 2e-3 s here
+/// It needs the spiky density, the walls' increments of either sign and the velocity solve with
+/// momentum 0.9 (at 0.95 the correction stops unconverged). 5e-3 s is `0.25 h / |u|`, beyond
+/// the largest step validation accepts, `0.1 h / |u|` = 2e-3 s here
 /// (`sph::scene::validate::CORRECTED_FLOW_FACTOR`,
 /// [`block_thrown_at_a_wall_at_the_largest_accepted_step_stays_inside_with_the_guard`]).
 #[test]
@@ -575,12 +568,12 @@ fn block_thrown_at_a_wall_at_the_largest_accepted_step_stays_inside_with_the_gua
 }
 
 /// The momentum balance with walls (module doc) at 3 % of the largest impulse plus 1e-4
-/// `M |u|max`, on a case the 2D property once shrank to: dx = 5 mm, a jittered 14 × 12 block
+/// `M |u|max`, on a case the 2D property test shrank to: dx = 5 mm, a jittered 14 × 12 block
 /// thrown at up to 0.5 m/s into a closed box, dt = 3.58e-3 s, SSP-RK3, 3 steps.
 ///
-/// Regression: the correction's share of the wall force used to be evaluated from the stage's
-/// accumulated pressure at its final positions and missed the fluid's momentum change by a factor
-/// 3; it is now summed sweep by sweep at each sweep's own positions (`solver::step`).
+/// The correction's share of the wall force is summed sweep by sweep at each sweep's own
+/// positions (`solver::step`); evaluated from the stage's accumulated pressure at its final
+/// positions it would miss the fluid's momentum change by a factor 3.
 #[test]
 fn wall_impulse_balances_fluid_momentum_to_three_percent() {
     let case = Case {
@@ -680,22 +673,21 @@ fn thrown_block_momentum_balances_gravity_and_wall_impulse() {
 /// (8 × 8 × 8 block, dt = 2e-3 s, SSP-RK3): the splash runs along the ceiling and the walls and
 /// must stay off the innermost wall layer.
 ///
-/// Regression: with the loop stopping on compression alone, particles of a thin sheet sliding
-/// along the ceiling got up to 0.024 dx past the layer (uncompressed, so never pushed out).
-/// Since the loop also removes the excess pressure of expanded particles
-/// (`physics::correction::residual`) the sheet stays off the wall.
+/// With the loop stopping on compression alone, particles of a thin sheet sliding along the
+/// ceiling would get up to 0.024 dx past the layer (uncompressed, so never pushed out); the loop
+/// also removes the excess pressure of expanded particles (`physics::correction::residual`), so
+/// the sheet stays off the wall.
 #[test]
 fn splash_along_a_3d_wall_stays_off_the_wall_layer() {
     check_thrown_block::<3>(8, 2e-3, 30, Integrator::Rk3, true);
 }
 
-/// Found by the 2D property test (with the fixed seed 0x5eed0002, tried on 2026-11-27): a free
-/// 14 x 10 block under gravity at up to 0.69 m/s with a 23.6 ms step; the third stage of step 2
-/// does not converge in 2,000 sweeps (3.5e-4 left). The start-up defect of
-/// `tests/hard_cases.rs` (`rest_3d_corrected`): a large step with pressure still building.
-/// Passes since the start-up settle removes the jitter's compression before the first step.
+/// A 2D property-test input (seed 0x5eed0002): a free 14 x 10 block under gravity at up to
+/// 0.69 m/s with a 23.6 ms step, a large step with pressure still building. Without the start-up
+/// settle the third stage of step 2 does not converge in 2,000 sweeps (3.5e-4 left); the settle
+/// removes the jitter's compression before the first step.
 #[test]
-fn large_step_with_gravity_in_2d_found_by_seed() {
+fn large_step_with_gravity_in_2d_converges() {
     let case = Case {
         dx: 0.047_345_166_746_955_03,
         block: [14, 10, 10],
@@ -711,17 +703,17 @@ fn large_step_with_gravity_in_2d_found_by_seed() {
     expect_ok(check_case::<2>(&case, Some((1e-3, 1e-5))));
 }
 
-/// Found by the 2D property test (random seed) in a CI run on 2026-11-27 (fourth session): a free
-/// 13 x 14 block, no gravity, no walls, moving at up to 0.64 m/s with the largest random step,
-/// one spacing per step (dt = 65 ms at dx = 42 mm); the second stage of the first step did not
-/// converge in 2,000 sweeps (4.1e-4 left against δ = 1e-4) until the correction summed (18) with
-/// the spiky kernel its sweeps move along (README "The position correction"). That step is five times the largest
+/// A 2D property-test input: a free 13 x 14 block, no gravity, no walls, moving at up to
+/// 0.64 m/s with the largest random step, one spacing per step (dt = 65 ms at dx = 42 mm). It
+/// converges because the correction sums (18) with the spiky kernel its sweeps move along (with
+/// the poly6 sum the second stage of the first step leaves 4.1e-4 against δ = 1e-4 after 2,000
+/// sweeps; docs/method.md, "Kernels, density, pressure"). That step is five times the largest
 /// that validation accepts for such a scene, `0.1 h / |u|max` (`CORRECTED_FLOW_FACTOR`), so a
 /// scene cannot ask for it; the property test still draws steps up to one spacing to find the
 /// correction's limits. CI runs the property tests with a fixed seed (`PROPTEST_RNG_SEED` in
 /// `.ci/run`), local runs draw new cases.
 #[test]
-fn free_block_at_one_spacing_per_step_in_2d_found_by_ci() {
+fn free_block_at_one_spacing_per_step_in_2d_converges() {
     let case = Case {
         dx: 0.041_845_009_707_578_186,
         block: [13, 14, 10],

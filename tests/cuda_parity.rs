@@ -13,10 +13,10 @@
 //!   sweep moves particles by up to 0.1 dx, but near convergence by far less);
 //! - fluid density within 1e-4 ρ0 (wcsph), and for corrected 2δ ρ0 (both stop below δ in
 //!   compression) plus |Δx|/h ρ0: a free-surface particle may expand, and there the density
-//!   falls by up to ρ0 over h (measured on an H100: 2.1e-4 ρ0 with positions 7e-4 dx apart);
+//!   falls by up to ρ0 over h (measured: 2.1e-4 ρ0 with positions 7e-4 dx apart);
 //! - wall density within 1e-3 ρ0: a wall's density follows its extrapolated pressure, a ratio
 //!   of sums over its fluid neighbours that amplifies the summation-order differences where a
-//!   wall particle has few fluid neighbours (measured on an H100: up to 1.0e-4 ρ0 where the
+//!   wall particle has few fluid neighbours (measured: up to 1.0e-4 ρ0 where the
 //!   fluid stayed within 3.4e-6 ρ0);
 //! - force on each solid within 2 % of the largest force magnitude seen in the run plus 1e-3 N.
 

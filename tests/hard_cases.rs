@@ -119,15 +119,15 @@ fn rest_3d_wcsph() {
     case("rest_3d.toml", "wcsph");
 }
 
-/// Water at rest in 3D under `corrected`, the case that found the corrected solver's three
-/// repairs (README "The position correction"): with the poly6 density (18) the sweep operator
-/// `J_poly6 · G_spiky` is not symmetric and the first step's stages stalled at the 1,000-sweep
-/// cap, raising KE + PE by 0.37 % of |E0|; with wall increments clamped at zero, stages stalled
-/// one or two spacings from the side walls; and the carried pressure rang as a standing vertical
-/// wave of the column, which only the velocity solve damps. With all three the energy stays
-/// below its start plus 1e-3 |E0| (measured with the CPU backend, this test's output with
-/// `--nocapture`: at most 5.4e-4 |E0| above the start, at step 3, over 1 s; CI runs 0.5 s, the
-/// long version 2 s).
+/// Water at rest in 3D under `corrected`: the case that needs the spiky density (18), wall
+/// increments of either sign and the velocity solve (docs/method.md, "The position correction").
+/// With the poly6 density the sweep operator `J_poly6 · G_spiky` is not symmetric and the first
+/// step's stages stall at the 1,000-sweep cap, raising KE + PE by 0.37 % of |E0|; with wall
+/// increments clamped at zero, stages stall one or two spacings from the side walls; without the
+/// velocity solve the carried pressure rings as a standing vertical wave of the column. The
+/// energy stays below its start plus 1e-3 |E0| (measured with the CPU backend, this test's output
+/// with `--nocapture`: at most 5.4e-4 |E0| above the start, at step 3, over 1 s; CI runs 0.5 s,
+/// the long version 2 s).
 #[test]
 fn rest_3d_corrected() {
     case("rest_3d.toml", "corrected");
@@ -154,8 +154,8 @@ fn jet_3d_corrected() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Issue 4, the remaining cases: compressed and coincident starts, thin sheets, isolated
-// particles, viscosity extremes, a step too large for wcsph. Every case goes through
+// Compressed and coincident starts, thin sheets, isolated particles, viscosity extremes, a
+// step too large for wcsph. Every case goes through
 // `case_with` / `run_with`, which check the invariants of the module doc with the energy bound
 // given per case (`case` uses `EnergyBound::Start`).
 
@@ -165,10 +165,9 @@ enum EnergyBound {
     /// Never above the start by more than 1e-3 of its magnitude (closed scenes
     /// whose walls are fixed and whose every term dissipates or conserves). Also `corrected`
     /// from a start above `ρ0` (compressed, coincident), from its settled state (`run_with`):
-    /// measured in the eighth session, with the velocity solve, no step of the four cases ends
-    /// above the start. Until then these cases ran without a bound, since the projection turns
-    /// the compression it removes into a velocity `Δx/τ` (README, note 7) that depends on the
-    /// step `τ`, not on a stored energy.
+    /// measured, no step of the four cases ends above the start. The start itself is not the
+    /// bound, since the projection turns the compression it removes into a velocity `Δx/τ`
+    /// (PAPER.md note 7) that depends on the step `τ`, not on a stored energy.
     Start,
     /// `wcsph` from a start above `ρ0`: never above the start plus the elastic energy of the
     /// equation of state (19) in the initial densities, `Σ m C² (ln(ρ/ρ0) + ρ0/ρ − 1)` over
@@ -185,7 +184,7 @@ enum EnergyBound {
     /// `m W_poly6(0)` each, releasing `2 q m² W_poly6(0)` of elastic energy. For twins the
     /// energy released can therefore reach `W_spiky(0) / (κ W_poly6(0))` times what the equation
     /// of state stored (2.86 in 2D, 3.22 in 3D at h = 2 dx), where a consistent pair would give 1.
-    /// Measured (eighth session): 1.53 times in 2D, 1.45 in 3D.
+    /// Measured: 1.53 times in 2D, 1.45 in 3D.
     StartPlusTwinRelease,
 }
 
@@ -349,8 +348,8 @@ fn run_with<const D: usize>(scene: &Scene, mut sim: Simulation<D>, bound: Energy
         }
         trace.energy.push(e);
     }
-    // The guard is a last resort: report how often it acted (README "Hard cases"), and the
-    // largest energy above the start, as a share of |E0|, for the README's figures.
+    // The guard is a last resort: report how often it acted (docs/hard-cases.md), and the
+    // largest energy above the start, as a share of |E0|.
     let (peak_step, peak) = trace
         .energy
         .iter()
@@ -552,12 +551,9 @@ fn low_viscosity_run(file: &str, solver: &str) -> &'static Trace {
 }
 
 /// Largest share of the low-viscosity front's advance that the 10 Pa s front may reach by the
-/// end time (0.25 s, before the low-viscosity front reaches the far wall). Measured with
-/// `sph run` and a front probe: 0.52 (2D wcsph), 0.55 (2D corrected), 0.38 (3D wcsph), 0.44
-/// (3D corrected) at 10 Pa s; at 1 Pa s 0.86, 0.89, 0.76, 0.85, so the check fails if the
-/// viscous term were ten times too weak. With (17) scaled by 1/λ and no-slip walls (issue 7):
-/// 0.446, 0.464, 0.283 at 10 Pa s (this test's output; 3D corrected did not get that far).
-/// With the velocity solve (seventh session): 0.446, 0.477, 0.283, 0.338.
+/// end time (0.25 s, before the low-viscosity front reaches the far wall). Measured (this
+/// test's output): 0.446 (2D wcsph), 0.477 (2D corrected), 0.283 (3D wcsph), 0.338 (3D
+/// corrected) at 10 Pa s.
 const VISCOUS_FRONT_SHARE: f64 = 0.7;
 
 /// 10 Pa s: the invariants with energy never above its start (viscosity only dissipates), and
@@ -596,9 +592,9 @@ fn viscous_high_3d_wcsph() {
     viscous_high("viscous_high_3d.toml", "viscous_low_3d.toml", "wcsph");
 }
 
-/// The 10 Pa s dam break in 3D under `corrected`. Failed before the spiky density, the walls'
-/// increments of either sign and the velocity solve: the first steps raised the column, energy
-/// 1.04e-3 of |E0| above the start at step 2 (bound 1e-3).
+/// The 10 Pa s dam break in 3D under `corrected`. It needs the spiky density, the walls'
+/// increments of either sign and the velocity solve: without them the first steps raise the
+/// column, energy 1.04e-3 of |E0| above the start at step 2 (bound 1e-3).
 #[test]
 fn viscous_high_3d_corrected() {
     viscous_high("viscous_high_3d.toml", "viscous_low_3d.toml", "corrected");

@@ -1,4 +1,4 @@
-//! The `multiphase` effect (issue 7): two fluid phases of different rest densities
+//! The `multiphase` effect: two fluid phases of different rest densities
 //! (`physics::multiphase`, Hu & Adams 2006 number-density form).
 //!
 //! - `scenes/two_layer_2d.toml`: oil (800) on water (1000) at rest; the settled pressure follows
@@ -108,7 +108,7 @@ fn two_layer(sets: &[&str], end: f64, rho_t: f64) -> TwoLayer {
     }
 }
 
-/// Asserts (issue 7) on the two-layer tank: every slab's mean pressure within `tolerance` of the
+/// Asserts on the two-layer tank: every slab's mean pressure within `tolerance` of the
 /// bottom pressure `g (ρ_t h_t + ρ_b h_b)` = 1766 Pa of the piecewise-linear profile, and no
 /// mixing: no water particle more than 1.5 dx above the interface and no oil particle more than
 /// 1.5 dx below it (the lattice starts them 0.5 dx from it) at any sampled frame.
@@ -290,8 +290,8 @@ fn buoyant_accelerations(sets: &[&str], rhos: &[f64]) -> Vec<(f64, f64)> {
 /// beside it and below, which raise the added mass (for a cylinder midway between two walls
 /// `d` away, images give about `C_a ≈ 1 + (π²/3)(R/d)²`, 1.13 here before the floor's share;
 /// with `C_a` = 1.2 the estimate is 2.89 and 3.07 m/s², 0.88 and 0.94 of the unbounded one).
-/// This was "−2 % and −38 %" in the third session, fitted from t = 0 without the control, which
-/// the release transient and the sloshing tank moved. The 15 % target is
+/// Fitted from t = 0 without the control, the release transient and the sloshing tank would
+/// move the result. The 15 % target is
 /// [`disc_accelerates_as_buoyancy_with_added_mass_within_15_percent`].
 #[test]
 fn light_disc_rises_and_heavy_disc_sinks_wcsph() {
@@ -333,7 +333,7 @@ fn light_disc_rises_and_heavy_disc_sinks_corrected() {
     }
 }
 
-/// The target of issue 7's buoyancy test: the early acceleration within 15 % of the unbounded,
+/// The buoyancy target: the early acceleration within 15 % of the unbounded,
 /// inviscid estimate for both discs, at the scene's μ = 1 Pa s and at 0.1 Pa s.
 ///
 /// Ignored: the estimate is not this tank's. Measured (fit over [`FIT`], control subtracted):

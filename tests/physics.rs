@@ -22,7 +22,7 @@ impl Rng {
 
 /// `scenes/hydrostatic_2d.toml`: water H = 0.5 m deep at rest in a 1 m wide tank, run for 5 s.
 ///
-/// Asserts (issue 2):
+/// Asserts:
 /// - the floor's mean pressure (vertical force on the floor / tank width, averaged over
 ///   4 s ≤ t ≤ 5 s) is within 2 % of ρ0 g H;
 /// - after the start-up the water stays at rest: the largest fluid speed for 3 s ≤ t ≤ 5 s is
@@ -277,7 +277,7 @@ fn free_falling_block_follows_g_t() {
     );
 }
 
-/// The README's reproducibility claim: the CPU backend gives bitwise identical states for any
+/// Reproducibility (docs/method.md): the CPU backend gives bitwise identical states for any
 /// thread count (gathers only; global sums in fixed chunks). Run on the shipped dam break
 /// (corrected solver: the correction's sweeps and reductions included), 100 steps.
 #[test]

@@ -13,19 +13,19 @@
 //! t = 0.02, 0.05, 0.1, 0.2 and 0.6 s (t ν/L² the same numbers; at 0.6 the series is within
 //! 0.3 % of the steady parabola).
 //!
-//! Result (measured; README "Viscosity: what the Poiseuille test shows"): with the two fixes
-//! below, the paper's Laplacian viscosity (17) follows the series within the 5 % target: worst
+//! Result (measured; docs/validation.md, "Poiseuille flow"): with the two measures below, the
+//! paper's Laplacian viscosity (17) follows the series within the 5 % target: worst
 //! bin 0.22, 0.23, 0.24, 0.48 and 0.91 % of u0 at t = 0.02, 0.05, 0.1, 0.2 and 0.6 s (L = 20 dx,
-//! h = 2 dx); at L = 40 dx (h = 2 dx) 0.06, 0.06, 0.07, 0.34 and 0.73 %. Without them the error grew to
-//! 29 % of u0 at the steady state (centreline 1.29 u0), from two causes:
+//! h = 2 dx); at L = 40 dx (h = 2 dx) 0.06, 0.06, 0.07, 0.34 and 0.73 %. Without them the error
+//! grows to 29 % of u0 at the steady state (centreline 1.29 u0), from two causes:
 //! - the SPH Laplacian of (17) on the lattice at h = 2 dx is λ = 0.85 of the true one (the
 //!   second moment `Σ_j V_j r² ∇²W / (2D)`; 0.95 at h = 3 dx, 0.98 at 4 dx), so the fluid
-//!   felt ν λ and the parabola's curvature was 1/λ = 1.17 times the series'. Fix: (17) is
+//!   would feel ν λ and the parabola's curvature would be 1/λ = 1.17 times the series'. So (17) is
 //!   divided by λ computed on the initial lattice (`physics::lattice::lattice_laplacian_moment`,
 //!   `StepParams::viscosity_scale`), as the pressure force (16) is divided by κ;
 //! - wall particles carrying zero velocity are not a no-slip condition at the wall face: the
-//!   fluid slipped with a slip length b ≈ h/4 (fitted 0.30 h; 0.27 h at h = 2 dx and 0.24 h at
-//!   h = 4 dx with μ/λ), a uniform 4b/L ≈ 0.12 u0 on top of the profile. Fix: Adami, Hu & Adams
+//!   fluid slips with a slip length b ≈ h/4 (fitted 0.30 h; 0.27 h at h = 2 dx and 0.24 h at
+//!   h = 4 dx with μ/λ), a uniform 4b/L ≈ 0.12 u0 on top of the profile. So, after Adami, Hu & Adams
 //!   (2012) eqs. (22)–(23), the wall particles carry `2 u_wall − ũ` in (17), ũ the Shepard
 //!   average of the fluid velocity around them (`boundary::wall_velocity`, stage
 //!   `wall_velocity`).
@@ -56,7 +56,7 @@ const SECTION_CENTRE: f64 = 0.3;
 /// Times [s] at which the profile is compared (t ν/L² the same numbers).
 const TIMES: [f64; 5] = [0.02, 0.05, 0.1, 0.2, 0.6];
 /// The target: largest |u_SPH − u_series| in a bin, as a fraction of the steady centreline
-/// speed u0 (the brief of issue 7).
+/// speed u0.
 const TARGET: f64 = 0.05;
 
 /// The shipped scene, with `sets` applied.
@@ -196,7 +196,7 @@ fn errors(sets: &[&str]) -> Vec<(f64, f64)> {
     errors
 }
 
-/// The issue's target at the shipped resolution, L = 20 dx, h = 2 dx (measured: at most 0.91 %
+/// The target at the shipped resolution, L = 20 dx, h = 2 dx (measured: at most 0.91 %
 /// of u0, at t = 0.6 s).
 #[test]
 fn start_up_profile_follows_the_series_within_5_percent_of_u0() {

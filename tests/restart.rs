@@ -152,7 +152,7 @@ fn resume_refuses_a_folder_without_a_checkpoint_and_extra_arguments() {
     std::fs::remove_dir_all(&empty).ok();
 }
 
-/// The guards of `sph run` (issue 4, item 3): a block thrown at 5 m/s out of a domain with no
+/// The guards of `sph run`: a block thrown at 5 m/s out of a domain with no
 /// walls stops the run with a one-line error naming the step, the time, the particle and its
 /// position; `summary.json` says `failed` with the same message; every frame listed and the last
 /// checkpoint are whole, and the checkpoint holds a state from before the failing step, from

@@ -1,4 +1,4 @@
-//! The `rotating_frame` effect (issue 7): water at rest in a rotating tank.
+//! The `rotating_frame` effect: water at rest in a rotating tank.
 //!
 //! `scenes/rotating_tank_2d.toml` is a vertical slice through the axis of a tank of half-width
 //! R = 0.2 m turning at Ω = 7 rad/s about its vertical centre line (`physics::rotating_frame`:
@@ -72,7 +72,7 @@ fn worst_distance_from_parabola(surface: &[(f64, f64)], curvature: f64) -> f64 {
 /// ν = 0.02 m²/s), run for 4 s. The water starts flat and at rest in the rotating frame and
 /// sloshes outward; the sloshing (first mode, period 0.75 s) is damped by t ≈ 2.5 s.
 ///
-/// Asserts (issue 7), at every 0.1 s frame for 3 s ≤ t ≤ 4 s, with the surface measured per
+/// Asserts, at every 0.1 s frame for 3 s ≤ t ≤ 4 s, with the surface measured per
 /// column 2 dx wide (one `h`: a column one `dx` wide sometimes misses the top layer's particle
 /// on the staggered surface and reads a spacing low):
 /// - the rise of the least-squares parabola `a + b x²` over the half-width, `b R²`, is within

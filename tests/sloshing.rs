@@ -1,4 +1,4 @@
-//! Violent sloshing (issue 4, hard cases): a closed tank swayed at its first natural period
+//! Violent sloshing (hard cases): a closed tank swayed at its first natural period
 //! (`scenes/hard/sloshing_2d.toml`, `sloshing_3d.toml`), with `wcsph` and `corrected`, checked
 //! after every step:
 //! - the step succeeds: every field finite and every fluid particle inside the domain (the
@@ -26,7 +26,7 @@ use sph::solver::Simulation;
 use std::path::Path;
 
 /// The scene file of `scenes/hard/` with the solver `solver`; for `corrected` a cap of 1,000
-/// sweeps per stage (as `tests/hard_cases.rs`) and δ = 1e-3, the README's recommended tolerance
+/// sweeps per stage (as `tests/hard_cases.rs`) and δ = 1e-3, the recommended tolerance
 /// (it buys most of the accuracy of 1e-4 at a quarter of the sweeps, which keeps the run short).
 fn scene(file: &str, solver: &str) -> Scene {
     let path = format!("{}/scenes/hard/{file}", env!("CARGO_MANIFEST_DIR"));
@@ -192,8 +192,7 @@ fn second_period_end(scene: &Scene) -> f64 {
 /// twice that of the tank's own sway, `½ (|A| ω)²/2` (at resonance the sloshing carries more
 /// than the rigid motion; measured 7–11 times), and, where the same tank's run at rest is given
 /// (`rest_kinetic`, its largest value in that period [J/kg]; the long version), at least 20
-/// times that (measured 440–8,660 times in the ninth session; 56 times for `corrected` in 2D
-/// before the velocity solve, when its resting tank kept ~0.07 m/s). And the horizontal force on the
+/// times that (measured 440–8,660 times). And the horizontal force on the
 /// tank oscillates at the forcing frequency (the largest spectral amplitude over 0.4–2.5 ω lies
 /// within 10 % of ω) with at least half the amplitude `M |A| ω²` that the fluid's mass alone,
 /// carried rigidly, would need.

@@ -1,4 +1,4 @@
-//! The `surface_tension` effect (issue 7), both models, with their constants calibrated so that
+//! The `surface_tension` effect, both models, with their constants calibrated so that
 //! the scene's `σ` is the model's surface tension on a flat face of the lattice:
 //!
 //! - `surface_stress` (the default, `physics::surface_stress`): the capillary stress
@@ -267,7 +267,7 @@ fn run_droplet(sets: &[&str], average: f64) -> Droplet {
 /// The `--set` that selects [AAT13]'s model instead of the default surface stress.
 const AKINCI: &str = "fluid.surface_tension_model=\"akinci\"";
 
-/// Issue 7: the square relaxes to a circle. `scenes/droplet_2d.toml` (surface stress) to t = 1 s
+/// The square relaxes to a circle. `scenes/droplet_2d.toml` (surface stress) to t = 1 s
 /// (six times the relaxation time μR/σ): the outermost particle radius over 24 angular sectors
 /// varies by `(max − min)/mean` = 0.32 on the square (corners at `√2` times the side's
 /// half-width) and must fall below one spacing over the radius, `dx/R` = 0.089, the roughness of
@@ -308,7 +308,7 @@ fn square_droplet_relaxes_to_a_circle_of_the_same_area() {
     );
 }
 
-/// Issue 7: the Laplace jump. The mechanical pressure of the core (within R/2 of the centre,
+/// The Laplace jump. The mechanical pressure of the core (within R/2 of the centre,
 /// averaged over t = 1.5–2 s) of the surface-stress drop against `σ/R` for σ = 0.072 and
 /// 0.144 N/m, within 10 % each; and Laplace's dependence on σ: the second over the first is 2
 /// within 10 %.
@@ -373,9 +373,8 @@ fn akinci_square_droplet_relaxes_to_a_circle() {
 
 /// [AAT13]'s model: the Laplace jump within 10 % and linear in σ, as the test above.
 ///
-/// Ignored: measured 1.32 σ/R (σ = 0.072 N/m) and 1.42 σ/R (0.144 N/m) before the viscous force
-/// took the lattice factor 1/λ, and since then 0.58–1.02 σ/R for μ = 0.8–1.1 Pa s at
-/// 0.072 N/m and 1.26 σ/R at 0.144 N/m (ratio 4.19 at μ = 1). The core's mechanical pressure is
+/// Ignored: measured 0.58–1.02 σ/R for μ = 0.8–1.1 Pa s at 0.072 N/m and 1.26 σ/R at
+/// 0.144 N/m (ratio 4.19 at μ = 1). The core's mechanical pressure is
 /// the small difference of two bulk terms 27 times σ/R (the EOS pressure `P0` and the
 /// cohesion's virial), so a 1 % change in the local stress of the jammed packing moves it by
 /// 0.3 σ/R: the packing the drop jams in, not σ, sets it. This is why the surface stress is the
@@ -496,8 +495,8 @@ fn a_restart_with_surface_tension_is_bit_identical() {
     assert_eq!(sim.clock(), restored.clock());
 }
 
-/// A scene without the effect never allocates the normals (issue 7: a field no stage needs is
-/// not allocated) and has neither stage in its plan.
+/// A scene without the effect never allocates the normals (a field no stage needs is not
+/// allocated) and has neither stage in its plan.
 #[test]
 fn without_the_effect_there_is_no_normal_field() {
     let scene = load_scene(Path::new("scenes/hydrostatic_2d.toml"), &[]).expect("shipped scene");

@@ -1,6 +1,6 @@
 //! Parameters passed to every stage: the DualSPHysics `StInterParms` idea, one small struct
-//! instead of loose arguments. `#[repr(C)]` so the CUDA backend can mirror it in
-//! `kernels/params.cuh`.
+//! instead of loose arguments. `#[repr(C)]` so the CUDA backend can mirror it: `StepParams` in
+//! `kernels/sph.cuh`.
 
 use crate::math::{Real, Vector};
 use crate::smoothing::Smoothing;

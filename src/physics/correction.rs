@@ -13,13 +13,11 @@ use crate::math::Real;
 /// Why: a sweep is a Jacobi iteration, which removes a uniform compression of a tall column only
 /// by diffusing it from the surface, at a rate that falls with the square of the column's
 /// height in particles. On the 2D dam break (50 layers, `ω = 0.5`) plain sweeps hit a 200
-/// iteration cap in most stages at `δ = 1e-4`; with `β = 0.95` every stage converged, in 60
-/// sweeps on average (`β = 0.9`: a few stages missed the cap; `β = 0.97`: 78 sweeps), measured
-/// when the loop stopped on compression alone; with the residual below, 68. The momentum is
-/// reset after every re-sort and at the start of every stage.
-/// Since the spiky density and the velocity solve (`solver::step`), 0.9: with 0.95 the
-/// two-layer tank's carried pressure settled 3.8 % of the bottom pressure high (limit 3 %),
-/// with 0.9 1.5 % low, and the block thrown at a wall at 0.25 h/|u| stayed inside (`tests/correction.rs`).
+/// iteration cap in most stages at `δ = 1e-4`. With the spiky density and the velocity solve
+/// (`solver::step`), `β = 0.9`: at 0.95 the two-layer tank's carried pressure settles 3.8 % of
+/// the bottom pressure high (limit 3 %), at 0.9 1.5 % low, and the block thrown at a wall at
+/// 0.25 h/|u| stays inside (`tests/correction.rs`). The momentum is reset after every re-sort and
+/// at the start of every stage.
 pub const MOMENTUM: Real = 0.9;
 
 /// Pressure increment [Pa] of one correction sweep for a fluid particle with summed density

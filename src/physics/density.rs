@@ -58,11 +58,11 @@ pub const SURFACE_DENSITY_RATIO: Real = 0.98;
 /// The density [kg/m³] from which the velocity solve (`solver::step`) predicts `ρ* = base +
 /// τ dρ/dt`, given the particle's density (18) `rho` after the position correction and its rest
 /// density `rho0` [kg/m³]. Inside the fluid, `ρ0`: every compression counts, which makes the
-/// interior's velocity divergence-free and damps the column's standing wave (README, "The
-/// position correction"). At the free surface (`rho < SURFACE_DENSITY_RATIO ρ0`), its own
+/// interior's velocity divergence-free and damps the column's standing wave (docs/method.md,
+/// "The velocity solve"). At the free surface (`rho < SURFACE_DENSITY_RATIO ρ0`), its own
 /// density: a surface particle may close up until its sum reaches ρ0. With `ρ0` there too, the
-/// 2D dam-break front ran 11.1 % ahead of the experiment, against 5.3 % with this rule (README
-/// "The position correction" has the other rules tried). Twin of `velocity_solve_base` in
+/// 2D dam-break front runs 11.1 % ahead of the experiment, against 5.6 % with this rule. Twin
+/// of `velocity_solve_base` in
 /// `kernels/sph.cuh`.
 #[inline(always)]
 pub fn velocity_solve_base(rho: Real, rho0: Real) -> Real {

@@ -116,8 +116,7 @@ pub fn surface_tension_acceleration<const D: usize>(
 ///
 /// Not included: the pressure (16) and viscous forces (the pressure of the relaxed interface is
 /// not known before a run), and the relaxation of the surface layers (tests/surface_tension.rs
-/// measures what that leaves: the drops' jump was 1.32–1.42 σ/R, and 0.58–1.26 σ/R since the
-/// viscous force took its lattice factor).
+/// measures what that leaves: the drops' jump is 0.58–1.26 σ/R).
 ///
 /// Caveat: the curvature term has no kernel weight, so it jumps at `r = h`; a lattice offset at
 /// exactly `h` counts when `r < h` holds in the arithmetic used. At `h = 2 dx` with `h` an f32

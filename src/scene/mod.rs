@@ -76,8 +76,8 @@ pub struct Scene {
     /// Surface tension `σ` \[N/m\] (2D: per unit depth); `Some` iff [`Effect::SurfaceTension`]
     /// is on.
     pub surface_tension: Option<f64>,
-    /// The surface-tension model (`fluid.surface_tension_model`, default CSF); meaningful only
-    /// with [`Effect::SurfaceTension`].
+    /// The surface-tension model (`fluid.surface_tension_model`, default `surface_stress`);
+    /// meaningful only with [`Effect::SurfaceTension`].
     pub surface_tension_model: crate::backend::SurfaceTensionModel,
     /// Initial fluid blocks, in file order (non-empty, non-overlapping).
     pub fluid_boxes: Vec<FluidBox>,

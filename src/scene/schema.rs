@@ -199,7 +199,7 @@ pub struct FluidFile {
     /// Surface tension σ \[N/m\] (2D: per unit depth), > 0; required iff the `surface_tension`
     /// effect is on.
     pub surface_tension: Option<f64>,
-    /// The surface-tension model, `"csf"` (default) or `"akinci"`; only with the
+    /// The surface-tension model, `"surface_stress"` (default) or `"akinci"`; only with the
     /// `surface_tension` effect.
     pub surface_tension_model: Option<crate::backend::SurfaceTensionModel>,
 }

@@ -1,5 +1,5 @@
 //! Checkpoints: the whole state a step depends on, written atomically and read back so that a
-//! restarted run continues bit for bit (issue "hard cases": checkpoint and restart).
+//! restarted run continues bit for bit.
 //!
 //! A step depends on the fields (positions, velocities, the last accelerations for the time
 //! step, densities, the pressures the `corrected` solver carries, masses, kinds, ids, in their

@@ -1,7 +1,7 @@
 //! The step driver, the only one: walks the plan once per integrator stage and calls the
 //! backend, stage by stage, in the order of the paper's algorithm (sections 1 and 2).
 //!
-//! Decisions for the `corrected` solver (PAPER.md notes 5–8, README "The position correction"):
+//! Decisions for the `corrected` solver (PAPER.md notes 5–8, docs/method.md, "The position correction"):
 //! - Integrator: SSP-RK3 in Shu–Osher form; the correction (23)–(24) runs after every stage, on
 //!   the stage's state, which lies at `t^n + τ` with `τ = dt, dt/2, dt`.
 //! - Eq. (23) with `dt → τ`, and the velocity follows the move as in a pressure projection:
@@ -316,7 +316,7 @@ impl<const D: usize> Simulation<D> {
     /// (a divergence-free projection, as DFSPH's). The pressure keeps only what the solve
     /// released. Given up, with velocity and pressure restored, when the residual doubles or
     /// after `VELOCITY_SOLVE_CAP` sweeps. Adds the walls' share to `solid_force` [N], as the
-    /// position sweeps do. README "The velocity solve" says why each choice.
+    /// position sweeps do. docs/method.md, "The velocity solve", says why each choice.
     #[allow(clippy::too_many_arguments)]
     fn solve_velocities(
         &mut self,

@@ -13,7 +13,7 @@
 //! cut it, and the step records the limit that did. Validation already refuses a `wcsph` step
 //! above `h / C`; the flow speed can only add to `C` at run time. This holds for `wcsph` only:
 //! the corrected solver (passed here without a sound speed) keeps its fixed step, whose largest
-//! stable value is a property of the correction (issue 4 treats it separately).
+//! stable value is a property of the correction (`scene::validate::corrected_step_bound`).
 
 /// Which criterion limited a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
