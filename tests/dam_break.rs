@@ -41,6 +41,12 @@ fn corrected_dam_break_front_within_8_percent_of_martin_moyce() {
     let front = &e["probe_errors"]["front"];
     let points = front["points"].as_u64().expect("front compared");
     let max = front["error_max"].as_f64().expect("error");
+    let mean = front["error_mean"].as_f64().expect("error");
+    eprintln!(
+        "front against Martin & Moyce: max {:.1} %, mean {:.1} % over {points} points",
+        100.0 * max,
+        100.0 * mean
+    );
     assert!(points >= 18, "only {points} reference points in 1 <= T <= 3");
     assert!(
         max < 0.08,

@@ -93,3 +93,20 @@ fn column_force_peaks_match_sources_md() {
         );
     }
 }
+
+mod readme_commands;
+
+/// The README's commands that need the reference data run as written, with
+/// `SPH_REFERENCE_DIR` set: their runs compare the front with Martin & Moyce's data.
+#[test]
+fn readme_reference_commands_run_as_written() {
+    use readme_commands::{Needs, readme_blocks, run_block, scratch};
+    let dir = scratch("reference");
+    let reference = reference_data::reference_dir();
+    let mut ran = 0;
+    for block in readme_blocks().iter().filter(|b| b.needs == Needs::ReferenceData) {
+        ran += run_block(block, &dir, Some(&reference));
+    }
+    assert!(ran >= 1, "the README shows no command with reference data");
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}

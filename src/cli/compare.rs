@@ -1,7 +1,7 @@
 //! `sph compare SCENE --run LABEL=DIR ... --probe NAME --out FIG.png`: one probe of several
 //! finished runs (their `probes.csv`) on one figure with the scene's reference data, and each
 //! run's error or force peak printed. For comparing resolutions, solvers or backends after the
-//! fact (the README's Yeh & Petroff figure).
+//! fact (the Yeh & Petroff figure of docs/validation.md).
 
 use crate::output::plot::write_png;
 use crate::probe::{ProbeComparison, front_figure};

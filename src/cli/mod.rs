@@ -211,7 +211,7 @@ enum Command {
         /// Output directory of a finished `sph run` (holds summary.json and particles.pvd).
         run_dir: PathBuf,
         /// Support radius R of eq. (25) in particle spacings (smaller: sharper edges and
-        /// corners, bumpier curved surfaces; see the README's "Free surface").
+        /// corners, bumpier curved surfaces; see docs/free-surface.md).
         #[arg(long, value_name = "R", default_value_t = crate::surface::DEFAULT_RADIUS)]
         radius: f64,
     },

@@ -43,7 +43,7 @@ impl RawProblem {
 /// the velocity solve's saved velocity, pressure and density (`dim + 2` values).
 /// Measured with `sph run scenes/dam_break_column_3d.toml --end-time 0.02`: 110 bytes per
 /// particle with `wcsph`; with `--set solver.kind=corrected --end-time 0.04`, 215
-/// (`summary.json`, `extra.memory_bytes_per_particle`; 185 before the velocity solve); the
+/// (`summary.json`, `extra.memory_bytes_per_particle`); the
 /// margin covers frame output.
 pub fn bytes_per_particle(dim: usize) -> u64 {
     let dim = u64::try_from(dim).unwrap_or(u64::MAX);
@@ -565,7 +565,7 @@ fn check_acoustic_step(c: &mut Checker, sp: &KeyPath, dt: f64, kind: SolverKind,
 }
 
 /// Factor `k_g` of the gravity bound `k_g sqrt(h / |g|)` on a fixed `corrected` step. Measured
-/// (README "Hard cases") as the largest fixed step that keeps every hard-case invariant, over
+/// (docs/hard-cases.md) as the largest fixed step that keeps every hard-case invariant, over
 /// `sqrt(h/|g|)`: `viscous_low_3d.toml` passes at 0.85 ms and fails the energy bound at 1 ms
 /// (h = 0.04 m: 0.0133 and 0.0157); `large_dt_3d.toml` 2.5 ms (0.039), `large_dt_2d.toml`
 /// 2.5 ms (h = 0.02 m: 0.055), `rest_2d.toml` 3.5 ms (0.078), `viscous_low_2d.toml` at least
