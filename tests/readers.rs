@@ -420,3 +420,35 @@ fn dam_break_2d_frames_and_surfaces_are_read_by_vtkio() {
 fn dam_break_3d_frames_and_surfaces_are_read_by_vtkio() {
     runs_are_read_by_vtkio(3);
 }
+
+/// `sph check` on the 2D dam break with `output` in `[output]`: (success, stderr).
+fn check_scene(output: &str, name: &str) -> (bool, String) {
+    let dir = scratch(name);
+    let done = Command::new(BIN)
+        .arg("check")
+        .arg(dam_break(&dir, 2, output))
+        .output()
+        .expect("sph check starts");
+    std::fs::remove_dir_all(&dir).ok();
+    (
+        done.status.success(),
+        String::from_utf8_lossy(&done.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn output_encoding_takes_zlib_base64_or_raw_and_names_them_when_wrong() {
+    for encoding in Encoding::ALL {
+        let (ok, err) = check_scene(&format!("encoding = \"{}\"", encoding.name()), encoding.name());
+        assert!(ok, "{err}");
+    }
+    let (ok, err) = check_scene("encoding = \"gzip\"", "gzip");
+    assert!(!ok);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    for part in ["output.encoding", "gzip", "`zlib`, `base64`, `raw`"] {
+        assert!(err.contains(part), "{part} in {err}");
+    }
+    let (ok, err) = check_scene("fluid_only = \"yes\"", "fluid_only");
+    assert!(!ok);
+    assert!(err.contains("output.fluid_only"), "{err}");
+}

