@@ -279,11 +279,15 @@ fn by_id(read: &Read) -> (HashMap<u32, [f32; 3]>, f64) {
     (map, speed)
 }
 
+/// What one frame leaves for the next: time [s], positions by id [m], largest speed [m/s], ids
+/// in storage order.
+type Previous = (f64, HashMap<u32, [f32; 3]>, f64, Vec<u32>);
+
 /// Checks the base64 run in `out` through vtkio and compares it with the zlib run in `zlib`.
 fn check_run(out: &Path, zlib: &Path, dimension: usize) {
     let frames = PvdSeries::read(&out.join("particles.pvd")).expect("particles.pvd");
     assert_eq!(frames.len(), 5, "frames at 0, T/4, ..., T");
-    let mut previous: Option<(f64, HashMap<u32, [f32; 3]>, f64, Vec<u32>)> = None;
+    let mut previous: Option<Previous> = None;
     let mut reordered = false;
     for (t, file) in frames.entries() {
         let read = read_with_vtkio(&out.join(file));

@@ -1,5 +1,6 @@
 //! How the binary arrays of the VTK XML files (`.vtu` frames, `.vtp` surfaces) are stored in
-//! their `<AppendedData>` section, written by [`AppendedWriter`] and read back by [`read_block`].
+//! their `<AppendedData>` section, as [`super::vtu::write_vtu`] and [`super::vtp::write_vtp`] write
+//! them and [`super::vtu::read_vtu`] and [`super::vtp::read_vtp`] read them back.
 //!
 //! The block layouts follow VTK's XML file format ("VTK File Formats", VTK User's Guide,
 //! section "Serial XML File Formats", and `vtkXMLDataParser`); all integers little-endian,
@@ -19,7 +20,7 @@
 //! Which readers take which encoding: ParaView/VTK and meshio read all three; `vtkio` 0.7 (the
 //! reader of splashsurf 0.14) reads only `base64` appended data (its `raw` variant is not
 //! compiled in). `base64` is written uncompressed, with the byte count and the data in one
-//! base64 stream, which is the layout `vtkio` decodes; [`read_block`] also reads VTK's other
+//! base64 stream, which is the layout `vtkio` decodes; the readers also take VTK's other
 //! layouts (a separately encoded byte count; base64 of compressed blocks).
 
 use std::io::Read;
