@@ -14,10 +14,12 @@
 
 pub mod csv;
 pub mod encoding;
+pub mod frame;
 pub mod plot;
 pub mod pvd;
 pub mod summary;
 pub mod surface_series;
+pub mod vtk_type;
 pub mod vtp;
 pub mod vtu;
 mod xml;
