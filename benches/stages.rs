@@ -44,6 +44,7 @@ use criterion::{
 use sph::backend::cpu::CpuBackend;
 use sph::backend::{Backend, ForceTerms, SolidForceSource, WallModel};
 use sph::fields::Fields;
+use sph::output::Encoding;
 use sph::output::vtu::{Frame, write_vtu};
 use sph::physics::lattice::{correction_stiffness, lattice_gradient_moment};
 use sph::scene::load_scene;
@@ -299,8 +300,8 @@ fn rk_stage<const D: usize>(group: &mut BenchmarkGroup<WallTime>, p: &Prepared<D
     });
 }
 
-/// `write_frame`: one `.vtu` frame (positions, velocity, density, pressure, kind of every
-/// particle), as `sph run` writes them, overwritten in a temporary folder each iteration.
+/// `write_frame`: one `.vtu` frame (positions, velocity, density, pressure, kind, id of every
+/// particle, zlib-compressed), as `sph run` writes them by default, overwritten in a temporary folder each iteration.
 fn write_frame<const D: usize>(group: &mut BenchmarkGroup<WallTime>, p: &Prepared<D>, dir: &Path) {
     group.throughput(Throughput::Elements(p.len() as u64));
     let f = &p.fields;
@@ -311,10 +312,11 @@ fn write_frame<const D: usize>(group: &mut BenchmarkGroup<WallTime>, p: &Prepare
         density: &f.density,
         pressure: &f.pressure,
         kind: &f.kind,
+        id: &f.id,
     };
     let path = dir.join(format!("{}.vtu", p.label));
     group.bench_function(p.id(), |b| {
-        b.iter(|| write_vtu(&path, &frame).expect("the temporary folder is writable"));
+        b.iter(|| write_vtu(&path, &frame, Encoding::default()).expect("the temporary folder is writable"));
     });
 }
 

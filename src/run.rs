@@ -2,11 +2,13 @@
 //!
 //! Output directory layout: `summary.json`, `forces.csv` (one row per solid per step),
 //! `steps.csv` (one row per step: time, dt, the criterion that limited it, extremes),
-//! `particles.pvd` and `frames/frame_NNNNN.vtu`; with `[output] surface = true` also
-//! `surface.pvd` and `surface/surface_NNNNN.{vtp,ply}` (the free surface of eq. (25) at each frame
-//! time, [`crate::output::surface_series`]). The `.pvd` is rewritten after every frame and
-//! every file is written to a temporary name and renamed, so a run that stops (error or kill)
-//! leaves every frame written so far readable; on a step error `summary.json` records it.
+//! `particles.pvd` and `frames/frame_NNNNN.vtu` (every particle with its stable `id`, or only the
+//! fluid with `[output] fluid_only = true`; arrays stored as `[output] encoding` says); with
+//! `[output] surface = true` also `surface.pvd` and `surface/surface_NNNNN.vtp` (the free surface
+//! of eq. (25) at each frame time, [`crate::output::surface_series`]). The `.pvd` is rewritten
+//! after every frame and every file is written to a temporary name and renamed, so a run that
+//! stops (error or kill) leaves every frame written so far readable; on a step error
+//! `summary.json` records it.
 
 use crate::backend::{BackendKind, cuda};
 use crate::boundary::keep_out::KeepOutBox;
@@ -15,7 +17,7 @@ use crate::math::{Real, Vector};
 use crate::output::surface_series::{SurfaceOutputError, SurfaceSeries};
 use crate::output::vtu::Frame;
 use crate::output::{
-    CsvTable, CsvValue, ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu,
+    CsvTable, CsvValue, Encoding, ForceLog, OutputError, PvdSeries, Summary, write_summary, write_vtu,
 };
 use crate::probe::{ProbeLog, compare, write_figures};
 use crate::scene::{Effect, Scene, SceneError, SolidShape, SolverKind, generate};
@@ -266,6 +268,10 @@ pub fn run_scene(
 struct Writers {
     dir: PathBuf,
     pvd: PvdSeries,
+    /// Storage of the frames' and surfaces' arrays (`[output] encoding`).
+    encoding: Encoding,
+    /// Frames hold only the fluid particles (`[output] fluid_only`).
+    fluid_only: bool,
     forces: Option<ForceLog>,
     /// `steps.csv`: one row per step, the step and the criterion that limited it.
     steps: CsvTable,
@@ -283,7 +289,10 @@ fn surface_series<const D: usize>(
         return Ok(None);
     }
     let params = SurfaceParams::with_radius::<D>(scene.spacing, scene.surface_radius);
-    Ok(Some((SurfaceSeries::resume(dir, entries)?, params)))
+    Ok(Some((
+        SurfaceSeries::resume(dir, entries, scene.output_encoding)?,
+        params,
+    )))
 }
 
 /// Columns of `steps.csv`.
@@ -323,6 +332,8 @@ impl Writers {
         Ok(Self {
             dir: dir.to_path_buf(),
             pvd,
+            encoding: scene.output_encoding,
+            fluid_only: scene.fluid_only,
             forces,
             steps,
             surface: surface_series::<D>(dir, scene, &state.surfaces)?,
@@ -339,6 +350,8 @@ impl Writers {
         Ok(Self {
             dir: dir.to_path_buf(),
             pvd: PvdSeries::new(),
+            encoding: scene.output_encoding,
+            fluid_only: scene.fluid_only,
             forces,
             steps: CsvTable::create(&dir.join("steps.csv"), &STEP_COLUMNS)?,
             surface: surface_series::<D>(dir, scene, &[])?,
@@ -373,8 +386,14 @@ impl Writers {
             density: &f.density,
             pressure: &f.pressure,
             kind: &f.kind,
+            id: &f.id,
         };
-        write_vtu(&self.dir.join(&name), &frame)?;
+        let path = self.dir.join(&name);
+        if self.fluid_only {
+            write_vtu(&path, &frame.fluid().frame(), self.encoding)?;
+        } else {
+            write_vtu(&path, &frame, self.encoding)?;
+        }
         self.pvd.push(time, name);
         Ok(self.pvd.write(&self.dir.join("particles.pvd"))?)
     }

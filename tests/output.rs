@@ -1,7 +1,7 @@
 //! Integration tests for the output module.
 
 use sph::output::{
-    ForceLog, Frame, OutputError, PvdSeries, Summary, VtkType, VtuSection, read_summary, read_vtu,
+    Encoding, ForceLog, Frame, OutputError, PvdSeries, Summary, VtkType, VtuSection, read_summary, read_vtu,
     read_vtu_header, read_vtu_points, write_summary, write_vtu,
 };
 
@@ -32,6 +32,7 @@ struct Particles<const D: usize> {
     density: Vec<f32>,
     pressure: Vec<f32>,
     kind: Vec<u32>,
+    id: Vec<u32>,
 }
 
 impl<const D: usize> Particles<D> {
@@ -62,12 +63,14 @@ impl<const D: usize> Particles<D> {
         let density = (0..n).map(|_| f()).collect();
         let pressure = (0..n).map(|i| if i % 7 == 0 { -0.0 } else { f() }).collect();
         let kind = (0..n).map(|i| (i as u32 * 2654435761) % 5).collect();
+        let id = (0..n as u32).rev().collect();
         Particles {
             position,
             velocity,
             density,
             pressure,
             kind,
+            id,
         }
     }
 
@@ -79,6 +82,7 @@ impl<const D: usize> Particles<D> {
             density: &self.density,
             pressure: &self.pressure,
             kind: &self.kind,
+            id: &self.id,
         }
     }
 }
@@ -106,7 +110,7 @@ fn check_round_trip<const D: usize>(path: &Path, p: &Particles<D>, time: f64) {
     }
 
     let names: Vec<&str> = data.point_data.iter().map(|a| a.name.as_str()).collect();
-    assert_eq!(names, ["velocity", "density", "pressure", "kind"]);
+    assert_eq!(names, ["velocity", "density", "pressure", "kind", "id"]);
 
     let vel = data.point_array("velocity").unwrap();
     assert_eq!((vel.components, vel.data_type), (3, VtkType::Float32));
@@ -128,6 +132,10 @@ fn check_round_trip<const D: usize>(path: &Path, p: &Particles<D>, time: f64) {
     assert_eq!((kind.components, kind.data_type), (1, VtkType::UInt32));
     let got: Vec<u32> = kind.values.iter().map(|x| *x as u32).collect();
     assert_eq!(got, p.kind);
+    let id = data.point_array("id").unwrap();
+    assert_eq!((id.components, id.data_type), (1, VtkType::UInt32));
+    let got: Vec<u32> = id.values.iter().map(|x| *x as u32).collect();
+    assert_eq!(got, p.id);
 
     // Vertex cells.
     let conn = data.cell_array("connectivity").unwrap();
@@ -142,18 +150,32 @@ fn check_round_trip<const D: usize>(path: &Path, p: &Particles<D>, time: f64) {
     );
 }
 
-/// Checks the XML header structure and that the appended blocks tile the
-/// appended section exactly up to the closing tags.
-fn check_header(path: &Path, n: usize) {
+/// Checks the XML header structure of a file in `encoding`; for `raw` also that the appended
+/// blocks tile the appended section exactly up to the closing tags.
+fn check_header(path: &Path, n: usize, encoding: Encoding) {
     let h = read_vtu_header(path).unwrap();
     assert_eq!(h.number_of_points, n);
     assert!(h.header_u64);
+    assert_eq!(
+        (h.zlib, h.base64),
+        (encoding == Encoding::Zlib, encoding == Encoding::Base64)
+    );
     let bytes = std::fs::read(path).unwrap();
     assert_eq!(h.file_len, bytes.len() as u64);
     let text = String::from_utf8_lossy(&bytes[..h.appended_start as usize]);
     assert!(text.starts_with("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\""));
     assert!(text.contains(&format!("NumberOfPoints=\"{n}\"")));
-    assert!(text.ends_with("<AppendedData encoding=\"raw\">\n   _"));
+    assert_eq!(
+        text.contains("compressor=\"vtkZLibDataCompressor\""),
+        encoding == Encoding::Zlib
+    );
+    let appended_tag = if encoding == Encoding::Base64 {
+        "<AppendedData encoding=\"base64\">\n   _"
+    } else {
+        "<AppendedData encoding=\"raw\">\n   _"
+    };
+    assert!(text.ends_with(appended_tag), "{text}");
+    assert!(bytes.ends_with(b"\n  </AppendedData>\n</VTKFile>\n"));
 
     let appended: Vec<_> = h.arrays.iter().filter(|a| a.offset.is_some()).collect();
     let names: Vec<(VtuSection, &str)> = appended.iter().map(|a| (a.section, a.name.as_str())).collect();
@@ -164,12 +186,19 @@ fn check_header(path: &Path, n: usize) {
             (VtuSection::PointData, "density"),
             (VtuSection::PointData, "pressure"),
             (VtuSection::PointData, "kind"),
+            (VtuSection::PointData, "id"),
             (VtuSection::Points, "Points"),
             (VtuSection::Cells, "connectivity"),
             (VtuSection::Cells, "offsets"),
             (VtuSection::Cells, "types"),
         ]
     );
+    let offsets: Vec<u64> = appended.iter().map(|a| a.offset.unwrap()).collect();
+    assert_eq!(offsets[0], 0);
+    assert!(offsets.windows(2).all(|w| w[0] < w[1]), "{offsets:?}");
+    if encoding != Encoding::Raw {
+        return;
+    }
     let mut expected_offset = 0u64;
     for a in &appended {
         let off = a.offset.unwrap();
@@ -189,46 +218,50 @@ fn check_header(path: &Path, n: usize) {
 }
 
 #[test]
-fn vtu_2d_and_3d_round_trip_small_and_empty() {
+fn vtu_2d_and_3d_round_trip_small_and_empty_in_every_encoding() {
     let dir = scratch("small");
-    for n in [0usize, 1, 2, 17] {
-        let p2 = Particles::<2>::generate(n, n as u64);
-        let path = dir.join(format!("f2_{n}.vtu"));
-        write_vtu(&path, &p2.frame(0.125 * n as f64)).unwrap();
-        check_round_trip(&path, &p2, 0.125 * n as f64);
-        check_header(&path, n);
+    for encoding in Encoding::ALL {
+        for n in [0usize, 1, 2, 17] {
+            let p2 = Particles::<2>::generate(n, n as u64);
+            let path = dir.join(format!("f2_{n}.vtu"));
+            write_vtu(&path, &p2.frame(0.125 * n as f64), encoding).unwrap();
+            check_round_trip(&path, &p2, 0.125 * n as f64);
+            check_header(&path, n, encoding);
 
-        let p3 = Particles::<3>::generate(n, 100 + n as u64);
-        let path = dir.join(format!("f3_{n}.vtu"));
-        write_vtu(&path, &p3.frame(1e-7)).unwrap();
-        check_round_trip(&path, &p3, 1e-7);
-        check_header(&path, n);
-        assert!(!dir.join(format!("f3_{n}.vtu.tmp")).exists());
+            let p3 = Particles::<3>::generate(n, 100 + n as u64);
+            let path = dir.join(format!("f3_{n}.vtu"));
+            write_vtu(&path, &p3.frame(1e-7), encoding).unwrap();
+            check_round_trip(&path, &p3, 1e-7);
+            check_header(&path, n, encoding);
+            assert!(!dir.join(format!("f3_{n}.vtu.tmp")).exists());
+        }
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
-fn vtu_large_round_trip() {
+fn vtu_large_round_trip_in_every_encoding() {
     let dir = scratch("large");
     let n = 100_000;
-    let p3 = Particles::<3>::generate(n, 7);
-    let path = dir.join("big3.vtu");
-    write_vtu(&path, &p3.frame(2.5)).unwrap();
-    check_round_trip(&path, &p3, 2.5);
-    check_header(&path, n);
+    for encoding in Encoding::ALL {
+        let p3 = Particles::<3>::generate(n, 7);
+        let path = dir.join("big3.vtu");
+        write_vtu(&path, &p3.frame(2.5), encoding).unwrap();
+        check_round_trip(&path, &p3, 2.5);
+        check_header(&path, n, encoding);
 
-    let p2 = Particles::<2>::generate(n, 8);
-    let path = dir.join("big2.vtu");
-    write_vtu(&path, &p2.frame(3.5)).unwrap();
-    check_round_trip(&path, &p2, 3.5);
-    check_header(&path, n);
+        let p2 = Particles::<2>::generate(n, 8);
+        let path = dir.join("big2.vtu");
+        write_vtu(&path, &p2.frame(3.5), encoding).unwrap();
+        check_round_trip(&path, &p2, 3.5);
+        check_header(&path, n, encoding);
 
-    // The convenience reader agrees.
-    let (points, arrays) = read_vtu_points(&path).unwrap();
-    assert_eq!(points.len(), n);
-    assert_eq!(arrays.len(), 4);
-    assert_eq!((arrays[0].0.as_str(), arrays[0].1), ("velocity", 3));
+        // The convenience reader agrees.
+        let (points, arrays) = read_vtu_points(&path).unwrap();
+        assert_eq!(points.len(), n);
+        assert_eq!(arrays.len(), 5);
+        assert_eq!((arrays[0].0.as_str(), arrays[0].1), ("velocity", 3));
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -238,15 +271,46 @@ fn vtu_million_particles_is_fast() {
     let n = 1_000_000;
     let p = Particles::<3>::generate(n, 9);
     let path = dir.join("m.vtu");
-    let t0 = std::time::Instant::now();
-    write_vtu(&path, &p.frame(0.0)).unwrap();
-    let dt = t0.elapsed();
-    eprintln!("write_vtu 1e6 particles (3D): {dt:?}");
-    // Generous bound (debug builds, slow disks); typically well under 0.2 s.
-    assert!(dt.as_secs_f64() < 10.0, "{dt:?}");
-    let size = std::fs::metadata(&path).unwrap().len();
-    assert!(size > 45 * n as u64);
+    for encoding in Encoding::ALL {
+        let t0 = std::time::Instant::now();
+        write_vtu(&path, &p.frame(0.0), encoding).unwrap();
+        let dt = t0.elapsed();
+        let size = std::fs::metadata(&path).unwrap().len();
+        eprintln!(
+            "write_vtu 1e6 particles (3D, {}): {dt:?}, {size} bytes",
+            encoding.name()
+        );
+        // Generous bound (debug builds, slow disks); typically well under 1 s.
+        assert!(dt.as_secs_f64() < 20.0, "{dt:?}");
+        // 49 bytes of arrays per particle: raw holds them all, base64 4/3 of them.
+        match encoding {
+            Encoding::Raw => assert!(size > 49 * n as u64),
+            Encoding::Base64 => assert!(size > 65 * n as u64),
+            // Random bits barely compress, but the cell arrays (13 bytes) do.
+            Encoding::Zlib => assert!(size < 49 * n as u64),
+        }
+    }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn fluid_subset_keeps_the_ids_of_the_fluid_particles() {
+    let p = Particles::<2>::generate(40, 11);
+    let frame = p.frame(0.5);
+    let fluid = frame.fluid();
+    let want: Vec<usize> = (0..40).filter(|&i| p.kind[i] == 0).collect();
+    assert!(!want.is_empty() && want.len() < 40);
+    assert_eq!(fluid.id, want.iter().map(|&i| p.id[i]).collect::<Vec<_>>());
+    assert_eq!(
+        fluid.position,
+        want.iter().map(|&i| p.position[i]).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        fluid.pressure,
+        want.iter().map(|&i| p.pressure[i]).collect::<Vec<_>>()
+    );
+    assert!(fluid.kind.iter().all(|&k| k == 0));
+    assert_eq!(fluid.frame().checked_len().unwrap(), want.len());
 }
 
 #[test]
@@ -254,7 +318,7 @@ fn vtu_one_dimensional_pads_with_zeros() {
     let dir = scratch("one_d");
     let p = Particles::<1>::generate(5, 3);
     let path = dir.join("f1.vtu");
-    write_vtu(&path, &p.frame(1.0)).unwrap();
+    write_vtu(&path, &p.frame(1.0), Encoding::Zlib).unwrap();
     check_round_trip(&path, &p, 1.0);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -267,7 +331,7 @@ fn vtu_length_mismatch_is_error() {
     let short = &p.density[..3];
     let mut frame = p.frame(0.0);
     frame.density = short;
-    match write_vtu(&path, &frame) {
+    match write_vtu(&path, &frame, Encoding::default()) {
         Err(OutputError::LengthMismatch {
             field,
             expected,
@@ -278,7 +342,7 @@ fn vtu_length_mismatch_is_error() {
     let mut frame = p.frame(0.0);
     frame.kind = &p.kind[..0];
     assert!(matches!(
-        write_vtu(&path, &frame),
+        write_vtu(&path, &frame, Encoding::default()),
         Err(OutputError::LengthMismatch { field: "kind", .. })
     ));
     assert!(!path.exists());
@@ -297,9 +361,10 @@ fn vtu_unsupported_dimension_is_error() {
         density: &[1.0],
         pressure: &[0.0],
         kind: &[0],
+        id: &[0],
     };
     assert!(matches!(
-        write_vtu(&dir.join("x.vtu"), &frame),
+        write_vtu(&dir.join("x.vtu"), &frame, Encoding::default()),
         Err(OutputError::UnsupportedDimension(4))
     ));
     std::fs::remove_dir_all(&dir).unwrap();
@@ -311,8 +376,8 @@ fn vtu_overwrite_replaces_file() {
     let path = dir.join("f.vtu");
     let a = Particles::<3>::generate(50, 1);
     let b = Particles::<3>::generate(3, 2);
-    write_vtu(&path, &a.frame(1.0)).unwrap();
-    write_vtu(&path, &b.frame(2.0)).unwrap();
+    write_vtu(&path, &a.frame(1.0), Encoding::Zlib).unwrap();
+    write_vtu(&path, &b.frame(2.0), Encoding::Zlib).unwrap();
     check_round_trip(&path, &b, 2.0);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -321,59 +386,71 @@ fn vtu_overwrite_replaces_file() {
 fn reader_rejects_malformed_files_without_panicking() {
     let dir = scratch("malformed");
     let p = Particles::<3>::generate(10, 4);
-    let good = dir.join("good.vtu");
-    write_vtu(&good, &p.frame(1.0)).unwrap();
-    let bytes = std::fs::read(&good).unwrap();
-    let h = read_vtu_header(&good).unwrap();
-
     let bad = dir.join("bad.vtu");
-    let mut cases: Vec<Vec<u8>> = vec![
-        Vec::new(),
-        b"not xml at all".to_vec(),
-        b"<VTKFile type=\"UnstructuredGrid\"><AppendedData encoding=\"raw\">_".to_vec(),
-    ];
-    // Every truncation of the file.
-    for cut in (0..bytes.len()).step_by(37) {
-        cases.push(bytes[..cut].to_vec());
-    }
-    // Corrupted block lengths.
-    for a in h.arrays.iter().filter_map(|a| a.offset) {
-        let mut c = bytes.clone();
-        let at = (h.appended_start + a) as usize;
-        c[at..at + 8].copy_from_slice(&u64::MAX.to_le_bytes());
-        cases.push(c.clone());
-        c[at..at + 8].copy_from_slice(&3u64.to_le_bytes());
-        cases.push(c);
-    }
-    // Header edits.
-    let text = String::from_utf8_lossy(&bytes[..h.appended_start as usize]).into_owned();
-    let tail = &bytes[h.appended_start as usize..];
-    for (from, to) in [
-        ("offset=\"0\"", "offset=\"99999999999\""),
-        ("NumberOfPoints=\"10\"", "NumberOfPoints=\"11\""),
-        ("NumberOfPoints=\"10\"", "NumberOfPoints=\"-1\""),
-        ("type=\"Float32\"", "type=\"Float128\""),
-        ("format=\"appended\"", "format=\"binary\""),
-        ("header_type=\"UInt64\"", "header_type=\"UInt16\""),
-        ("byte_order=\"LittleEndian\"", "byte_order=\"BigEndian\""),
-        ("encoding=\"raw\"", "encoding=\"base64\""),
-        ("NumberOfComponents=\"3\"", "NumberOfComponents=\"0\""),
-        ("<Piece", "<Piece x=\"&bogus;\""),
-    ] {
-        assert!(text.contains(from), "{from}");
-        let mut c = text.replacen(from, to, 1).into_bytes();
-        c.extend_from_slice(tail);
-        cases.push(c);
-    }
-    for (i, c) in cases.iter().enumerate() {
-        std::fs::write(&bad, c).unwrap();
-        match read_vtu(&bad) {
-            Err(OutputError::Malformed { path, .. }) => assert_eq!(path, bad),
-            Ok(_) if c.len() >= bytes.len() - 30 && c.len() <= bytes.len() => {
-                // Truncating only the closing tags leaves the data intact.
+    let check = |cases: &[Vec<u8>], full: usize| {
+        for (i, c) in cases.iter().enumerate() {
+            std::fs::write(&bad, c).unwrap();
+            match read_vtu(&bad) {
+                Err(OutputError::Malformed { path, .. }) => assert_eq!(path, bad),
+                Ok(_) if c.len() >= full - 30 && c.len() <= full => {
+                    // Truncating only the closing tags leaves the data intact.
+                }
+                other => panic!("case {i} (len {}): expected Malformed, got {other:?}", c.len()),
             }
-            other => panic!("case {i} (len {}): expected Malformed, got {other:?}", c.len()),
         }
+    };
+    for encoding in Encoding::ALL {
+        let good = dir.join("good.vtu");
+        write_vtu(&good, &p.frame(1.0), encoding).unwrap();
+        let bytes = std::fs::read(&good).unwrap();
+        let h = read_vtu_header(&good).unwrap();
+        let mut cases: Vec<Vec<u8>> = vec![
+            Vec::new(),
+            b"not xml at all".to_vec(),
+            b"<VTKFile type=\"UnstructuredGrid\"><AppendedData encoding=\"raw\">_".to_vec(),
+        ];
+        // Every truncation of the file.
+        for cut in (0..bytes.len()).step_by(37) {
+            cases.push(bytes[..cut].to_vec());
+        }
+        // Corrupted block headers (byte counts, block counts).
+        for a in h.arrays.iter().filter_map(|a| a.offset) {
+            let mut c = bytes.clone();
+            let at = (h.appended_start + a) as usize;
+            c[at..at + 8].copy_from_slice(&u64::MAX.to_le_bytes());
+            cases.push(c.clone());
+            c[at..at + 8].copy_from_slice(&3u64.to_le_bytes());
+            cases.push(c);
+        }
+        // Header edits.
+        let text = String::from_utf8_lossy(&bytes[..h.appended_start as usize]).into_owned();
+        let tail = &bytes[h.appended_start as usize..];
+        let mut edits = vec![
+            ("offset=\"0\"", "offset=\"99999999999\""),
+            ("NumberOfPoints=\"10\"", "NumberOfPoints=\"11\""),
+            ("NumberOfPoints=\"10\"", "NumberOfPoints=\"-1\""),
+            ("type=\"Float32\"", "type=\"Float128\""),
+            ("format=\"appended\"", "format=\"binary\""),
+            ("header_type=\"UInt64\"", "header_type=\"UInt16\""),
+            ("byte_order=\"LittleEndian\"", "byte_order=\"BigEndian\""),
+            ("NumberOfComponents=\"3\"", "NumberOfComponents=\"0\""),
+            ("<Piece", "<Piece x=\"&bogus;\""),
+        ];
+        match encoding {
+            Encoding::Zlib => {
+                edits.push(("vtkZLibDataCompressor", "vtkLZ4DataCompressor"));
+                edits.push((" compressor=\"vtkZLibDataCompressor\"", ""));
+            }
+            Encoding::Base64 => edits.push(("encoding=\"base64\"", "encoding=\"raw\"")),
+            Encoding::Raw => edits.push(("encoding=\"raw\"", "encoding=\"base64\"")),
+        }
+        for (from, to) in edits {
+            assert!(text.contains(from), "{from}");
+            let mut c = text.replacen(from, to, 1).into_bytes();
+            c.extend_from_slice(tail);
+            cases.push(c);
+        }
+        check(&cases, bytes.len());
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -388,7 +465,7 @@ fn pvd_lists_frames_in_order() {
     let times = [0.0, 0.1, 0.2 + 1e-12, 1e-20, 12345.678];
     for (i, &t) in times.iter().enumerate() {
         let name = format!("frame_{i:05}.vtu");
-        write_vtu(&dir.join(&name), &p.frame(t)).unwrap();
+        write_vtu(&dir.join(&name), &p.frame(t), Encoding::default()).unwrap();
         series.push(t, name);
         series.write(&pvd).unwrap();
         let back = PvdSeries::read(&pvd).unwrap();
@@ -558,7 +635,7 @@ fn missing_directory_is_io_error_naming_path() {
         assert!(msg.contains(&*target.to_string_lossy()), "{msg}");
     };
     let f = gone.join("f.vtu");
-    check(write_vtu(&f, &p.frame(0.0)).unwrap_err(), &f);
+    check(write_vtu(&f, &p.frame(0.0), Encoding::default()).unwrap_err(), &f);
     let f = gone.join("s.pvd");
     check(PvdSeries::new().write(&f).unwrap_err(), &f);
     let f = gone.join("forces.csv");
@@ -580,7 +657,7 @@ fn writing_below_a_regular_file_is_io_error() {
     std::fs::write(&file, b"x").unwrap();
     let p = Particles::<3>::generate(2, 1);
     let f = file.join("f.vtu");
-    match write_vtu(&f, &p.frame(0.0)) {
+    match write_vtu(&f, &p.frame(0.0), Encoding::default()) {
         Err(OutputError::Io { path, .. }) => assert!(path.starts_with(&file)),
         other => panic!("expected Io, got {other:?}"),
     }
@@ -606,8 +683,9 @@ fn arb_particles<const D: usize>() -> impl Strategy<Value = (f64, Particles<D>)>
             proptest::collection::vec(any::<f32>(), n),
             proptest::collection::vec(any::<f32>(), n),
             proptest::collection::vec(any::<u32>(), n),
+            proptest::collection::vec(any::<u32>(), n),
         )
-            .prop_map(|(t, position, velocity, density, pressure, kind)| {
+            .prop_map(|(t, position, velocity, density, pressure, kind, id)| {
                 (
                     t,
                     Particles {
@@ -616,6 +694,7 @@ fn arb_particles<const D: usize>() -> impl Strategy<Value = (f64, Particles<D>)>
                         density,
                         pressure,
                         kind,
+                        id,
                     },
                 )
             })
@@ -653,6 +732,14 @@ fn check_prop<const D: usize>(path: &Path, t: f64, p: &Particles<D>) -> Result<(
         .map(|x| *x as u32)
         .collect();
     prop_assert_eq!(&kind, &p.kind);
+    let id: Vec<u32> = data
+        .point_array("id")
+        .unwrap()
+        .values
+        .iter()
+        .map(|x| *x as u32)
+        .collect();
+    prop_assert_eq!(&id, &p.id);
     Ok(())
 }
 
@@ -663,8 +750,10 @@ proptest! {
     fn prop_vtu_round_trip_2d((t, p) in arb_particles::<2>()) {
         let dir = scratch("prop2");
         let path = dir.join("p.vtu");
-        write_vtu(&path, &p.frame(t)).unwrap();
-        check_prop(&path, t, &p)?;
+        for encoding in Encoding::ALL {
+            write_vtu(&path, &p.frame(t), encoding).unwrap();
+            check_prop(&path, t, &p)?;
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -672,8 +761,10 @@ proptest! {
     fn prop_vtu_round_trip_3d((t, p) in arb_particles::<3>()) {
         let dir = scratch("prop3");
         let path = dir.join("p.vtu");
-        write_vtu(&path, &p.frame(t)).unwrap();
-        check_prop(&path, t, &p)?;
+        for encoding in Encoding::ALL {
+            write_vtu(&path, &p.frame(t), encoding).unwrap();
+            check_prop(&path, t, &p)?;
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

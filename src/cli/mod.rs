@@ -206,7 +206,7 @@ enum Command {
         out: Option<PathBuf>,
     },
     /// Reconstruct the free surface (eq. 25) of every frame of a finished run: writes
-    /// RUN_DIR/surface/surface_NNNNN.vtp and .ply and the series RUN_DIR/surface.pvd.
+    /// RUN_DIR/surface/surface_NNNNN.vtp and the series RUN_DIR/surface.pvd.
     Surface {
         /// Output directory of a finished `sph run` (holds summary.json and particles.pvd).
         run_dir: PathBuf,

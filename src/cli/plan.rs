@@ -254,15 +254,22 @@ pub fn render(scene: &Scene, origin: &str) -> String {
     if scene.write_frames {
         let _ = writeln!(
             out,
-            "  frames               every {} s: position, velocity, density, pressure, kind (.vtu)",
-            scene.output_interval
+            "  frames               every {} s: position, velocity, density, pressure, kind, id of {} (.vtu, {})",
+            scene.output_interval,
+            if scene.fluid_only {
+                "the fluid"
+            } else {
+                "every particle"
+            },
+            scene.output_encoding.name()
         );
     }
     if scene.write_surface {
         let _ = writeln!(
             out,
-            "  surface              every {} s: free surface (25) (.vtp, .ply)",
-            scene.output_interval
+            "  surface              every {} s: free surface (25) (.vtp, {})",
+            scene.output_interval,
+            scene.output_encoding.name()
         );
     }
     out

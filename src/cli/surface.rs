@@ -4,7 +4,7 @@ use crate::output::surface_series::{SURFACE_PVD, reconstruct_run};
 use anyhow::Context;
 use std::path::Path;
 
-/// Reconstructs and writes `RUN_DIR/surface/surface_NNNNN.{vtp,ply}` and `RUN_DIR/surface.pvd`
+/// Reconstructs and writes `RUN_DIR/surface/surface_NNNNN.vtp` and `RUN_DIR/surface.pvd`
 /// with support `radius` spacings.
 pub fn surface(dir: &Path, radius: f64) -> anyhow::Result<()> {
     if !(radius.is_finite() && radius > 0.0) {

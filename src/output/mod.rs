@@ -1,9 +1,10 @@
 //! Result output: VTK XML unstructured-grid frames ([`vtu`]), ParaView
 //! `.pvd` time series ([`pvd`]), CSV logs ([`csv`]) and the JSON run
-//! summary ([`summary`]); free-surface meshes as VTK polydata ([`vtp`]) and
-//! PLY ([`ply`]).
+//! summary ([`summary`]); free-surface meshes as VTK polydata ([`vtp`]). The
+//! binary arrays of the VTK files are stored zlib-compressed, base64 or raw
+//! ([`encoding`]).
 //!
-//! Every whole-file writer (`.vtu`, `.vtp`, `.ply`, `.pvd`, `.json`) writes to a sibling
+//! Every whole-file writer (`.vtu`, `.vtp`, `.pvd`, `.json`) writes to a sibling
 //! file with `.tmp` appended to its name and then renames it over the
 //! target, so a crash never leaves a half-written file behind. CSV logs are
 //! append-only and are flushed explicitly.
@@ -12,11 +13,13 @@
 //! everything is reported through [`OutputError`].
 
 pub mod csv;
+pub mod encoding;
+pub mod frame;
 pub mod plot;
-pub mod ply;
 pub mod pvd;
 pub mod summary;
 pub mod surface_series;
+pub mod vtk_type;
 pub mod vtp;
 pub mod vtu;
 mod xml;
@@ -27,11 +30,12 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 pub use csv::{CsvTable, CsvValue, ForceLog};
+pub use encoding::Encoding;
 pub use pvd::PvdSeries;
 pub use summary::{Summary, read_summary, write_summary};
 pub use vtu::{
-    Frame, NamedArrays, VtkType, VtuArray, VtuArrayInfo, VtuData, VtuHeader, VtuSection, read_vtu,
-    read_vtu_header, read_vtu_points, write_vtu,
+    Frame, FrameSubset, NamedArrays, VtkType, VtuArray, VtuArrayInfo, VtuData, VtuHeader, VtuSection,
+    read_vtu, read_vtu_header, read_vtu_points, write_vtu,
 };
 
 /// Errors produced by the output module.

@@ -1,5 +1,6 @@
-//! The free-surface series of a run: one `surface/surface_NNNNN.vtp` and `.ply` per particle
-//! frame (same index and time), listed in `surface.pvd` beside `particles.pvd`. Written during
+//! The free-surface series of a run: one `surface/surface_NNNNN.vtp` per particle frame (same
+//! index and time; triangles in 3D, line segments in 2D, arrays stored in the run's
+//! [`Encoding`]), listed in `surface.pvd` beside `particles.pvd`. Written during
 //! `sph run` when the scene has `[output] surface = true`, or afterwards from the frames of a
 //! finished run by [`reconstruct_run`] (`sph surface RUN_DIR`).
 //!
@@ -8,10 +9,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::ply::write_ply;
 use super::vtp::write_vtp;
-use super::vtu::read_vtu_points;
-use super::{OutputError, PvdSeries, read_summary};
+use super::vtu::{read_vtu, read_vtu_header};
+use super::{Encoding, OutputError, PvdSeries, read_summary};
 use crate::math::{Real, Vector};
 use crate::surface::{SurfaceError, SurfaceMesh, SurfaceParams, reconstruct};
 
@@ -42,22 +42,25 @@ pub const SURFACE_PVD: &str = "surface.pvd";
 pub struct SurfaceSeries {
     dir: PathBuf,
     pvd: PvdSeries,
+    encoding: Encoding,
 }
 
 impl SurfaceSeries {
-    /// A new, empty series in run directory `dir` (creates `dir/surface`).
-    pub fn create(dir: &Path) -> Result<Self, OutputError> {
+    /// A new, empty series in run directory `dir` (creates `dir/surface`), its meshes stored in
+    /// `encoding`.
+    pub fn create(dir: &Path, encoding: Encoding) -> Result<Self, OutputError> {
         let sub = dir.join("surface");
         std::fs::create_dir_all(&sub).map_err(|e| OutputError::io(&sub, e))?;
         Ok(Self {
             dir: dir.to_path_buf(),
             pvd: PvdSeries::new(),
+            encoding,
         })
     }
 
     /// A series continuing from the `(time [s], vtp file)` entries already written (restarts).
-    pub fn resume(dir: &Path, entries: &[(f64, String)]) -> Result<Self, OutputError> {
-        let mut series = Self::create(dir)?;
+    pub fn resume(dir: &Path, entries: &[(f64, String)], encoding: Encoding) -> Result<Self, OutputError> {
+        let mut series = Self::create(dir, encoding)?;
         for (t, file) in entries {
             series.pvd.push(*t, file.clone());
         }
@@ -69,18 +72,15 @@ impl SurfaceSeries {
         self.pvd.entries()
     }
 
-    /// Writes `mesh` as frame `index` at time `time` [s] (`.vtp` and `.ply`), then rewrites
-    /// `surface.pvd`. Returns the `.vtp` path relative to the run directory.
+    /// Writes `mesh` as frame `index` at time `time` [s], then rewrites `surface.pvd`. Returns the `.vtp` path relative to the run directory.
     pub fn push<const D: usize>(
         &mut self,
         index: usize,
         time: f64,
         mesh: &SurfaceMesh<D>,
     ) -> Result<String, OutputError> {
-        let stem = format!("surface/surface_{index:05}");
-        let vtp = format!("{stem}.vtp");
-        write_vtp(&self.dir.join(&vtp), mesh, time)?;
-        write_ply(&self.dir.join(format!("{stem}.ply")), mesh, time)?;
+        let vtp = format!("surface/surface_{index:05}.vtp");
+        write_vtp(&self.dir.join(&vtp), mesh, time, self.encoding)?;
         self.pvd.push(time, vtp.clone());
         self.pvd.write(&self.dir.join(SURFACE_PVD))?;
         Ok(vtp)
@@ -102,7 +102,7 @@ pub struct SurfaceRunReport {
 /// dimension and spacing from `summary.json`, the frames from `particles.pvd`, keeps the
 /// fluid particles (`kind` 0) and writes [`SurfaceSeries`] with
 /// [`SurfaceParams::with_radius`]`(spacing, radius)` (`radius` in spacings, e.g.
-/// [`crate::surface::DEFAULT_RADIUS`]).
+/// [`crate::surface::DEFAULT_RADIUS`]), in the encoding of the first frame.
 pub fn reconstruct_run(dir: &Path, radius: f64) -> Result<SurfaceRunReport, SurfaceOutputError> {
     let not_a_run = |reason: String| SurfaceOutputError::NotARun {
         dir: dir.to_path_buf(),
@@ -143,17 +143,29 @@ fn surface_frames<const D: usize>(
     radius: f64,
 ) -> Result<SurfaceRunReport, SurfaceOutputError> {
     let params = SurfaceParams::with_radius::<D>(spacing, radius);
-    let mut series = SurfaceSeries::create(dir)?;
+    let encoding = match frames.entries().first() {
+        Some((_, file)) => {
+            let header = read_vtu_header(&dir.join(file))?;
+            match (header.zlib, header.base64) {
+                (true, _) => Encoding::Zlib,
+                (false, true) => Encoding::Base64,
+                (false, false) => Encoding::Raw,
+            }
+        }
+        None => Encoding::default(),
+    };
+    let mut series = SurfaceSeries::create(dir, encoding)?;
     let mut report = SurfaceRunReport::default();
     for (index, (time, file)) in frames.entries().iter().enumerate() {
         let path = dir.join(file);
-        let (points, arrays) = read_vtu_points(&path)?;
-        let kind = arrays
-            .iter()
-            .find(|(name, components, _)| name == "kind" && *components == 1)
-            .map(|(_, _, values)| values)
+        let data = read_vtu(&path)?;
+        let kind = data
+            .point_array("kind")
+            .filter(|a| a.components == 1)
+            .map(|a| &a.values)
             .ok_or_else(|| OutputError::malformed(&path, "no one-component `kind` point array"))?;
-        let fluid: Vec<Vector<D>> = points
+        let fluid: Vec<Vector<D>> = data
+            .points
             .iter()
             .zip(kind)
             .filter(|&(_, &k)| k == 0.0)

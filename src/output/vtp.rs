@@ -1,16 +1,18 @@
-//! VTK XML `PolyData` (`.vtp`) surfaces with raw appended binary data: the free surface of
-//! [`crate::surface`], triangles (`Polys`) in 3D and line segments (`Lines`) in 2D, with the
-//! outward unit normals as the point array `Normals`.
+//! VTK XML `PolyData` (`.vtp`) surfaces: the free surface of [`crate::surface`], triangles
+//! (`Polys`) in 3D and line segments (`Lines`, one 2-point cell per segment) in 2D, with the
+//! outward unit normals as the point array `Normals`. ParaView, VTK and vtkio read both.
 //!
-//! Layout (little-endian, each block preceded by a `UInt64` byte count, as in [`super::vtu`]):
-//! `FieldData/TimeValue` (Float64, ascii), `PointData/Normals` (Float32 × 3), `Points`
-//! (Float32 × 3, 2D padded with z = 0), then `Polys` or `Lines` with `connectivity` and
-//! `offsets` (Int64). [`read_vtp`] reads such files back.
+//! Layout (little-endian, `header_type="UInt64"`, the arrays appended in the run's
+//! [`Encoding`], block layouts in [`super::encoding`]): `FieldData/TimeValue` (Float64, ascii)
+//! [s], `PointData/Normals` (Float32 × 3), `Points` (Float32 × 3 [m], 2D padded with z = 0), then
+//! `Polys` or `Lines` with `connectivity` and `offsets` (Int64). [`read_vtp`] reads such files
+//! back.
 
 use std::io::Write;
 use std::path::Path;
 
-use super::vtu::VtkType;
+use super::encoding::{AppendedWriter, BlockFormat, Encoding, le_bytes, read_block};
+use super::vtu::{VtkType, vec3_bytes};
 use super::xml::{self, TagKind};
 use super::{OutputError, fmt_f64, write_atomically};
 use crate::surface::SurfaceMesh;
@@ -30,27 +32,40 @@ pub struct VtpSurface {
     pub lines: bool,
 }
 
-/// Writes `mesh` at simulated time `time` [s] to `path` atomically (temporary file + rename).
+/// Writes `mesh` at simulated time `time` [s] to `path` atomically (temporary file + rename),
+/// its arrays stored in `encoding`.
 /// Errors: [`OutputError::UnsupportedDimension`] unless `D` is 2 or 3, [`OutputError::Io`].
-pub fn write_vtp<const D: usize>(path: &Path, mesh: &SurfaceMesh<D>, time: f64) -> Result<(), OutputError> {
+pub fn write_vtp<const D: usize>(
+    path: &Path,
+    mesh: &SurfaceMesh<D>,
+    time: f64,
+    encoding: Encoding,
+) -> Result<(), OutputError> {
     if D != 2 && D != 3 {
         return Err(OutputError::UnsupportedDimension(D));
     }
-    let n = mesh.positions.len() as u64;
-    let m = mesh.elements.len() as u64;
+    let n = mesh.positions.len();
+    let m = mesh.elements.len();
     let (section, count_attr) = if D == 3 {
         ("Polys", "NumberOfPolys")
     } else {
         ("Lines", "NumberOfLines")
     };
-    let sizes = [n * 12, n * 12, m * D as u64 * 8, m * 8];
-    let mut offsets = [0u64; 4];
-    for i in 1..4 {
-        offsets[i] = offsets[i - 1] + 8 + sizes[i - 1];
-    }
+    // Normals may be absent (an unprocessed mesh): zeros rather than short data.
+    let mut normals = mesh.normals.clone();
+    normals.resize(n, nalgebra::SVector::zeros());
+    let connectivity: Vec<i64> = mesh.elements.iter().flatten().map(|&v| i64::from(v)).collect();
+    let offsets: Vec<i64> = (1..=m as i64).map(|i| i * D as i64).collect();
+    let mut appended = AppendedWriter::new(encoding);
+    let o = [
+        appended.push(&vec3_bytes(&normals)),
+        appended.push(&vec3_bytes(&mesh.positions)),
+        appended.push(&le_bytes(&connectivity, i64::to_le_bytes)),
+        appended.push(&le_bytes(&offsets, i64::to_le_bytes)),
+    ];
     let header = format!(
         "<?xml version=\"1.0\"?>\n\
-<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n\
+<VTKFile type=\"PolyData\" {attributes}>\n\
   <PolyData>\n\
     <FieldData>\n\
       <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{time}</DataArray>\n\
@@ -67,46 +82,23 @@ pub fn write_vtp<const D: usize>(path: &Path, mesh: &SurfaceMesh<D>, time: f64) 
         <DataArray type=\"Int64\" Name=\"offsets\" format=\"appended\" offset=\"{o3}\"/>\n\
       </{section}>\n\
     </Piece>\n\
-  </PolyData>\n\
-  <AppendedData encoding=\"raw\">\n   _",
+  </PolyData>\n",
+        attributes = appended.file_attributes(),
         time = fmt_f64(time),
-        o0 = offsets[0],
-        o1 = offsets[1],
-        o2 = offsets[2],
-        o3 = offsets[3],
+        o0 = o[0],
+        o1 = o[1],
+        o2 = o[2],
+        o3 = o[3],
     );
     write_atomically(path, |w| {
         w.write_all(header.as_bytes())?;
-        for (block, vectors) in [&mesh.normals, &mesh.positions].into_iter().enumerate() {
-            w.write_all(&sizes[block].to_le_bytes())?;
-            // Normals may be absent (an unprocessed mesh): write zeros rather than short data.
-            for i in 0..mesh.positions.len() {
-                let mut xyz = [0f32; 3];
-                if let Some(v) = vectors.get(i) {
-                    for k in 0..D {
-                        xyz[k] = v[k];
-                    }
-                }
-                for c in xyz {
-                    w.write_all(&c.to_le_bytes())?;
-                }
-            }
-        }
-        w.write_all(&sizes[2].to_le_bytes())?;
-        for e in &mesh.elements {
-            for &v in e {
-                w.write_all(&i64::from(v).to_le_bytes())?;
-            }
-        }
-        w.write_all(&sizes[3].to_le_bytes())?;
-        for i in 1..=m {
-            w.write_all(&((i * D as u64) as i64).to_le_bytes())?;
-        }
-        w.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
+        appended.write_to(w)?;
+        w.write_all(b"</VTKFile>\n")
     })
 }
 
-/// Reads a raw-appended, uncompressed, single-piece `.vtp` file such as [`write_vtp`] writes.
+/// Reads a single-piece little-endian `.vtp` file such as [`write_vtp`] writes, in any
+/// [`Encoding`] (appended arrays, raw or base64, uncompressed or zlib-compressed).
 /// Every block is bounds-checked; inconsistencies are [`OutputError::Malformed`].
 pub fn read_vtp(path: &Path) -> Result<VtpSurface, OutputError> {
     let data = std::fs::read(path).map_err(|e| OutputError::io(path, e))?;
@@ -128,22 +120,12 @@ pub fn read_vtp(path: &Path) -> Result<VtpSurface, OutputError> {
     let head = std::str::from_utf8(&data[..app + gt + 1]).map_err(|_| bad("header is not UTF-8"))?;
     let tags = xml::scan(head).map_err(|e| OutputError::malformed(path, e))?;
     let appended = &data[underscore + 1..];
-    let block = |offset: &str, ty: VtkType| -> Result<Vec<f64>, OutputError> {
-        let off: usize = offset.trim().parse().map_err(|_| bad("bad DataArray offset"))?;
-        let len_bytes = appended
-            .get(off..off + 8)
-            .ok_or_else(|| bad("block offset past end of file"))?;
-        let mut len = [0u8; 8];
-        len.copy_from_slice(len_bytes);
-        let len = usize::try_from(u64::from_le_bytes(len)).map_err(|_| bad("block too long"))?;
-        let body = off
-            .checked_add(8 + len)
-            .and_then(|end| appended.get(off + 8..end))
-            .ok_or_else(|| bad("block runs past end of file"))?;
-        if body.len() % ty.size() != 0 {
-            return Err(bad("block is not a whole number of values"));
-        }
-        Ok(ty.decode_le(body))
+    // zlib inflates at most 1032-fold, which bounds what a block header may claim.
+    let max_bytes = (appended.len() as u64).saturating_mul(1032);
+    let mut format = BlockFormat {
+        header_u64: true,
+        zlib: false,
+        base64: false,
     };
     let mut out = VtpSurface::default();
     let mut section = "";
@@ -155,12 +137,33 @@ pub fn read_vtp(path: &Path) -> Result<VtpSurface, OutputError> {
                 if tag.attr("type") != Some("PolyData") {
                     return Err(bad("VTKFile type is not PolyData"));
                 }
-                if tag.attr("header_type") != Some("UInt64") || tag.attr("byte_order") != Some("LittleEndian")
-                {
-                    return Err(bad("only little-endian files with UInt64 block headers are read"));
+                if tag.attr("byte_order").is_some_and(|o| o != "LittleEndian") {
+                    return Err(bad("only little-endian files are read"));
                 }
+                format.header_u64 = match tag.attr("header_type") {
+                    Some("UInt64") => true,
+                    Some("UInt32") | None => false,
+                    Some(_) => return Err(bad("header_type is neither UInt32 nor UInt64")),
+                };
+                format.zlib = match tag.attr("compressor") {
+                    None | Some("") => false,
+                    Some("vtkZLibDataCompressor") => true,
+                    Some(_) => return Err(bad("unsupported compressor (only vtkZLibDataCompressor)")),
+                };
                 saw_polydata = true;
             }
+            ("AppendedData", TagKind::Start) => {
+                format.base64 = match tag.attr("encoding") {
+                    Some("raw") => false,
+                    Some("base64") => true,
+                    _ => return Err(bad("AppendedData encoding is neither raw nor base64")),
+                };
+            }
+            _ => {}
+        }
+    }
+    for tag in &tags {
+        match (tag.name.as_str(), tag.kind) {
             ("DataArray", TagKind::Start | TagKind::Empty) => {
                 let ty = tag
                     .attr("type")
@@ -174,7 +177,13 @@ pub fn read_vtp(path: &Path) -> Result<VtpSurface, OutputError> {
                 let Some(offset) = tag.attr("offset") else {
                     continue;
                 };
-                let values = block(offset, ty)?;
+                let offset: usize = offset.trim().parse().map_err(|_| bad("bad DataArray offset"))?;
+                let body = read_block(appended, offset, format, max_bytes)
+                    .map_err(|e| OutputError::malformed(path, format!("array {name}: {e}")))?;
+                if body.len() % ty.size() != 0 {
+                    return Err(bad("block is not a whole number of values"));
+                }
+                let values = ty.decode_le(&body);
                 let triples = |v: Vec<f64>| -> Result<Vec<[f32; 3]>, OutputError> {
                     if v.len() % 3 != 0 {
                         return Err(bad("a 3-component array has a partial tuple"));
@@ -228,8 +237,15 @@ mod tests {
     use crate::math::Vector;
 
     #[test]
-    fn surface_vtp_round_trips_triangles_and_segments() {
-        let dir = std::env::temp_dir().join(format!("sph_vtp_test_{}", std::process::id()));
+    fn surface_vtp_round_trips_triangles_and_segments_in_every_encoding() {
+        for encoding in Encoding::ALL {
+            round_trip(encoding);
+        }
+    }
+
+    fn round_trip(encoding: Encoding) {
+        let dir =
+            std::env::temp_dir().join(format!("sph_vtp_test_{}_{}", std::process::id(), encoding.name()));
         std::fs::create_dir_all(&dir).unwrap();
         let tri = SurfaceMesh::<3> {
             positions: vec![
@@ -240,7 +256,7 @@ mod tests {
             normals: vec![Vector::<3>::new(0.0, 0.0, 1.0); 3],
             elements: vec![[0, 1, 2]],
         };
-        write_vtp(&dir.join("t.vtp"), &tri, 0.25).unwrap();
+        write_vtp(&dir.join("t.vtp"), &tri, 0.25, encoding).unwrap();
         let back = read_vtp(&dir.join("t.vtp")).unwrap();
         assert_eq!(back.time, Some(0.25));
         assert_eq!(
@@ -254,7 +270,7 @@ mod tests {
             normals: vec![Vector::<2>::new(1.0, 0.0); 2],
             elements: vec![[0, 1], [1, 0]],
         };
-        write_vtp(&dir.join("s.vtp"), &seg, 1.0).unwrap();
+        write_vtp(&dir.join("s.vtp"), &seg, 1.0, encoding).unwrap();
         let back = read_vtp(&dir.join("s.vtp")).unwrap();
         assert_eq!(back.points, vec![[0.5, 0.0, 0.0], [0.0, 2.0, 0.0]]);
         assert_eq!((back.cells, back.lines), (vec![vec![0, 1], vec![1, 0]], true));

@@ -1,174 +1,38 @@
-//! VTK XML `UnstructuredGrid` (`.vtu`) frames with raw appended binary data.
+//! VTK XML `UnstructuredGrid` (`.vtu`) frames: one vertex cell per particle, the arrays
+//! appended in the run's [`Encoding`] (`[output] encoding`: zlib-compressed by default, base64
+//! or raw; block layouts in [`super::encoding`]). ParaView, VTK and meshio read every encoding;
+//! vtkio (splashsurf) reads `base64`.
 //!
-//! Layout written by [`write_vtu`] (all binary data little-endian, each block
-//! preceded by a `UInt64` byte count, offsets relative to the byte after the
-//! `_` marker in `<AppendedData>`):
+//! Layout written by [`write_vtu`] (all binary data little-endian, `header_type="UInt64"`,
+//! offsets relative to the byte after the `_` marker in `<AppendedData>`):
 //!
 //! | section     | array          | type              | components |
 //! |-------------|----------------|-------------------|------------|
 //! | `FieldData` | `TimeValue`    | Float64 (ascii)   | 1          |
-//! | `PointData` | `velocity`     | Float32           | 3          |
-//! | `PointData` | `density`      | Float32           | 1          |
-//! | `PointData` | `pressure`     | Float32           | 1          |
-//! | `PointData` | `kind`         | UInt32            | 1          |
-//! | `Points`    | `Points`       | Float32           | 3          |
+//! | `PointData` | `velocity`     | Float32 [m/s]     | 3          |
+//! | `PointData` | `density`      | Float32 [kg/m^D]  | 1          |
+//! | `PointData` | `pressure`     | Float32 [Pa]      | 1          |
+//! | `PointData` | `kind`         | UInt32 (0 fluid, k the k-th solid) | 1 |
+//! | `PointData` | `id`           | UInt32 (index in the initial layout, stable over the run) | 1 |
+//! | `Points`    | `Points`       | Float32 [m]       | 3          |
 //! | `Cells`     | `connectivity` | Int32 (Int64 if N > i32::MAX) | 1 |
 //! | `Cells`     | `offsets`      | Int32 (Int64 if N > i32::MAX) | 1 |
 //! | `Cells`     | `types`        | UInt8 (= 1, `VTK_VERTEX`)     | 1 |
 //!
-//! Vectors of 1D/2D runs are padded with zeros to three components.
-//! [`read_vtu`] reads such files back exactly.
+//! The particles are stored in the solver's order, which changes from frame to frame (they are
+//! sorted by grid cell); `id` names the same particle in every frame. Vectors of 1D/2D runs are
+//! padded with zeros to three components. [`read_vtu`] reads such files back exactly.
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
 use nalgebra::SVector;
 
+use super::encoding::{AppendedWriter, BlockFormat, Encoding, le_bytes, read_block};
+pub use super::frame::{Frame, FrameSubset};
+pub use super::vtk_type::VtkType;
 use super::xml::{self, TagKind};
 use super::{OutputError, fmt_f64, write_atomically};
-
-/// One output frame: borrowed per-particle state at simulated time `time`.
-///
-/// All slices must have the same length (the number of particles).
-#[derive(Debug, Clone, Copy)]
-pub struct Frame<'a, const D: usize> {
-    /// Simulated time of the frame, in seconds (stored as the VTK `TimeValue`
-    /// field).
-    pub time: f64,
-    /// Particle positions, in metres.
-    pub position: &'a [SVector<f32, D>],
-    /// Particle velocities, in metres per second.
-    pub velocity: &'a [SVector<f32, D>],
-    /// Particle densities, in kg/m^D.
-    pub density: &'a [f32],
-    /// Particle pressures, in Pa (force per unit length in 2D).
-    pub pressure: &'a [f32],
-    /// Particle kind: 0 = fluid, k > 0 = the k-th named solid.
-    pub kind: &'a [u32],
-}
-
-impl<const D: usize> Frame<'_, D> {
-    /// Number of particles, after checking that all slices have the same
-    /// length as `position`.
-    pub fn checked_len(&self) -> Result<usize, OutputError> {
-        let n = self.position.len();
-        let fields = [
-            ("velocity", self.velocity.len()),
-            ("density", self.density.len()),
-            ("pressure", self.pressure.len()),
-            ("kind", self.kind.len()),
-        ];
-        for (field, found) in fields {
-            if found != n {
-                return Err(OutputError::LengthMismatch {
-                    field,
-                    expected: n,
-                    found,
-                });
-            }
-        }
-        Ok(n)
-    }
-}
-
-/// A VTK scalar data type, as named in the `type` attribute of a `DataArray`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum VtkType {
-    /// `Int8`
-    Int8,
-    /// `UInt8`
-    UInt8,
-    /// `Int16`
-    Int16,
-    /// `UInt16`
-    UInt16,
-    /// `Int32`
-    Int32,
-    /// `UInt32`
-    UInt32,
-    /// `Int64`
-    Int64,
-    /// `UInt64`
-    UInt64,
-    /// `Float32`
-    Float32,
-    /// `Float64`
-    Float64,
-}
-
-impl VtkType {
-    /// Size of one value in bytes.
-    pub fn size(self) -> usize {
-        match self {
-            VtkType::Int8 | VtkType::UInt8 => 1,
-            VtkType::Int16 | VtkType::UInt16 => 2,
-            VtkType::Int32 | VtkType::UInt32 | VtkType::Float32 => 4,
-            VtkType::Int64 | VtkType::UInt64 | VtkType::Float64 => 8,
-        }
-    }
-
-    /// The VTK name of the type (`"Float32"`, ...).
-    pub fn name(self) -> &'static str {
-        match self {
-            VtkType::Int8 => "Int8",
-            VtkType::UInt8 => "UInt8",
-            VtkType::Int16 => "Int16",
-            VtkType::UInt16 => "UInt16",
-            VtkType::Int32 => "Int32",
-            VtkType::UInt32 => "UInt32",
-            VtkType::Int64 => "Int64",
-            VtkType::UInt64 => "UInt64",
-            VtkType::Float32 => "Float32",
-            VtkType::Float64 => "Float64",
-        }
-    }
-
-    /// Parses a VTK type name (also accepts the legacy lower-case C names).
-    pub fn parse(s: &str) -> Option<VtkType> {
-        Some(match s {
-            "Int8" | "char" => VtkType::Int8,
-            "UInt8" | "unsigned_char" => VtkType::UInt8,
-            "Int16" | "short" => VtkType::Int16,
-            "UInt16" | "unsigned_short" => VtkType::UInt16,
-            "Int32" | "int" => VtkType::Int32,
-            "UInt32" | "unsigned_int" => VtkType::UInt32,
-            "Int64" | "long" | "long_long" => VtkType::Int64,
-            "UInt64" | "unsigned_long" | "unsigned_long_long" => VtkType::UInt64,
-            "Float32" | "float" => VtkType::Float32,
-            "Float64" | "double" => VtkType::Float64,
-            _ => return None,
-        })
-    }
-
-    /// Decodes little-endian values (length must be a multiple of
-    /// [`size`](Self::size)) to `f64`. Exact for every type except 64-bit
-    /// integers beyond 2^53.
-    pub(crate) fn decode_le(self, bytes: &[u8]) -> Vec<f64> {
-        fn conv<const N: usize>(bytes: &[u8], f: impl Fn([u8; N]) -> f64) -> Vec<f64> {
-            bytes
-                .chunks_exact(N)
-                .map(|c| {
-                    let mut a = [0u8; N];
-                    a.copy_from_slice(c);
-                    f(a)
-                })
-                .collect()
-        }
-        match self {
-            VtkType::Int8 => conv(bytes, |a: [u8; 1]| f64::from(i8::from_le_bytes(a))),
-            VtkType::UInt8 => conv(bytes, |a: [u8; 1]| f64::from(a[0])),
-            VtkType::Int16 => conv(bytes, |a| f64::from(i16::from_le_bytes(a))),
-            VtkType::UInt16 => conv(bytes, |a| f64::from(u16::from_le_bytes(a))),
-            VtkType::Int32 => conv(bytes, |a| f64::from(i32::from_le_bytes(a))),
-            VtkType::UInt32 => conv(bytes, |a| f64::from(u32::from_le_bytes(a))),
-            VtkType::Int64 => conv(bytes, |a| i64::from_le_bytes(a) as f64),
-            VtkType::UInt64 => conv(bytes, |a| u64::from_le_bytes(a) as f64),
-            VtkType::Float32 => conv(bytes, |a| f64::from(f32::from_le_bytes(a))),
-            VtkType::Float64 => conv(bytes, f64::from_le_bytes),
-        }
-    }
-}
 
 /// Which part of the `Piece` a `DataArray` belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -203,7 +67,7 @@ pub struct VtuArrayInfo {
     pub ascii_values: Vec<f64>,
 }
 
-/// Parsed header of a raw-appended `.vtu` file.
+/// Parsed header of a `.vtu` file with appended data.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VtuHeader {
     /// `NumberOfPoints` of the (single) piece.
@@ -214,6 +78,10 @@ pub struct VtuHeader {
     pub time: Option<f64>,
     /// `true` if `header_type="UInt64"`, `false` for `UInt32`.
     pub header_u64: bool,
+    /// `true` if the blocks are zlib-compressed (`compressor="vtkZLibDataCompressor"`).
+    pub zlib: bool,
+    /// `true` if the appended data is base64 text (`encoding="base64"`), `false` for raw bytes.
+    pub base64: bool,
     /// All data arrays in document order.
     pub arrays: Vec<VtuArrayInfo>,
     /// Absolute file position of the first appended byte (just after `_`).
@@ -263,40 +131,89 @@ impl VtuData {
 
 const APPENDED_TAG: &[u8] = b"<AppendedData";
 
-/// Writes `frame` as a VTK XML unstructured grid with raw appended binary
-/// data (see the [module documentation](self) for the layout).
+/// Writes `frame` as a VTK XML unstructured grid with its arrays appended in `encoding` (see
+/// the [module documentation](self) for the layout).
 ///
 /// The file is written to `path` with `.tmp` appended and then renamed onto
 /// `path`. Errors: [`OutputError::LengthMismatch`] if the slices differ in
 /// length, [`OutputError::UnsupportedDimension`] if `D > 3`,
 /// [`OutputError::Io`] on any file-system failure.
-pub fn write_vtu<const D: usize>(path: &Path, frame: &Frame<D>) -> Result<(), OutputError> {
+pub fn write_vtu<const D: usize>(
+    path: &Path,
+    frame: &Frame<D>,
+    encoding: Encoding,
+) -> Result<(), OutputError> {
     if D > 3 {
         return Err(OutputError::UnsupportedDimension(D));
     }
     let n = frame.checked_len()?;
     let wide = n > i32::MAX as usize;
     let int_type = if wide { VtkType::Int64 } else { VtkType::Int32 };
-    let isz = int_type.size() as u64;
-    let nn = n as u64;
-
-    // (section, name, type, components, bytes)
-    let blocks: [(VtuSection, &str, VtkType, usize, u64); 8] = [
-        (VtuSection::PointData, "velocity", VtkType::Float32, 3, nn * 12),
-        (VtuSection::PointData, "density", VtkType::Float32, 1, nn * 4),
-        (VtuSection::PointData, "pressure", VtkType::Float32, 1, nn * 4),
-        (VtuSection::PointData, "kind", VtkType::UInt32, 1, nn * 4),
-        (VtuSection::Points, "Points", VtkType::Float32, 3, nn * 12),
-        (VtuSection::Cells, "connectivity", int_type, 1, nn * isz),
-        (VtuSection::Cells, "offsets", int_type, 1, nn * isz),
-        (VtuSection::Cells, "types", VtkType::UInt8, 1, nn),
+    let counting = |first: usize| -> Vec<u8> {
+        if wide {
+            le_bytes(
+                &(first..first + n).map(|i| i as i64).collect::<Vec<_>>(),
+                i64::to_le_bytes,
+            )
+        } else {
+            le_bytes(
+                &(first..first + n).map(|i| i as i32).collect::<Vec<_>>(),
+                i32::to_le_bytes,
+            )
+        }
+    };
+    let f32s = |v: &[f32]| le_bytes(v, f32::to_le_bytes);
+    let u32s = |v: &[u32]| le_bytes(v, u32::to_le_bytes);
+    // (section, name, type, components, little-endian bytes)
+    let blocks: [(VtuSection, &str, VtkType, usize, Vec<u8>); 9] = [
+        (
+            VtuSection::PointData,
+            "velocity",
+            VtkType::Float32,
+            3,
+            vec3_bytes(frame.velocity),
+        ),
+        (
+            VtuSection::PointData,
+            "density",
+            VtkType::Float32,
+            1,
+            f32s(frame.density),
+        ),
+        (
+            VtuSection::PointData,
+            "pressure",
+            VtkType::Float32,
+            1,
+            f32s(frame.pressure),
+        ),
+        (
+            VtuSection::PointData,
+            "kind",
+            VtkType::UInt32,
+            1,
+            u32s(frame.kind),
+        ),
+        (VtuSection::PointData, "id", VtkType::UInt32, 1, u32s(frame.id)),
+        (
+            VtuSection::Points,
+            "Points",
+            VtkType::Float32,
+            3,
+            vec3_bytes(frame.position),
+        ),
+        (VtuSection::Cells, "connectivity", int_type, 1, counting(0)),
+        (VtuSection::Cells, "offsets", int_type, 1, counting(1)),
+        (VtuSection::Cells, "types", VtkType::UInt8, 1, vec![VTK_VERTEX; n]),
     ];
+    let mut appended = AppendedWriter::new(encoding);
 
     let mut header = String::with_capacity(2048);
     header.push_str("<?xml version=\"1.0\"?>\n");
-    header.push_str(
-        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n",
-    );
+    header.push_str(&format!(
+        "<VTKFile type=\"UnstructuredGrid\" {}>\n",
+        appended.file_attributes()
+    ));
     header.push_str("  <UnstructuredGrid>\n");
     header.push_str("    <FieldData>\n");
     header.push_str(&format!(
@@ -307,89 +224,60 @@ pub fn write_vtu<const D: usize>(path: &Path, frame: &Frame<D>) -> Result<(), Ou
     header.push_str(&format!(
         "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">\n"
     ));
-    let mut offset = 0u64;
     let mut open: Option<VtuSection> = None;
-    for (section, name, ty, comps, bytes) in blocks {
-        if open != Some(section) {
+    for (section, name, ty, comps, bytes) in &blocks {
+        if open != Some(*section) {
             if let Some(prev) = open {
                 header.push_str(&format!("      </{}>\n", section_tag(prev)));
             }
-            if section == VtuSection::PointData {
+            if *section == VtuSection::PointData {
                 header.push_str("      <PointData Scalars=\"density\" Vectors=\"velocity\">\n");
             } else {
-                header.push_str(&format!("      <{}>\n", section_tag(section)));
+                header.push_str(&format!("      <{}>\n", section_tag(*section)));
             }
-            open = Some(section);
+            open = Some(*section);
         }
-        let comp_attr = if comps > 1 {
+        let comp_attr = if *comps > 1 {
             format!(" NumberOfComponents=\"{comps}\"")
         } else {
             String::new()
         };
+        let offset = appended.push(bytes);
         header.push_str(&format!(
             "        <DataArray type=\"{}\" Name=\"{name}\"{comp_attr} format=\"appended\" offset=\"{offset}\"/>\n",
             ty.name()
         ));
-        offset += 8 + bytes;
     }
+    drop(blocks);
     if let Some(prev) = open {
         header.push_str(&format!("      </{}>\n", section_tag(prev)));
     }
     header.push_str("    </Piece>\n");
     header.push_str("  </UnstructuredGrid>\n");
-    header.push_str("  <AppendedData encoding=\"raw\">\n   _");
 
     write_atomically(path, |w| {
         w.write_all(header.as_bytes())?;
-        let block = |w: &mut BufWriter<File>, i: usize| w.write_all(&blocks[i].4.to_le_bytes());
-        block(w, 0)?;
-        write_vec3(w, frame.velocity)?;
-        block(w, 1)?;
-        for x in frame.density {
-            w.write_all(&x.to_le_bytes())?;
-        }
-        block(w, 2)?;
-        for x in frame.pressure {
-            w.write_all(&x.to_le_bytes())?;
-        }
-        block(w, 3)?;
-        for x in frame.kind {
-            w.write_all(&x.to_le_bytes())?;
-        }
-        block(w, 4)?;
-        write_vec3(w, frame.position)?;
-        for (blk, first) in [(5usize, 0u64), (6, 1)] {
-            block(w, blk)?;
-            for i in first..first + nn {
-                if wide {
-                    w.write_all(&(i as i64).to_le_bytes())?;
-                } else {
-                    w.write_all(&(i as i32).to_le_bytes())?;
-                }
-            }
-        }
-        block(w, 7)?;
-        const VERTICES: [u8; 4096] = [1u8; 4096];
-        let mut left = n;
-        while left > 0 {
-            let k = left.min(VERTICES.len());
-            w.write_all(&VERTICES[..k])?;
-            left -= k;
-        }
-        w.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
+        appended.write_to(w)?;
+        w.write_all(b"</VTKFile>\n")
     })
 }
 
-/// Writes vectors as three little-endian `f32` components, zero-padded.
-fn write_vec3<W: Write, const D: usize>(w: &mut W, v: &[SVector<f32, D>]) -> std::io::Result<()> {
-    let mut buf = [0u8; 12];
+/// VTK's cell type of a single point.
+const VTK_VERTEX: u8 = 1;
+
+/// Vectors as three little-endian `f32` components each, zero-padded.
+pub(crate) fn vec3_bytes<const D: usize>(v: &[SVector<f32, D>]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(12 * v.len());
     for p in v {
+        let mut xyz = [0f32; 3];
         for c in 0..D.min(3) {
-            buf[4 * c..4 * c + 4].copy_from_slice(&p[c].to_le_bytes());
+            xyz[c] = p[c];
         }
-        w.write_all(&buf)?;
+        for c in xyz {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
     }
-    Ok(())
+    out
 }
 
 fn section_tag(s: VtuSection) -> &'static str {
@@ -432,11 +320,12 @@ fn parse_attr<T: std::str::FromStr>(
     }
 }
 
-/// Parses the XML header of an in-memory raw-appended `.vtu` file.
+/// Parses the XML header of an in-memory `.vtu` file with appended data.
 fn parse_header(path: &Path, data: &[u8]) -> Result<VtuHeader, OutputError> {
     let bad = |reason: String| OutputError::malformed(path, reason);
-    let app = find(data, APPENDED_TAG)
-        .ok_or_else(|| bad("no <AppendedData> element (only raw appended files are supported)".into()))?;
+    let app = find(data, APPENDED_TAG).ok_or_else(|| {
+        bad("no <AppendedData> element (only files with appended data are supported)".into())
+    })?;
     let after_tag = &data[app..];
     let gt = after_tag
         .iter()
@@ -457,6 +346,8 @@ fn parse_header(path: &Path, data: &[u8]) -> Result<VtuHeader, OutputError> {
         number_of_cells: 0,
         time: None,
         header_u64: false,
+        zlib: false,
+        base64: false,
         arrays: Vec::new(),
         appended_start: (underscore + 1) as u64,
         file_len: data.len() as u64,
@@ -480,9 +371,15 @@ fn parse_header(path: &Path, data: &[u8]) -> Result<VtuHeader, OutputError> {
                     Some("UInt32") | None => false,
                     Some(h) => return Err(bad(format!("unsupported header_type {h}"))),
                 };
-                if tag.attr("compressor").is_some_and(|c| !c.is_empty()) {
-                    return Err(bad("compressed files are not supported".into()));
-                }
+                header.zlib = match tag.attr("compressor") {
+                    None | Some("") => false,
+                    Some("vtkZLibDataCompressor") => true,
+                    Some(c) => {
+                        return Err(bad(format!(
+                            "unsupported compressor {c} (only vtkZLibDataCompressor)"
+                        )));
+                    }
+                };
             }
             ("Piece", TagKind::Start | TagKind::Empty) => {
                 pieces += 1;
@@ -492,8 +389,17 @@ fn parse_header(path: &Path, data: &[u8]) -> Result<VtuHeader, OutputError> {
                 header.number_of_points = parse_attr(path, tag, "NumberOfPoints")?.unwrap_or(0);
                 header.number_of_cells = parse_attr(path, tag, "NumberOfCells")?.unwrap_or(0);
             }
-            ("AppendedData", _) if tag.attr("encoding") != Some("raw") => {
-                return Err(bad("AppendedData encoding is not raw".into()));
+            ("AppendedData", TagKind::Start) => {
+                header.base64 = match tag.attr("encoding") {
+                    Some("raw") => false,
+                    Some("base64") => true,
+                    other => {
+                        return Err(bad(format!(
+                            "AppendedData encoding {:?} is neither raw nor base64",
+                            other.unwrap_or("")
+                        )));
+                    }
+                };
             }
             ("DataArray", TagKind::Start | TagKind::Empty) => {
                 let sec = section.ok_or_else(|| bad("DataArray outside a known section".into()))?;
@@ -566,15 +472,16 @@ fn parse_header(path: &Path, data: &[u8]) -> Result<VtuHeader, OutputError> {
 }
 
 /// Reads and parses only the XML header of a `.vtu` file written by
-/// [`write_vtu`] (or any single-piece, uncompressed, raw-appended
-/// little-endian unstructured grid).
+/// [`write_vtu`] (or any single-piece little-endian unstructured grid whose
+/// arrays are appended, raw or base64, uncompressed or zlib-compressed).
 pub fn read_vtu_header(path: &Path) -> Result<VtuHeader, OutputError> {
     let data = std::fs::read(path).map_err(|e| OutputError::io(path, e))?;
     parse_header(path, &data)
 }
 
-/// Reads a `.vtu` file written by [`write_vtu`] (or any single-piece,
-/// uncompressed, raw-appended little-endian unstructured grid).
+/// Reads a `.vtu` file written by [`write_vtu`] in any [`Encoding`] (or any
+/// single-piece little-endian unstructured grid whose arrays are appended, raw
+/// or base64, uncompressed or zlib-compressed).
 ///
 /// Every appended block is bounds-checked and its size checked against the
 /// header (`NumberOfPoints` x components for points and point data); any
@@ -585,7 +492,11 @@ pub fn read_vtu(path: &Path) -> Result<VtuData, OutputError> {
     let bad = |reason: String| OutputError::malformed(path, reason);
     let start = header.appended_start as usize;
     let appended = &data[start.min(data.len())..];
-    let hsize = if header.header_u64 { 8 } else { 4 };
+    let format = BlockFormat {
+        header_u64: header.header_u64,
+        zlib: header.zlib,
+        base64: header.base64,
+    };
 
     let mut out = VtuData {
         points: Vec::new(),
@@ -596,28 +507,24 @@ pub fn read_vtu(path: &Path) -> Result<VtuData, OutputError> {
     let mut saw_points = false;
     for info in &header.arrays {
         let Some(offset) = info.offset else { continue };
-        let off = usize::try_from(offset)
-            .ok()
-            .filter(|o| o.checked_add(hsize).is_some_and(|e| e <= appended.len()))
-            .ok_or_else(|| bad(format!("offset of {} lies beyond end of file", info.name)))?;
-        let len_bytes = &appended[off..off + hsize];
-        let nbytes = if hsize == 8 {
-            let mut a = [0u8; 8];
-            a.copy_from_slice(len_bytes);
-            u64::from_le_bytes(a)
-        } else {
-            let mut a = [0u8; 4];
-            a.copy_from_slice(len_bytes);
-            u64::from(u32::from_le_bytes(a))
-        };
-        let body_start = off + hsize;
-        let body = usize::try_from(nbytes)
-            .ok()
-            .and_then(|nb| body_start.checked_add(nb))
-            .filter(|&end| end <= appended.len())
-            .map(|end| &appended[body_start..end])
-            .ok_or_else(|| bad(format!("block of {} runs past end of file", info.name)))?;
         let tuple_bytes = info.data_type.size() * info.components;
+        let expected = match info.section {
+            VtuSection::Points | VtuSection::PointData => Some(header.number_of_points),
+            VtuSection::CellData => Some(header.number_of_cells),
+            VtuSection::Cells if info.name == "types" || info.name == "offsets" => {
+                Some(header.number_of_cells)
+            }
+            _ => None,
+        };
+        // zlib inflates at most 1032-fold, which bounds an array of unknown length.
+        let max_bytes = match expected {
+            Some(e) => (e as u64).saturating_mul(tuple_bytes as u64),
+            None => (appended.len() as u64).saturating_mul(1032),
+        };
+        let off = usize::try_from(offset)
+            .map_err(|_| bad(format!("offset of {} lies beyond end of file", info.name)))?;
+        let body = read_block(appended, off, format, max_bytes)
+            .map_err(|e| bad(format!("array {}: {e}", info.name)))?;
         if body.len() % tuple_bytes != 0 {
             return Err(bad(format!(
                 "block of {} has {} bytes, not a whole number of tuples",
@@ -626,12 +533,6 @@ pub fn read_vtu(path: &Path) -> Result<VtuData, OutputError> {
             )));
         }
         let tuples = body.len() / tuple_bytes;
-        let expected = match info.section {
-            VtuSection::Points | VtuSection::PointData => Some(header.number_of_points),
-            VtuSection::CellData => Some(header.number_of_cells),
-            VtuSection::Cells if info.name == "types" => Some(header.number_of_cells),
-            _ => None,
-        };
         if let Some(e) = expected
             && e != tuples
         {
@@ -640,7 +541,7 @@ pub fn read_vtu(path: &Path) -> Result<VtuData, OutputError> {
                 info.name
             )));
         }
-        let values = info.data_type.decode_le(body);
+        let values = info.data_type.decode_le(&body);
         match info.section {
             VtuSection::Points => {
                 if saw_points {

@@ -100,6 +100,10 @@ pub struct Scene {
     /// Support radius of that surface's eq. (25) in particle spacings (`[output]
     /// surface_radius`, default [`crate::surface::DEFAULT_RADIUS`]).
     pub surface_radius: f64,
+    /// Storage of the arrays of frames and surfaces (`[output] encoding`, default zlib).
+    pub output_encoding: crate::output::Encoding,
+    /// Whether frames hold only the fluid particles (`[output] fluid_only`, default false).
+    pub fluid_only: bool,
     /// Probes (`[[probe]]`), in file order, with unique names.
     pub probes: Vec<Probe>,
 }

@@ -341,11 +341,17 @@ pub struct OutputFile {
     /// Whether to write particle frames; default true.
     pub frames: Option<bool>,
     /// Whether to write the free surface (eq. (25)) at every frame time as
-    /// `surface/surface_NNNNN.vtp` and `.ply`, listed in `surface.pvd`; default false.
+    /// `surface/surface_NNNNN.vtp` (triangles in 3D, line segments in 2D), listed in
+    /// `surface.pvd`; default false.
     pub surface: Option<bool>,
     /// Support radius R of eq. (25) for that surface, in particle spacings, > 0; default
     /// [`crate::surface::DEFAULT_RADIUS`] (independent of `smoothing_ratio`).
     pub surface_radius: Option<f64>,
+    /// How the arrays of frames and surfaces are stored: `"zlib"` (compressed, the default),
+    /// `"base64"` (the encoding vtkio and splashsurf read) or `"raw"` (uncompressed binary).
+    pub encoding: Option<crate::output::Encoding>,
+    /// Whether frames hold only the fluid particles (their `id`s unchanged); default false.
+    pub fluid_only: Option<bool>,
 }
 
 /// `[[probe]]`: a quantity measured during the run.

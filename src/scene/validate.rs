@@ -494,6 +494,8 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         Some(r) => c.positive(op.k("surface_radius"), r),
         None => Some(crate::surface::DEFAULT_RADIUS),
     };
+    let output_encoding = out.and_then(|o| o.encoding).unwrap_or_default();
+    let fluid_only = out.and_then(|o| o.fluid_only).unwrap_or(false);
 
     let resolved = (|| {
         Some(Scene {
@@ -523,6 +525,8 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             write_frames,
             write_surface,
             surface_radius: surface_radius?,
+            output_encoding,
+            fluid_only,
             probes,
         })
     })();
