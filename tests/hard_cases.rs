@@ -600,11 +600,16 @@ fn viscous_high_3d_corrected() {
     viscous_high("viscous_high_3d.toml", "viscous_low_3d.toml", "corrected");
 }
 
-/// The scene file's fixed step, ten times the acoustic limit `cfl h / C`, is refused by the
-/// validator in one line that names `solver.dt`, the value and the bound `h / C`.
+/// A fixed step ten times the acoustic limit `cfl h / C` (twice the scene file's `h / C`) is
+/// refused by the validator in one line that names `solver.dt`, the value and the bound `h / C`.
 fn large_dt_refused(file: &str, dt: &str, bound: &str) {
     let path = format!("{}/scenes/hard/{file}", env!("CARGO_MANIFEST_DIR"));
-    let err = load_scene(Path::new(&path), &[]).expect_err("a step 10x too large is refused");
+    let shipped = load_scene(Path::new(&path), &[]).expect("the scene file's step h / C is accepted");
+    let set = format!(
+        "solver.dt={}",
+        2.0 * shipped.smoothing_length / shipped.sound_speed
+    );
+    let err = load_scene(Path::new(&path), &[set]).expect_err("a step 10x too large is refused");
     let msg = err.to_string();
     assert_eq!(msg.lines().count(), 1, "{msg}");
     for part in ["solver.dt", dt, bound, "h / C"] {
@@ -622,15 +627,15 @@ fn large_dt_3d_is_refused_by_the_validator() {
     large_dt_refused("large_dt_3d.toml", "0.004 s", "0.002");
 }
 
-/// `sph run` on the scene exits non-zero with one line on stderr naming `solver.dt`, and leaves
-/// no output folder.
+/// `sph run` with ten times `cfl h / C` exits non-zero with one line on stderr naming
+/// `solver.dt`, and leaves no output folder.
 #[test]
 fn large_dt_2d_is_refused_by_sph_run() {
     let scene = format!("{}/scenes/hard/large_dt_2d.toml", env!("CARGO_MANIFEST_DIR"));
     let out = std::env::temp_dir().join(format!("sph_hard_large_dt_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_sph"))
-        .args(["run", &scene, "--out"])
+        .args(["run", &scene, "--set", "solver.dt=2e-3", "--out"])
         .arg(&out)
         .output()
         .expect("sph runs");
@@ -820,7 +825,7 @@ fn corrected_large_dt_refused(file: &str, dt: &str, parts: &[&str]) {
     }
 }
 
-/// The scene file's 2 ms step: above `0.0125 sqrt(h / |g|)` = 0.564 ms (h = 0.02 m).
+/// A 2 ms step: above `0.0125 sqrt(h / |g|)` = 0.564 ms (h = 0.02 m).
 #[test]
 fn large_dt_2d_corrected_is_refused_by_the_validator() {
     corrected_large_dt_refused(
@@ -840,7 +845,7 @@ fn jet_2d_corrected_large_dt_is_refused_by_the_validator() {
     );
 }
 
-/// `sph run --set solver.kind=corrected` on `large_dt_2d.toml` (its 2 ms step above the
+/// `sph run --set solver.kind=corrected` on `large_dt_2d.toml` (its 1 ms step above the
 /// corrected bound) exits non-zero with one line on stderr naming `solver.dt`, and leaves no
 /// output folder.
 #[test]
