@@ -1,5 +1,6 @@
 //! Result output: VTK XML unstructured-grid frames ([`vtu`]), ParaView
-//! `.pvd` time series ([`pvd`]), CSV logs ([`csv`]) and the JSON run
+//! `.pvd` time series ([`pvd`]), CSV logs ([`csv`], with the column convention; read back
+//! by [`csv_read`]) and the JSON run
 //! summary ([`summary`]); free-surface meshes as VTK polydata ([`vtp`]) and
 //! PLY ([`ply`]).
 //!
@@ -12,6 +13,7 @@
 //! everything is reported through [`OutputError`].
 
 pub mod csv;
+pub mod csv_read;
 pub mod plot;
 pub mod ply;
 pub mod pvd;
@@ -26,7 +28,8 @@ use std::fs::{self, File};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-pub use csv::{CsvTable, CsvValue, ForceLog};
+pub use csv::{CsvTable, CsvValue, ForceLog, force_unit, format_row};
+pub use csv_read::{CsvFile, CsvReadError};
 pub use pvd::PvdSeries;
 pub use summary::{Summary, read_summary, write_summary};
 pub use vtu::{
@@ -77,6 +80,9 @@ pub enum OutputError {
         /// What is wrong with it.
         reason: String,
     },
+    /// A CSV file being read is malformed (naming its line and column).
+    #[error(transparent)]
+    Csv(#[from] CsvReadError),
     /// JSON (de)serialisation failed.
     #[error("JSON error on {}: {source}", path.display())]
     Json {
