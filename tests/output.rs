@@ -473,6 +473,34 @@ fn force_log_round_trips_exactly() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+fn sample_summary() -> Summary {
+    let mut extra = serde_json::Map::new();
+    extra.insert("dt".into(), serde_json::json!(1e-4));
+    extra.insert("iterations".into(), serde_json::json!([3, 4, 5]));
+    Summary {
+        scene: "dam_break".into(),
+        scene_file: Some("/runs/scenes/dam_break.toml".into()),
+        scene_overrides: vec!["solver.dt=1e-4".into()],
+        dimension: 2,
+        solver: "ipc".into(),
+        backend: "cpu".into(),
+        threads: 2,
+        particles: 12345,
+        fluid_particles: 10000,
+        steps: 999,
+        simulated_time: 0.1 + 0.2,
+        wall_seconds: 12.75,
+        particle_steps_per_second: 12345.0 * 999.0 / 12.75,
+        max_compression: 0.0123456789,
+        mean_compression: 1.0 / 3.0,
+        max_surface_deficit: 0.375,
+        mean_surface_deficit: 1.0 / 7.0,
+        status: "ok".into(),
+        output_frames: 11,
+        extra,
+    }
+}
+
 #[test]
 fn summary_round_trips() {
     let dir = scratch("summary");
@@ -497,6 +525,14 @@ fn summary_round_trips() {
     let back = read_summary(&path).unwrap();
     assert!(back.max_compression.is_nan() && back.mean_compression.is_nan());
     assert_eq!(back.status, "diverged");
+    // The headline numbers are named for what they are; one missing (a summary of another
+    // version) reads as not known.
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("\"max_surface_deficit\": 0.375") && !text.contains("density_error"));
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    json.as_object_mut().unwrap().remove("max_surface_deficit");
+    std::fs::write(&path, json.to_string()).unwrap();
+    assert!(read_summary(&path).unwrap().max_surface_deficit.is_nan());
 
     std::fs::write(&path, "{ not json").unwrap();
     assert!(matches!(read_summary(&path), Err(OutputError::Json { .. })));
