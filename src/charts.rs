@@ -1,14 +1,16 @@
 //! Charts of a finished (or stopped) run's CSV logs (`sph plot RUN_DIR`): the force on each
-//! solid over time (the paper's Fig. 4), each probe over time, and per step the density error,
-//! the correction iterations (section 2, eq. (24)) and the time step.
+//! solid over time (the paper's Fig. 4), each probe over time, and per step the largest
+//! compression and free-surface deficit (`compression_and_deficit.png`), the correction
+//! iterations (section 2, eq. (24)) and the time step.
 //!
 //! Files read from the run directory (columns as in [`crate::output::csv`]): `forces.csv`
 //! (`t_s`, `solid` and `fx_N`, `fy_N`, `fz_N`, or in 2D `fx_N_per_m`, `fy_N_per_m`; one row per
 //! solid per step), `probes.csv` (`t_s` and one `<probe>_m`, `<probe>_N` or `<probe>_N_per_m`
 //! column per probe) and `steps.csv` (`t_s`, `dt_s`, `max_compression`, `max_surface_deficit`,
 //! `correction_iterations`, …). The unit of each force column is read from its name. A missing
-//! file is skipped; a run with none of them is an error. With the scene, probes that name reference data are also drawn against it,
-//! normalised as [`crate::probe::compare_samples`] does (validation/SOURCES.md).
+//! file is skipped; a run with none of them is an error. With the scene, probes that name
+//! reference data are also drawn against it, normalised as [`crate::probe::compare_samples`]
+//! does (validation/SOURCES.md).
 //!
 //! The per-step force of a particle method is noisy: each force curve is the mean over groups
 //! of consecutive steps, the group size chosen so that a curve has at most
@@ -187,7 +189,7 @@ pub fn step_figures(log: &CsvFile) -> Result<Vec<(String, Figure)>, OutputError>
     let positive = |p: &[(f64, f64)]| !p.is_empty() && p.iter().all(|p| p.1 > 0.0);
     let log_y = positive(&compression) && positive(&deficit);
     let mut figures = vec![(
-        "density_error".to_string(),
+        "compression_and_deficit".to_string(),
         Figure {
             title: "largest compression and free-surface deficit per step".into(),
             x_label: "t [s]".into(),

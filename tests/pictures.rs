@@ -303,8 +303,8 @@ fn plot_charts_forces_probes_and_steps_with_reference_data() {
     assert_eq!(
         names,
         [
+            "compression_and_deficit.png",
             "correction_iterations.png",
-            "density_error.png",
             "force_tank.png",
             "front_reference.png",
             "probe_front.png",
