@@ -12,6 +12,7 @@ use crate::backend::BackendKind;
 use crate::error::Error;
 use crate::grid::Grid;
 use crate::output::plot::{Figure, Series, SeriesStyle};
+use crate::output::{CsvValue, format_row};
 use crate::run::AnySimulation;
 use crate::scene::{Scene, generate::count_particles, load_scene};
 use crate::solver::Simulation;
@@ -246,41 +247,65 @@ pub fn bench(
     Ok(rows)
 }
 
-/// The per-stage breakdown as CSV: particles, backend, stage, seconds per step.
+/// Columns of `bench_stages.csv` ([`stages_csv`]).
+pub const STAGE_COLUMNS: [&str; 4] = ["particles", "backend", "stage", "stage_time_per_step_s"];
+
+/// Columns of `bench.csv` ([`to_csv`]).
+pub const BENCH_COLUMNS: [&str; 13] = [
+    "particles",
+    "backend",
+    "device",
+    "spacing_m",
+    "step_time_s",
+    "sweep_time_s",
+    "sweeps_per_step",
+    "particle_steps_per_s",
+    "interactions_per_s",
+    "memory_B_per_particle",
+    "peak_resident_B_per_particle",
+    "neighbours",
+    "speedup",
+];
+
+/// The per-stage breakdown as CSV ([`STAGE_COLUMNS`]): particles, backend, stage, seconds per
+/// step.
 pub fn stages_csv(rows: &[BenchRow]) -> String {
-    let mut s = String::from("particles,backend,stage,seconds_per_step\n");
+    let header: Vec<CsvValue> = STAGE_COLUMNS.iter().map(|c| CsvValue::Text(c)).collect();
+    let mut s = format_row(&header);
     for r in rows {
         for (stage, t) in &r.stages {
-            s.push_str(&format!("{},{},{stage},{t:e}\n", r.particles, r.backend));
+            s.push_str(&format_row(&[
+                CsvValue::Int(r.particles as i64),
+                CsvValue::Text(&r.backend),
+                CsvValue::Text(stage),
+                CsvValue::Float(*t),
+            ]));
         }
     }
     s
 }
 
-/// The table as CSV (header and one line per row).
+/// The table as CSV ([`BENCH_COLUMNS`]; header and one line per row, `speedup` empty for the
+/// CPU rows).
 pub fn to_csv(rows: &[BenchRow]) -> String {
-    let mut s = String::from(
-        "particles,backend,device,spacing_m,seconds_per_step,seconds_per_sweep,sweeps_per_step,\
-         particle_steps_per_second,interactions_per_second,bytes_per_particle,\
-         peak_resident_per_particle,neighbours,speedup\n",
-    );
+    let header: Vec<CsvValue> = BENCH_COLUMNS.iter().map(|c| CsvValue::Text(c)).collect();
+    let mut s = format_row(&header);
     for r in rows {
-        s.push_str(&format!(
-            "{},{},{},{:e},{:e},{:e},{:.2},{:e},{:e},{:.1},{:.1},{:.2},{}\n",
-            r.particles,
-            r.backend,
-            r.device.replace(',', " "),
-            r.spacing,
-            r.seconds_per_step,
-            r.seconds_per_sweep,
-            r.sweeps_per_step,
-            r.particle_steps_per_second,
-            r.interactions_per_second,
-            r.bytes_per_particle,
-            r.peak_resident_per_particle,
-            r.neighbours,
-            r.speedup.map_or(String::new(), |x| format!("{x:.2}"))
-        ));
+        s.push_str(&format_row(&[
+            CsvValue::Int(r.particles as i64),
+            CsvValue::Text(&r.backend),
+            CsvValue::Text(&r.device),
+            CsvValue::Float(r.spacing),
+            CsvValue::Float(r.seconds_per_step),
+            CsvValue::Float(r.seconds_per_sweep),
+            CsvValue::Float(r.sweeps_per_step),
+            CsvValue::Float(r.particle_steps_per_second),
+            CsvValue::Float(r.interactions_per_second),
+            CsvValue::Float(r.bytes_per_particle),
+            CsvValue::Float(r.peak_resident_per_particle),
+            CsvValue::Float(r.neighbours),
+            r.speedup.map_or(CsvValue::Text(""), CsvValue::Float),
+        ]));
     }
     s
 }

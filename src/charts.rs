@@ -1,19 +1,23 @@
 //! Charts of a finished (or stopped) run's CSV logs (`sph plot RUN_DIR`): the force on each
-//! solid over time (the paper's Fig. 4), each probe over time, and per step the density error,
-//! the correction iterations (section 2, eq. (24)) and the time step.
+//! solid over time (the paper's Fig. 4), each probe over time, and per step the largest
+//! compression and free-surface deficit (`compression_and_deficit.png`), the correction
+//! iterations (section 2, eq. (24)) and the time step.
 //!
-//! Files read from the run directory: `forces.csv` (`t,solid,fx,fy,fz`, one row per solid per
-//! step), `probes.csv` (`t_s` and one `<probe>_m` or `<probe>_N` column per probe) and
-//! `steps.csv` (`step,t_s,dt_s,limit,…`). A missing file is skipped; a run with none of them is
-//! an error. With the scene, probes that name reference data are also drawn against it,
-//! normalised as [`crate::probe::compare_samples`] does (validation/SOURCES.md).
+//! Files read from the run directory (columns as in [`crate::output::csv`]): `forces.csv`
+//! (`t_s`, `solid` and `fx_N`, `fy_N`, `fz_N`, or in 2D `fx_N_per_m`, `fy_N_per_m`; one row per
+//! solid per step), `probes.csv` (`t_s` and one `<probe>_m`, `<probe>_N` or `<probe>_N_per_m`
+//! column per probe) and `steps.csv` (`t_s`, `dt_s`, `max_compression`, `max_surface_deficit`,
+//! `correction_iterations`, …). The unit of each force column is read from its name. A missing
+//! file is skipped; a run with none of them is an error. With the scene, probes that name
+//! reference data are also drawn against it, normalised as [`crate::probe::compare_samples`]
+//! does (validation/SOURCES.md).
 //!
 //! The per-step force of a particle method is noisy: each force curve is the mean over groups
 //! of consecutive steps, the group size chosen so that a curve has at most
 //! [`FORCE_POINTS`] points.
 
-use crate::output::OutputError;
 use crate::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
+use crate::output::{CsvFile, CsvReadError, OutputError};
 use crate::probe::front_figure;
 use crate::scene::Scene;
 use crate::sweep::{SweepError, comparisons_from_csv};
@@ -51,109 +55,6 @@ pub enum ChartError {
     Plot(#[from] PlotError),
 }
 
-/// A CSV log read back: its header and rows of text fields.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CsvLog {
-    path: PathBuf,
-    header: Vec<String>,
-    rows: Vec<Vec<String>>,
-}
-
-impl CsvLog {
-    /// Reads `path` (header line, then rows; RFC 4180 quoting as [`crate::output::CsvTable`]
-    /// writes it). Every row must have as many fields as the header.
-    pub fn read(path: &Path) -> Result<Self, OutputError> {
-        let text = std::fs::read_to_string(path).map_err(|e| OutputError::io(path, e))?;
-        let mut lines = text.lines().filter(|l| !l.trim().is_empty());
-        let header = split_csv_line(lines.next().unwrap_or_default());
-        if header.iter().all(|h| h.is_empty()) {
-            return Err(OutputError::malformed(path, "no header line"));
-        }
-        let rows = lines
-            .enumerate()
-            .map(|(i, line)| {
-                let row = split_csv_line(line);
-                if row.len() == header.len() {
-                    Ok(row)
-                } else {
-                    Err(OutputError::malformed(
-                        path,
-                        format!(
-                            "row {} has {} fields, the header {}",
-                            i + 1,
-                            row.len(),
-                            header.len()
-                        ),
-                    ))
-                }
-            })
-            .collect::<Result<_, _>>()?;
-        Ok(CsvLog {
-            path: path.to_path_buf(),
-            header,
-            rows,
-        })
-    }
-
-    /// The column names.
-    pub fn header(&self) -> &[String] {
-        &self.header
-    }
-
-    /// Index of column `name`.
-    pub fn column(&self, name: &str) -> Result<usize, OutputError> {
-        self.header
-            .iter()
-            .position(|h| h == name)
-            .ok_or_else(|| OutputError::malformed(&self.path, format!("no column `{name}`")))
-    }
-
-    /// Column `k` of row `r` as a number.
-    fn number(&self, r: usize, k: usize) -> Result<f64, OutputError> {
-        let field = &self.rows[r][k];
-        field.trim().parse::<f64>().map_err(|_| {
-            OutputError::malformed(
-                &self.path,
-                format!("row {}: `{}` = {field:?} is not a number", r + 1, self.header[k]),
-            )
-        })
-    }
-
-    /// The points `(x, y)` of columns `x` and `y` over the rows for which `keep` holds.
-    fn points(
-        &self,
-        x: usize,
-        y: usize,
-        keep: impl Fn(&[String]) -> bool,
-    ) -> Result<Vec<(f64, f64)>, OutputError> {
-        (0..self.rows.len())
-            .filter(|&r| keep(&self.rows[r]))
-            .map(|r| Ok((self.number(r, x)?, self.number(r, y)?)))
-            .collect()
-    }
-}
-
-/// Splits one CSV line into fields, undoing RFC 4180 quoting.
-fn split_csv_line(line: &str) -> Vec<String> {
-    let mut fields = Vec::new();
-    let mut field = String::new();
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match (c, quoted) {
-            ('"', true) if chars.peek() == Some(&'"') => {
-                field.push('"');
-                chars.next();
-            }
-            ('"', _) => quoted = !quoted,
-            (',', false) => fields.push(std::mem::take(&mut field)),
-            _ => field.push(c),
-        }
-    }
-    fields.push(field);
-    fields
-}
-
 /// The means of consecutive groups of points, the group size chosen so that at most `max`
 /// points remain (points unchanged when there are no more than `max`).
 pub fn group_means(points: &[(f64, f64)], max: usize) -> (Vec<(f64, f64)>, usize) {
@@ -169,37 +70,45 @@ pub fn group_means(points: &[(f64, f64)], max: usize) -> (Vec<(f64, f64)>, usize
     (means, group)
 }
 
-/// The force unit of a `dimension`-D run (2D forces are per unit depth).
-fn force_unit(dimension: Option<usize>) -> &'static str {
-    match dimension {
-        Some(2) => "N/m",
-        Some(_) => "N",
-        None => "N (3D) or N/m (2D)",
-    }
+/// The column of force component `component` (`fx`, `fy`, `fz`) in `log` and its unit for an
+/// axis label: `<component>_N` [N] or `<component>_N_per_m` [N/m]; `None` when absent.
+fn force_column(log: &CsvFile, component: &str) -> Option<(usize, &'static str)> {
+    [("N", "N"), ("N_per_m", "N/m")]
+        .into_iter()
+        .find_map(|(suffix, unit)| Some((log.column(&format!("{component}_{suffix}")).ok()?, unit)))
 }
 
-/// One chart per solid of `forces.csv`: its force components over time (the paper's Fig. 4;
-/// `fz` only in 3D). Returned as `(file stem, figure)`.
-pub fn force_figures(log: &CsvLog, dimension: Option<usize>) -> Result<Vec<(String, Figure)>, OutputError> {
-    let (t, solid) = (log.column("t")?, log.column("solid")?);
+/// One chart per solid of `forces.csv`: its force components over time (the paper's Fig. 4).
+/// Returned as `(file stem, figure)`.
+///
+/// # Errors
+/// A missing `t_s`, `solid` or `fx` column, or a cell that is not a number.
+pub fn force_figures(log: &CsvFile) -> Result<Vec<(String, Figure)>, OutputError> {
+    let (t, solid) = (log.column("t_s")?, log.column("solid")?);
     let mut solids: Vec<&str> = Vec::new();
-    for row in &log.rows {
-        if !solids.contains(&row[solid].as_str()) {
-            solids.push(&row[solid]);
+    for r in 0..log.len() {
+        if !solids.contains(&log.text(r, solid)) {
+            solids.push(log.text(r, solid));
         }
     }
-    let components: &[&str] = if dimension == Some(2) {
-        &["fx", "fy"]
-    } else {
-        &["fx", "fy", "fz"]
+    // `fx` must be there; `fz` is absent in 2D.
+    let Some((_, unit)) = force_column(log, "fx") else {
+        return Err(CsvReadError::MissingColumn {
+            path: log.path().to_path_buf(),
+            column: "fx_N (or fx_N_per_m)".into(),
+            header: log.header().to_vec(),
+        }
+        .into());
     };
-    let unit = force_unit(dimension);
+    let components: Vec<(&str, usize)> = ["fx", "fy", "fz"]
+        .into_iter()
+        .filter_map(|c| force_column(log, c).map(|(k, _)| (c, k)))
+        .collect();
     let mut figures = Vec::new();
     for name in solids {
         let mut series = Vec::new();
-        for component in components {
-            let k = log.column(component)?;
-            let points = log.points(t, k, |row| row[solid] == name)?;
+        for &(component, k) in &components {
+            let points = log.points(t, k, |r| log.text(r, solid) == name)?;
             let (means, group) = group_means(&points, FORCE_POINTS);
             let label = if group > 1 {
                 format!("{component} (mean of {group} steps)")
@@ -227,20 +136,21 @@ pub fn force_figures(log: &CsvLog, dimension: Option<usize>) -> Result<Vec<(Stri
 }
 
 /// One chart per probe column of `probes.csv` over time, as recorded (unnormalised).
-pub fn probe_figures(log: &CsvLog, dimension: Option<usize>) -> Result<Vec<(String, Figure)>, OutputError> {
+pub fn probe_figures(log: &CsvFile) -> Result<Vec<(String, Figure)>, OutputError> {
     let t = log.column("t_s")?;
     let mut figures = Vec::new();
     for (k, column) in log.header().iter().enumerate() {
         if k == t {
             continue;
         }
-        let (name, y_label) = match column.rsplit_once('_') {
-            Some((name, "m")) => (name, "front position [m]".to_string()),
-            Some((name, "N")) => (
-                name,
-                format!("force, mean over each sample [{}]", force_unit(dimension)),
-            ),
-            _ => (column.as_str(), column.clone()),
+        let (name, y_label) = if let Some(name) = column.strip_suffix("_N_per_m") {
+            (name, "force, mean over each sample [N/m]".to_string())
+        } else if let Some(name) = column.strip_suffix("_N") {
+            (name, "force, mean over each sample [N]".to_string())
+        } else if let Some(name) = column.strip_suffix("_m") {
+            (name, "front position [m]".to_string())
+        } else {
+            (column.as_str(), column.clone())
         };
         figures.push((
             format!("probe_{}", file_safe(name)),
@@ -260,9 +170,10 @@ pub fn probe_figures(log: &CsvLog, dimension: Option<usize>) -> Result<Vec<(Stri
     Ok(figures)
 }
 
-/// From `steps.csv`: the largest density error per step (log scale when all positive), the
-/// correction iterations per step (only when some step corrected), and the time step.
-pub fn step_figures(log: &CsvLog) -> Result<Vec<(String, Figure)>, OutputError> {
+/// From `steps.csv`: the largest compression and the largest free-surface deficit per step
+/// (log scale when all positive), the correction iterations per step (only when some step
+/// corrected), and the time step.
+pub fn step_figures(log: &CsvFile) -> Result<Vec<(String, Figure)>, OutputError> {
     let t = log.column("t_s")?;
     let line = |points| {
         vec![Series {
@@ -271,17 +182,31 @@ pub fn step_figures(log: &CsvLog) -> Result<Vec<(String, Figure)>, OutputError> 
             style: SeriesStyle::Line,
         }]
     };
-    let error = log.points(t, log.column("max_density_error")?, |_| true)?;
+    let compression = log.points(t, log.column("max_compression")?, |_| true)?;
+    let deficit = log.points(t, log.column("max_surface_deficit")?, |_| true)?;
     let iterations = log.points(t, log.column("correction_iterations")?, |_| true)?;
     let dt = log.points(t, log.column("dt_s")?, |_| true)?;
+    let positive = |p: &[(f64, f64)]| !p.is_empty() && p.iter().all(|p| p.1 > 0.0);
+    let log_y = positive(&compression) && positive(&deficit);
     let mut figures = vec![(
-        "density_error".to_string(),
+        "compression_and_deficit".to_string(),
         Figure {
-            title: "largest density error per step".into(),
+            title: "largest compression and free-surface deficit per step".into(),
             x_label: "t [s]".into(),
-            y_label: "max |rho - rho0| / rho0 [-]".into(),
-            log_y: !error.is_empty() && error.iter().all(|p| p.1 > 0.0),
-            series: line(error),
+            y_label: "relative density deviation [-]".into(),
+            log_y,
+            series: vec![
+                Series {
+                    label: "max compression max(rho - rho0, 0)/rho0".into(),
+                    points: compression,
+                    style: SeriesStyle::Line,
+                },
+                Series {
+                    label: "max surface deficit max(rho0 - rho, 0)/rho0".into(),
+                    points: deficit,
+                    style: SeriesStyle::Line,
+                },
+            ],
             ..Figure::default()
         },
     )];
@@ -341,13 +266,11 @@ pub fn write_run_charts(
             dir: run_dir.to_path_buf(),
         });
     }
-    let dimension = match run_dir.join("summary.json") {
-        p if p.is_file() => Some(crate::output::read_summary(&p)?.dimension),
-        _ => scene.map(|s| s.dimension),
-    };
     let read = |name: &str| {
         let path = run_dir.join(name);
-        path.is_file().then(|| CsvLog::read(&path)).transpose()
+        path.is_file()
+            .then(|| CsvFile::read(&path).map_err(OutputError::from))
+            .transpose()
     };
     let (forces, probes, steps) = (read("forces.csv")?, read("probes.csv")?, read("steps.csv")?);
     if forces.is_none() && probes.is_none() && steps.is_none() {
@@ -357,12 +280,12 @@ pub fn write_run_charts(
     }
     let mut figures = Vec::new();
     if let Some(log) = &forces {
-        figures.extend(force_figures(log, dimension)?);
+        figures.extend(force_figures(log)?);
     }
     if let Some(log) = &probes {
-        figures.extend(probe_figures(log, dimension)?);
+        figures.extend(probe_figures(log)?);
         if let Some(scene) = scene {
-            for c in comparisons_from_csv(scene, &log.path)? {
+            for c in comparisons_from_csv(scene, log.path())? {
                 let title = format!(
                     "{}: {} against reference data",
                     scene.name.as_deref().unwrap_or("run"),
@@ -393,15 +316,6 @@ pub fn write_run_charts(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn csv_lines_split_with_quotes() {
-        assert_eq!(
-            split_csv_line("1,\"a,b\",\"say \"\"hi\"\"\",x"),
-            ["1", "a,b", "say \"hi\"", "x"]
-        );
-        assert_eq!(split_csv_line(""), [""]);
-    }
 
     #[test]
     fn group_means_average_and_bound_the_count() {

@@ -13,7 +13,7 @@
 
 use crate::fields::{FLUID, Fields};
 use crate::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
-use crate::output::{CsvTable, CsvValue, OutputError};
+use crate::output::{CsvTable, CsvValue, OutputError, force_unit};
 use crate::scene::{Probe, ProbeKind, ProbeReference, ReferenceLocation, Scene};
 use crate::validation::{CurveError, read_column_force, read_surge_front, relative_error};
 use std::path::{Path, PathBuf};
@@ -34,6 +34,16 @@ pub fn measure<const D: usize>(probe: &Probe, fields: &Fields<D>, solid_forces: 
             .solid
             .and_then(|k| solid_forces.get(k))
             .map_or(0.0, |f| f[probe.axis.min(2)]),
+    }
+}
+
+/// The column of `probe` in `probes.csv` of a `dimension`-D run: `<name>_m` for a front,
+/// `<name>_N` for a force (`<name>_N_per_m` in 2D: per metre of depth), as
+/// [`crate::output::csv`]'s convention has it.
+pub fn column_name(probe: &Probe, dimension: usize) -> String {
+    match probe.kind {
+        ProbeKind::Front => format!("{}_m", probe.name),
+        ProbeKind::Force => format!("{}_{}", probe.name, force_unit(dimension)),
     }
 }
 
@@ -64,7 +74,7 @@ pub struct ProbeState {
 
 impl ProbeLog {
     /// A log for `scene`'s probes, sampled every `interval` [s]; writes `probes.csv` in `dir`
-    /// when given (columns `t_s` and one `<name>_m` per probe).
+    /// when given (columns `t_s` and one [`column_name`] per probe).
     pub fn create(scene: &Scene, dir: Option<&Path>, interval: f64) -> Result<Self, OutputError> {
         Self::open(scene, dir, interval, None)
     }
@@ -114,10 +124,7 @@ impl ProbeLog {
         let table = match dir {
             Some(dir) if !probes.is_empty() => {
                 let mut columns = vec!["t_s".to_string()];
-                columns.extend(probes.iter().map(|p| match p.kind {
-                    ProbeKind::Front => format!("{}_m", p.name),
-                    ProbeKind::Force => format!("{}_N", p.name),
-                }));
+                columns.extend(probes.iter().map(|p| column_name(p, scene.dimension)));
                 let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
                 let path = dir.join("probes.csv");
                 Some(match resume_len {

@@ -1,7 +1,8 @@
 //! A whole run: scene → simulation (dimension chosen once) → steps → output files.
 //!
 //! Output directory layout: `summary.json`, `forces.csv` (one row per solid per step),
-//! `steps.csv` (one row per step: time, dt, the criterion that limited it, extremes),
+//! `steps.csv` (one row per step: time, dt, the criterion that limited it, extremes; columns
+//! in [`crate::output::csv`]),
 //! `particles.pvd` and `frames/frame_NNNNN.vtu` (every particle with its stable `id`, or only the
 //! fluid with `[output] fluid_only = true`; arrays stored as `[output] encoding` says); with
 //! `[output] surface = true` also `surface.pvd` and `surface/surface_NNNNN.vtp` (the free surface
@@ -296,13 +297,14 @@ fn surface_series<const D: usize>(
 }
 
 /// Columns of `steps.csv`.
-const STEP_COLUMNS: [&str; 7] = [
+const STEP_COLUMNS: [&str; 8] = [
     "step",
     "t_s",
     "dt_s",
     "limit",
     "max_speed_m_per_s",
-    "max_density_error",
+    "max_compression",
+    "max_surface_deficit",
     "correction_iterations",
 ];
 
@@ -316,8 +318,8 @@ impl Writers {
     ) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir.join("frames")).map_err(|e| OutputError::io(&dir.join("frames"), e))?;
         let forces = match (with_forces, state.forces_len) {
-            (true, Some(len)) => Some(ForceLog::resume(&dir.join("forces.csv"), len)?),
-            (true, None) => Some(ForceLog::create(&dir.join("forces.csv"))?),
+            (true, Some(len)) => Some(ForceLog::resume(&dir.join("forces.csv"), D, len)?),
+            (true, None) => Some(ForceLog::create(&dir.join("forces.csv"), D)?),
             (false, _) => None,
         };
         let mut pvd = PvdSeries::new();
@@ -343,7 +345,7 @@ impl Writers {
     fn create<const D: usize>(dir: &Path, with_forces: bool, scene: &Scene) -> Result<Self, OutputError> {
         std::fs::create_dir_all(dir.join("frames")).map_err(|e| OutputError::io(&dir.join("frames"), e))?;
         let forces = if with_forces {
-            Some(ForceLog::create(&dir.join("forces.csv"))?)
+            Some(ForceLog::create(&dir.join("forces.csv"), D)?)
         } else {
             None
         };
@@ -491,7 +493,8 @@ fn drive<const D: usize>(
                         CsvValue::Float(report.dt),
                         CsvValue::Text(&name),
                         CsvValue::Float(e.max_speed),
-                        CsvValue::Float(e.max_abs_density_error),
+                        CsvValue::Float(e.max_compression),
+                        CsvValue::Float(e.max_surface_deficit),
                         CsvValue::Int((sim.stats().correction.iterations - iterations_before) as i64),
                     ])?;
                 }
@@ -569,19 +572,16 @@ fn drive<const D: usize>(
     summary.simulated_time = clock.time;
     summary.wall_seconds = wall;
     summary.particle_steps_per_second = clock.step as f64 * sim.fields.len() as f64 / wall.max(1e-9);
-    summary.max_density_error = stats.max_abs_density_error;
-    summary.mean_density_error = stats.sum_mean_abs_density_error / steps;
+    summary.max_compression = stats.max_compression;
+    summary.mean_compression = stats.sum_mean_compression / steps;
+    summary.max_surface_deficit = stats.max_surface_deficit;
+    summary.mean_surface_deficit = stats.sum_mean_surface_deficit / steps;
     summary.output_frames = writers.as_ref().map_or(0, |w| w.pvd.len() as u64);
     summary.status = match &failure {
         None => "completed".into(),
         Some(e) => format!("failed: {e}"),
     };
     let extra = &mut summary.extra;
-    extra.insert("max_compression".into(), stats.max_compression.into());
-    extra.insert(
-        "mean_compression".into(),
-        (stats.sum_mean_compression / steps).into(),
-    );
     extra.insert("fluid_mass".into(), sim.fluid_mass().into());
     extra.insert("memory_bytes".into(), (sim.heap_bytes() as u64).into());
     extra.insert(

@@ -19,8 +19,8 @@
 //! A variant whose run fails (a step error, say) is recorded with its status and the sweep goes on.
 
 use crate::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
-use crate::output::{CsvTable, CsvValue, OutputError, Summary, read_summary};
-use crate::probe::{ProbeComparison, ProbeError, compare_samples, front_figure};
+use crate::output::{CsvFile, CsvTable, CsvValue, OutputError, Summary, read_summary};
+use crate::probe::{ProbeComparison, ProbeError, column_name, compare_samples, front_figure};
 use crate::run::{Progress, RunOptions, run_scene};
 use crate::scene::{Scene, SceneError, load_scene};
 use std::path::{Path, PathBuf};
@@ -252,27 +252,30 @@ impl Sweep {
     }
 
     /// The header of `sweep.csv` for scenes whose probes with reference data are `probes`:
-    /// `variant`, one column per swept key, `wall_seconds`, `particle_steps_per_second`,
-    /// `steps`, `iterations_per_stage`, `iterations_max`, `unconverged_stages`,
-    /// `max_density_error`, `<probe>_error_max` and `<probe>_error_mean` per probe, `status`.
+    /// `variant`, one column per swept key, `wall_s`, `particle_steps_per_s`, `steps`,
+    /// `correction_iterations_mean` (per corrected stage), `correction_iterations_max`,
+    /// `unconverged_stages`, `max_compression`, `max_surface_deficit` (the summary's, see
+    /// [`Summary::max_compression`]), `<probe>_relative_error_max` and
+    /// `<probe>_relative_error_mean` per probe, `status`.
     pub fn columns(&self, probes: &[String]) -> Vec<String> {
         let mut columns = vec!["variant".to_string()];
         columns.extend(self.keys.iter().cloned());
         columns.extend(
             [
-                "wall_seconds",
-                "particle_steps_per_second",
+                "wall_s",
+                "particle_steps_per_s",
                 "steps",
-                "iterations_per_stage",
-                "iterations_max",
+                "correction_iterations_mean",
+                "correction_iterations_max",
                 "unconverged_stages",
-                "max_density_error",
+                "max_compression",
+                "max_surface_deficit",
             ]
             .map(String::from),
         );
         for p in probes {
-            columns.push(format!("{p}_error_max"));
-            columns.push(format!("{p}_error_mean"));
+            columns.push(format!("{p}_relative_error_max"));
+            columns.push(format!("{p}_relative_error_mean"));
         }
         columns.push("status".into());
         columns
@@ -328,9 +331,15 @@ impl VariantResult {
             .as_f64()
     }
 
-    /// The largest compression `max(ρ − ρ0, 0)/ρ0` seen (`max_compression` of the summary).
-    pub fn max_density_error(&self) -> Option<f64> {
-        self.extra("max_compression")
+    /// The largest compression `max(ρ − ρ0, 0)/ρ0` of the run ([`Summary::max_compression`]).
+    pub fn max_compression(&self) -> Option<f64> {
+        self.summary.as_ref().map(|s| s.max_compression)
+    }
+
+    /// The largest free-surface deficit `max(ρ0 − ρ, 0)/ρ0` of the run
+    /// ([`Summary::max_surface_deficit`]).
+    pub fn max_surface_deficit(&self) -> Option<f64> {
+        self.summary.as_ref().map(|s| s.max_surface_deficit)
     }
 }
 
@@ -495,7 +504,8 @@ fn push_row(table: &mut CsvTable, r: &VariantResult, probes: &[String]) -> Resul
     row.push(number(r.extra("correction_iterations_mean")));
     row.push(integer(extra_int("correction_iterations_max")));
     row.push(integer(extra_int("unconverged_stages")));
-    row.push(number(r.max_density_error()));
+    row.push(number(r.max_compression()));
+    row.push(number(r.max_surface_deficit()));
     for p in probes {
         row.push(number(r.probe_error(p, "error_max")));
         row.push(number(r.probe_error(p, "error_mean")));
@@ -520,7 +530,7 @@ fn error_figure(scene: &str, results: &[VariantResult], probe: Option<&String>) 
             let y = if use_probe {
                 probe_error(r)?
             } else {
-                r.max_density_error()?
+                r.max_compression()?
             };
             Some(Series {
                 label: r.variant.name.clone(),
@@ -553,54 +563,27 @@ fn fronts_figure(scene: &str, results: &[VariantResult], probe: Option<&String>)
     (!runs.is_empty()).then(|| front_figure(&format!("{scene}: probe {probe}, every variant"), &runs))
 }
 
-/// Reads a run's `probes.csv` (columns `t_s` and `<name>_m`) and compares each probe of `scene`
-/// that has reference data with it, normalised as [`crate::probe::compare`] does:
-/// `T = t sqrt(g/a)`, `Z = z/a` with `g = |gravity|` and `a = reference.length`.
+/// Reads a run's `probes.csv` (columns `t_s` and one [`crate::probe::column_name`] per probe)
+/// and compares each probe of `scene` that has reference data with it, normalised as
+/// [`crate::probe::compare`] does: `T = t sqrt(g/a)`, `Z = z/a` with `g = |gravity|` and
+/// `a = reference.length`.
 ///
 /// # Errors
-/// The file cannot be read or lacks a probe's column ([`SweepError::Output`]), or the
-/// reference data cannot be read or has none of the probe's series ([`SweepError::Probe`]).
+/// The file cannot be read, lacks a probe's column or holds a cell that is not a number
+/// ([`SweepError::Output`], naming the file, line and column), or the reference data cannot be
+/// read or has none of the probe's series ([`SweepError::Probe`]).
 pub fn comparisons_from_csv(scene: &Scene, path: &Path) -> Result<Vec<ProbeComparison>, SweepError> {
-    let text = std::fs::read_to_string(path).map_err(|e| OutputError::io(path, e))?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines
-        .next()
-        .unwrap_or_default()
-        .split(',')
-        .map(str::trim)
-        .collect();
-    let rows: Vec<Vec<f64>> = lines
-        .filter(|l| !l.trim().is_empty())
-        .enumerate()
-        .map(|(i, l)| {
-            l.split(',')
-                .map(|f| f.trim().parse::<f64>())
-                .collect::<Result<Vec<_>, _>>()
-                .ok()
-                .filter(|r| r.len() == header.len())
-                .ok_or_else(|| {
-                    OutputError::malformed(path, format!("line {}: not {} numbers", i + 2, header.len()))
-                })
-        })
-        .collect::<Result<_, _>>()?;
-    let column = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .ok_or_else(|| OutputError::malformed(path, format!("no column {name}")))
-    };
-    let time = column("t_s")?;
+    let table = CsvFile::read(path).map_err(OutputError::from)?;
+    let time = table.column("t_s").map_err(OutputError::from)?;
     let mut out = Vec::new();
     for probe in &scene.probes {
         if probe.reference.is_none() {
             continue;
         }
-        let unit = match probe.kind {
-            crate::scene::ProbeKind::Front => "m",
-            crate::scene::ProbeKind::Force => "N",
-        };
-        let k = column(&format!("{}_{unit}", probe.name))?;
-        let samples: Vec<(f64, f64)> = rows.iter().map(|r| (r[time], r[k])).collect();
+        let k = table
+            .column(&column_name(probe, scene.dimension))
+            .map_err(OutputError::from)?;
+        let samples = table.points(time, k, |_| true).map_err(OutputError::from)?;
         if let Some(c) = compare_samples(scene, probe, &samples)? {
             out.push(c);
         }

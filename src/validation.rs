@@ -12,57 +12,16 @@
 //! And two comparisons: [`interpolate`] (piecewise linear) and
 //! [`relative_error`] of a simulated curve against reference points.
 //!
-//! The files are plain CSV: a header row, comma-separated fields, no quoting
-//! and no comments, so a small reader suffices; it rejects quoted fields
-//! rather than misreading them. Columns are found by header name, never by
-//! position. Blank lines are skipped; CRLF line ends are accepted.
+//! The files are read with the program's one CSV reader ([`crate::output::CsvFile`]):
+//! columns are found by header name, never by position, and every cell a point needs must be a
+//! finite number.
 
-use std::path::{Path, PathBuf};
+use crate::output::CsvFile;
+use std::path::Path;
 
-/// Errors produced while reading reference data.
-#[derive(Debug, thiserror::Error)]
-pub enum ValidationError {
-    /// Reading the file failed.
-    #[error("cannot read {}: {source}", path.display())]
-    Io {
-        /// The file being read.
-        path: PathBuf,
-        /// The underlying I/O error.
-        #[source]
-        source: std::io::Error,
-    },
-    /// The header row has no column of this name.
-    #[error("{}: no column `{column}` in the header", path.display())]
-    MissingColumn {
-        /// The file being read.
-        path: PathBuf,
-        /// The column that was looked for.
-        column: String,
-    },
-    /// A cell that must hold a number does not.
-    #[error("{}:{line}: column `{column}`: `{text}` is not a number", path.display())]
-    BadNumber {
-        /// The file being read.
-        path: PathBuf,
-        /// Line number, counted from 1 (the header is line 1).
-        line: usize,
-        /// Name of the column.
-        column: String,
-        /// The offending cell, as written.
-        text: String,
-    },
-    /// The file is not plain CSV of the expected shape (no header, a row
-    /// with the wrong number of fields, a quoted field).
-    #[error("{}:{line}: {reason}", path.display())]
-    Malformed {
-        /// The file being read.
-        path: PathBuf,
-        /// Line number, counted from 1.
-        line: usize,
-        /// What is wrong.
-        reason: String,
-    },
-}
+/// Errors produced while reading reference data: the CSV reader's, each naming the file, line
+/// and column.
+pub type ValidationError = crate::output::CsvReadError;
 
 /// One digitised point of Martin & Moyce's surge front: T = n t sqrt(g/a), Z = x/a.
 ///
@@ -112,22 +71,21 @@ pub struct CurveError {
 /// # Errors
 /// [`ValidationError`] naming the file: I/O failure, a missing column
 /// (`series`, `n2_height_over_width`, `T_n_t_sqrt_g_over_a`, `Z_front_over_a`),
-/// a cell that is not a number, or a malformed row.
+/// a cell that is not a finite number, or a row of another length than the
+/// header.
 pub fn read_surge_front(path: &Path) -> Result<Vec<FrontPoint>, ValidationError> {
-    let table = Table::read(path)?;
+    let table = CsvFile::read(path)?;
     let series = table.column("series")?;
     let n2 = table.column("n2_height_over_width")?;
     let t = table.column("T_n_t_sqrt_g_over_a")?;
     let z = table.column("Z_front_over_a")?;
-    table
-        .rows
-        .iter()
+    (0..table.len())
         .map(|row| {
             Ok(FrontPoint {
-                series: row.text(series).to_string(),
-                n2: table.number(row, n2)?,
-                t: table.number(row, t)?,
-                z: table.number(row, z)?,
+                series: table.text(row, series).to_string(),
+                n2: table.finite_number(row, n2)?,
+                t: table.finite_number(row, t)?,
+                z: table.finite_number(row, z)?,
             })
         })
         .collect()
@@ -142,18 +100,17 @@ pub fn read_surge_front(path: &Path) -> Result<Vec<FrontPoint>, ValidationError>
 ///
 /// # Errors
 /// [`ValidationError`] naming the file: I/O failure, a missing column
-/// (`time_s`, `force_x_N`), a cell that is not a number, or a malformed row.
+/// (`time_s`, `force_x_N`), a cell that is not a finite number, or a row of another length than the
+/// header.
 pub fn read_column_force(path: &Path) -> Result<Vec<ForcePoint>, ValidationError> {
-    let table = Table::read(path)?;
+    let table = CsvFile::read(path)?;
     let time = table.column("time_s")?;
     let force = table.column("force_x_N")?;
-    table
-        .rows
-        .iter()
+    (0..table.len())
         .map(|row| {
             Ok(ForcePoint {
-                time: table.number(row, time)?,
-                force: table.number(row, force)?,
+                time: table.finite_number(row, time)?,
+                force: table.finite_number(row, force)?,
             })
         })
         .collect()
@@ -211,105 +168,4 @@ pub fn relative_error(
         mean: sum / count as f64,
         count,
     })
-}
-
-/// A plain CSV file: header names and data rows, with line numbers kept
-/// for error messages.
-struct Table {
-    /// The file read.
-    path: PathBuf,
-    /// Column names from the header row.
-    header: Vec<String>,
-    /// Data rows, each with exactly `header.len()` fields.
-    rows: Vec<Row>,
-}
-
-/// One data row of a [`Table`].
-struct Row {
-    /// Line number in the file, from 1.
-    line: usize,
-    /// The fields, trimmed of surrounding blanks.
-    fields: Vec<String>,
-}
-
-impl Row {
-    /// The text of field `column`.
-    fn text(&self, column: usize) -> &str {
-        // In range: `Table::read` keeps only rows with as many fields as the
-        // header, and `column` comes from `Table::column`.
-        &self.fields[column]
-    }
-}
-
-impl Table {
-    /// Reads and splits the whole file; checks the shape, not the values.
-    fn read(path: &Path) -> Result<Self, ValidationError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ValidationError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let malformed = |line: usize, reason: String| ValidationError::Malformed {
-            path: path.to_path_buf(),
-            line,
-            reason,
-        };
-        let mut header: Option<Vec<String>> = None;
-        let mut rows = Vec::new();
-        for (index, raw) in text.lines().enumerate() {
-            let line = index + 1;
-            let raw = if line == 1 {
-                raw.trim_start_matches('\u{feff}')
-            } else {
-                raw
-            };
-            if raw.trim().is_empty() {
-                continue;
-            }
-            if raw.contains('"') {
-                return Err(malformed(line, "quoted fields are not supported".to_string()));
-            }
-            let fields: Vec<String> = raw.split(',').map(|f| f.trim().to_string()).collect();
-            match &header {
-                None => header = Some(fields),
-                Some(names) if fields.len() != names.len() => {
-                    return Err(malformed(
-                        line,
-                        format!("{} fields, the header has {}", fields.len(), names.len()),
-                    ));
-                }
-                Some(_) => rows.push(Row { line, fields }),
-            }
-        }
-        let header = header.ok_or_else(|| malformed(1, "no header row".to_string()))?;
-        Ok(Table {
-            path: path.to_path_buf(),
-            header,
-            rows,
-        })
-    }
-
-    /// Index of the column named `name`.
-    fn column(&self, name: &str) -> Result<usize, ValidationError> {
-        self.header
-            .iter()
-            .position(|h| h == name)
-            .ok_or_else(|| ValidationError::MissingColumn {
-                path: self.path.clone(),
-                column: name.to_string(),
-            })
-    }
-
-    /// Field `column` of `row` as a finite number.
-    fn number(&self, row: &Row, column: usize) -> Result<f64, ValidationError> {
-        let text = row.text(column);
-        match text.parse::<f64>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            _ => Err(ValidationError::BadNumber {
-                path: self.path.clone(),
-                line: row.line,
-                column: self.header[column].clone(),
-                text: text.to_string(),
-            }),
-        }
-    }
 }

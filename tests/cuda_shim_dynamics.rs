@@ -1214,6 +1214,11 @@ fn compare_extremes<const D: usize>(
         bits(cpu.max_compression),
         "{what}: max compression"
     );
+    assert_eq!(
+        bits(shim.max_surface_deficit),
+        bits(cpu.max_surface_deficit),
+        "{what}: max surface deficit"
+    );
     for (a, b, name) in [
         (
             shim.mean_abs_density_error,
@@ -1227,6 +1232,13 @@ fn compare_extremes<const D: usize>(
             "{what}: {name}: {a} vs {b}"
         );
     }
+    // The mean deficit is mean |e| - mean compression on both backends: the two sums' rounding
+    // (f64, another order) is relative to mean |e|, not to the difference.
+    let (a, b) = (shim.mean_surface_deficit, cpu.mean_surface_deficit);
+    assert!(
+        a == b || (a.is_nan() && b.is_nan()) || (a - b).abs() <= 1.0e-12 * cpu.mean_abs_density_error,
+        "{what}: mean surface deficit: {a} vs {b}"
+    );
     assert_eq!(shim.escaped, cpu.escaped, "{what}: escaped");
     assert_eq!(
         out.first_non_finite(),

@@ -299,6 +299,14 @@ fn multiphase_kernels_on_the_shim_match_the_cpu_stages() {
             shim_extremes.max_abs_density_error,
         ),
         (cpu_extremes.max_compression, shim_extremes.max_compression),
+        (
+            cpu_extremes.max_surface_deficit,
+            shim_extremes.max_surface_deficit,
+        ),
+        (
+            cpu_extremes.mean_surface_deficit,
+            shim_extremes.mean_surface_deficit,
+        ),
     ] {
         assert!(a > 0.0 && (a - b).abs() <= 1e-5 * a, "cpu {a}, shim {b}");
     }

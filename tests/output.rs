@@ -1,8 +1,8 @@
 //! Integration tests for the output module.
 
 use sph::output::{
-    Encoding, ForceLog, Frame, OutputError, PvdSeries, Summary, VtkType, VtuSection, read_summary, read_vtu,
-    read_vtu_header, read_vtu_points, write_summary, write_vtu,
+    CsvFile, Encoding, ForceLog, Frame, OutputError, PvdSeries, Summary, VtkType, VtuSection, read_summary,
+    read_vtu, read_vtu_header, read_vtu_points, write_summary, write_vtu,
 };
 
 use nalgebra::SVector;
@@ -510,7 +510,7 @@ fn force_log_round_trips_exactly() {
         (1e-300, "plate, left", [f64::MAX, f64::MIN_POSITIVE, 5e-324]),
         (123456789.123, "say \"hi\"", [-1e20, 1e-7, 6.02214076e23]),
     ];
-    let mut log = ForceLog::create(&path).unwrap();
+    let mut log = ForceLog::create(&path, 3).unwrap();
     for (t, s, f) in &rows[..2] {
         log.push(*t, s, *f).unwrap();
     }
@@ -522,43 +522,32 @@ fn force_log_round_trips_exactly() {
         log.push(*t, s, *f).unwrap();
     }
     log.flush().unwrap();
-    let text = std::fs::read_to_string(&path).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("t,solid,fx,fy,fz"));
-    for (line, (t, s, f)) in lines.zip(&rows) {
-        let fields = split_csv(line);
-        assert_eq!(fields.len(), 5, "{line}");
-        assert_eq!(fields[0].parse::<f64>().unwrap().to_bits(), t.to_bits());
-        assert_eq!(fields[1], *s);
+    let table = CsvFile::read(&path).unwrap();
+    assert_eq!(table.header(), ["t_s", "solid", "fx_N", "fy_N", "fz_N"]);
+    assert_eq!(table.len(), rows.len());
+    for (r, (t, s, f)) in rows.iter().enumerate() {
+        assert_eq!(table.number(r, 0).unwrap().to_bits(), t.to_bits());
+        assert_eq!(table.text(r, 1), *s);
         for c in 0..3 {
             assert_eq!(
-                fields[2 + c].parse::<f64>().unwrap().to_bits(),
+                table.number(r, 2 + c).unwrap().to_bits(),
                 f[c].to_bits(),
-                "{line}"
+                "row {r}"
             );
         }
     }
+    // A 2D run's forces are per metre of depth, without a z component.
+    let path = dir.join("forces_2d.csv");
+    let mut log = ForceLog::create(&path, 2).unwrap();
+    log.push(0.5, "tank", [3.0, -4.0, 0.0]).unwrap();
+    log.flush().unwrap();
+    let table = CsvFile::read(&path).unwrap();
+    assert_eq!(table.header(), ["t_s", "solid", "fx_N_per_m", "fy_N_per_m"]);
+    assert_eq!(
+        table.number(0, table.column("fy_N_per_m").unwrap()).unwrap(),
+        -4.0
+    );
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// Minimal RFC 4180 field splitter for one line.
-fn split_csv(line: &str) -> Vec<String> {
-    let mut fields = vec![String::new()];
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match (c, quoted) {
-            ('"', false) => quoted = true,
-            ('"', true) if chars.peek() == Some(&'"') => {
-                chars.next();
-                fields.last_mut().unwrap().push('"');
-            }
-            ('"', true) => quoted = false,
-            (',', false) => fields.push(String::new()),
-            (c, _) => fields.last_mut().unwrap().push(c),
-        }
-    }
-    fields
 }
 
 fn sample_summary() -> Summary {
@@ -579,8 +568,10 @@ fn sample_summary() -> Summary {
         simulated_time: 0.1 + 0.2,
         wall_seconds: 12.75,
         particle_steps_per_second: 12345.0 * 999.0 / 12.75,
-        max_density_error: 0.0123456789,
-        mean_density_error: 1.0 / 3.0,
+        max_compression: 0.0123456789,
+        mean_compression: 1.0 / 3.0,
+        max_surface_deficit: 0.375,
+        mean_surface_deficit: 1.0 / 7.0,
         status: "ok".into(),
         output_frames: 11,
         extra,
@@ -605,12 +596,20 @@ fn summary_round_trips() {
     // Non-finite values (diverged run) come back as NaN instead of failing.
     let mut diverged = s.clone();
     diverged.status = "diverged".into();
-    diverged.max_density_error = f64::NAN;
-    diverged.mean_density_error = f64::INFINITY;
+    diverged.max_compression = f64::NAN;
+    diverged.mean_compression = f64::INFINITY;
     write_summary(&path, &diverged).unwrap();
     let back = read_summary(&path).unwrap();
-    assert!(back.max_density_error.is_nan() && back.mean_density_error.is_nan());
+    assert!(back.max_compression.is_nan() && back.mean_compression.is_nan());
     assert_eq!(back.status, "diverged");
+    // The headline numbers are named for what they are; one missing (a summary of another
+    // version) reads as not known.
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("\"max_surface_deficit\": 0.375") && !text.contains("density_error"));
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    json.as_object_mut().unwrap().remove("max_surface_deficit");
+    std::fs::write(&path, json.to_string()).unwrap();
+    assert!(read_summary(&path).unwrap().max_surface_deficit.is_nan());
 
     std::fs::write(&path, "{ not json").unwrap();
     assert!(matches!(read_summary(&path), Err(OutputError::Json { .. })));
@@ -639,7 +638,7 @@ fn missing_directory_is_io_error_naming_path() {
     let f = gone.join("s.pvd");
     check(PvdSeries::new().write(&f).unwrap_err(), &f);
     let f = gone.join("forces.csv");
-    check(ForceLog::create(&f).unwrap_err(), &f);
+    check(ForceLog::create(&f, 3).unwrap_err(), &f);
     let f = gone.join("summary.json");
     check(write_summary(&f, &sample_summary()).unwrap_err(), &f);
     let f = gone.join("r.vtu");
@@ -662,7 +661,7 @@ fn writing_below_a_regular_file_is_io_error() {
         other => panic!("expected Io, got {other:?}"),
     }
     assert!(matches!(
-        ForceLog::create(&file.join("f.csv")),
+        ForceLog::create(&file.join("f.csv"), 2),
         Err(OutputError::Io { .. })
     ));
     std::fs::remove_dir_all(&dir).unwrap();

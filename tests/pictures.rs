@@ -303,8 +303,8 @@ fn plot_charts_forces_probes_and_steps_with_reference_data() {
     assert_eq!(
         names,
         [
+            "compression_and_deficit.png",
             "correction_iterations.png",
-            "density_error.png",
             "force_tank.png",
             "front_reference.png",
             "probe_front.png",
@@ -387,9 +387,12 @@ fn bad_run_directories_fail_with_one_line() {
     std::fs::write(run.join("frames/f.vtu"), "not a frame").unwrap();
     fails_with(&["render", run.to_str().unwrap()], "f.vtu");
     assert!(!run.join("render_side_speed").join("frame_00000.png").exists());
-    // A malformed log names its file.
+    // A malformed log names its file and line.
     std::fs::write(run.join("steps.csv"), "step,t_s\n1,0.1,7\n").unwrap();
-    fails_with(&["plot", run.to_str().unwrap()], "steps.csv");
+    fails_with(
+        &["plot", run.to_str().unwrap()],
+        "steps.csv:2: 3 fields, the header has 2",
+    );
 }
 
 /// A fluid block of `nx` x `ny` x `nz` particles at spacing `dx` from the origin, coloured by

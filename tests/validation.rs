@@ -107,18 +107,20 @@ fn bad_number_names_file_line_and_column() {
             path: p,
             line,
             column,
+            position,
             text,
         } => {
             assert_eq!(p, &path.path);
             assert_eq!(*line, 3);
             assert_eq!(column, "force_x_N");
+            assert_eq!(*position, 2);
             assert_eq!(text, "abc");
         }
         other => panic!("expected BadNumber, got {other}"),
     }
     let message = err.to_string();
     assert!(
-        message.contains(&path.display().to_string()) && message.contains(":3:"),
+        message.contains(&path.display().to_string()) && message.contains(":3: column 2 `force_x_N`"),
         "{message}"
     );
     // An empty cell in a required column is a bad number too.
@@ -154,18 +156,40 @@ fn missing_column_names_column_and_file() {
 
 #[test]
 fn malformed_and_missing_files_are_errors() {
+    // A short row names its line and the first column it lacks.
     let path = temp_csv("short.csv", "time_s,force_x_N\n0.1\n");
     let err = read_column_force(&path).unwrap_err();
-    assert!(matches!(err, ValidationError::Malformed { line: 2, .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            ValidationError::Ragged {
+                line: 2,
+                expected: 2,
+                found: 1,
+                position: 2,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(
+        err.to_string().contains(":2: 1 fields, the header has 2"),
+        "{err}"
+    );
+    // Quoted fields are read as RFC 4180 has them.
     let path = temp_csv("quoted.csv", "time_s,force_x_N\n\"0.1\",2\n");
+    let force = read_column_force(&path).unwrap();
+    assert_eq!((force[0].time, force[0].force), (0.1, 2.0));
+    // Non-finite reference values are refused.
+    let path = temp_csv("nan.csv", "time_s,force_x_N\n0.1,NaN\n");
     assert!(matches!(
         read_column_force(&path),
-        Err(ValidationError::Malformed { line: 2, .. })
+        Err(ValidationError::BadNumber { line: 2, .. })
     ));
     let path = temp_csv("blank.csv", "\n\n");
     assert!(matches!(
         read_surge_front(&path),
-        Err(ValidationError::Malformed { .. })
+        Err(ValidationError::NoHeader { .. })
     ));
     let path = Path::new("/nonexistent/sph/front.csv");
     let err = read_surge_front(path).unwrap_err();

@@ -133,6 +133,13 @@ pub struct StateExtremes {
     pub max_compression: f64,
     /// Mean compression over fluid particles.
     pub mean_compression: f64,
+    /// Largest free-surface deficit `max(ρ0 − ρ, 0)/ρ0` over fluid particles: a particle near
+    /// the free surface lacks neighbours on one side, so its summed density (eq. 18) is below
+    /// `ρ0` while the fluid is not expanded.
+    pub max_surface_deficit: f64,
+    /// Mean deficit over fluid particles, as `mean |ρ − ρ0|/ρ0 − mean compression` (equal to
+    /// the mean of `max(ρ0 − ρ, 0)/ρ0` but for rounding; both backends form it so).
+    pub mean_surface_deficit: f64,
     /// First particle (current order) with a non-finite field, and the field's name.
     pub non_finite: Option<(usize, &'static str)>,
     /// First fluid particle (current order) outside the domain box.

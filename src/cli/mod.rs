@@ -190,8 +190,8 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// Chart a run's CSV logs as PNGs: force on each solid (Fig. 4), probes, density error,
-    /// correction iterations and time step per step.
+    /// Chart a run's CSV logs as PNGs: force on each solid (Fig. 4), probes, compression and
+    /// free-surface deficit, correction iterations and time step per step.
     Plot {
         /// The run's output directory.
         run_dir: PathBuf,

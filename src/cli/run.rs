@@ -156,6 +156,13 @@ pub fn run(
         summary.particle_steps_per_second,
         out.display()
     );
+    println!(
+        "density: max compression {:.2e} (mean {:.2e}); max free-surface deficit {:.2e} (mean {:.2e})",
+        summary.max_compression,
+        summary.mean_compression,
+        summary.max_surface_deficit,
+        summary.mean_surface_deficit
+    );
     if let Some(mean) = summary.extra.get("correction_iterations_mean") {
         println!(
             "position correction: {:.1} iterations per stage on average, {} at most, {} stages unconverged, \

@@ -104,7 +104,8 @@ pub fn sweep(
 }
 
 /// `completed in 12.300 s wall, 812 steps, front error mean 4.1 % (max 6.0 %), max compression
-/// 1.2e-3`; a failure is its status followed by the same figures so far in brackets.
+/// 1.2e-3, max surface deficit 3.1e-1`; a failure is its status followed by the same figures so
+/// far in brackets.
 fn finished_line(r: &VariantResult) -> String {
     let mut parts = Vec::new();
     if let Some(s) = &r.summary {
@@ -129,8 +130,11 @@ fn finished_line(r: &VariantResult) -> String {
             _ => parts.push(format!("{}: no reference point reached", c.name)),
         }
     }
-    if let Some(e) = r.max_density_error() {
+    if let Some(e) = r.max_compression() {
         parts.push(format!("max compression {e:.2e}"));
+    }
+    if let Some(e) = r.max_surface_deficit() {
+        parts.push(format!("max surface deficit {e:.2e}"));
     }
     let parts = parts.join(", ");
     if r.status == "completed" {

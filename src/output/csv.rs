@@ -1,11 +1,46 @@
-//! Append-only CSV logs: a generic [`CsvTable`] and the per-solid
-//! [`ForceLog`].
+//! Append-only CSV logs: a generic [`CsvTable`] and the per-solid [`ForceLog`]; files are read
+//! back with [`super::csv_read::CsvFile`].
 //!
-//! Floating-point values are written in Rust's shortest round-trip
-//! representation (plain notation for moderate magnitudes, exponent notation
-//! otherwise), so parsing a field with `str::parse::<f64>` gives back the
-//! exact value. Text fields containing `,`, `"`, CR or LF are quoted with
-//! doubled quotes (RFC 4180).
+//! Floating-point values are written in Rust's shortest round-trip representation (plain
+//! notation for moderate magnitudes, exponent notation otherwise), so parsing a field with
+//! `str::parse::<f64>` gives back the exact value; non-finite values are written `NaN`, `inf`,
+//! `-inf`. Text fields containing `,`, `"`, CR or LF are quoted with doubled quotes (RFC 4180).
+//!
+//! # Column convention
+//!
+//! Every CSV file the program writes has one header row, and every column that holds a quantity
+//! with a unit ends in the unit: `_s` (seconds), `_m` (metres), `_N` (newtons), `_m_per_s`,
+//! `_per_s` (per second), `_B` (bytes). Forces of a 2D run are per metre of depth and their
+//! columns say so: `_N_per_m` in 2D, `_N` in 3D ([`force_unit`]); a 2D file has no `z`
+//! component. Counts, names and dimensionless ratios carry no unit and are named for what they
+//! are (`step`, `particles`, `correction_iterations`, `max_compression`, `speedup`).
+//!
+//! The files, and their columns:
+//! - `steps.csv` (`sph run`, one row per step): `step`, `t_s` (time at the step's end), `dt_s`,
+//!   `limit` (the criterion that chose `dt`), `max_speed_m_per_s`, `max_compression`,
+//!   `max_surface_deficit`, `correction_iterations`. The two density columns are taken on the
+//!   state at the step's start (see `crate::output::summary::Summary::max_compression`):
+//!   `max_compression` = max over fluid particles of `max(ρ − ρ0, 0)/ρ0`, `max_surface_deficit`
+//!   = max over fluid particles of `max(ρ0 − ρ, 0)/ρ0`.
+//! - `forces.csv` (`sph run`, one row per solid per step): 3D `t_s, solid, fx_N, fy_N, fz_N`;
+//!   2D `t_s, solid, fx_N_per_m, fy_N_per_m` (the force of the fluid on the solid).
+//! - `probes.csv` (`sph run` with `[[probe]]`): `t_s`, then per probe `<probe>_m` (a front) or
+//!   `<probe>_N` (a force; `<probe>_N_per_m` in 2D).
+//! - `sweep.csv` (`sph sweep`, one row per variant): `variant`, one column per swept scene key
+//!   (named by the key, the value as given), `wall_s`, `particle_steps_per_s`, `steps`,
+//!   `correction_iterations_mean`, `correction_iterations_max`, `unconverged_stages`,
+//!   `max_compression`, `max_surface_deficit`, per reference probe
+//!   `<probe>_relative_error_max` and `<probe>_relative_error_mean`, and `status`; a value not
+//!   measured is an empty cell.
+//! - `bench.csv` (`sph bench`, one row per size and backend): `particles`, `backend`, `device`,
+//!   `spacing_m`, `step_time_s`, `sweep_time_s`, `sweeps_per_step`, `particle_steps_per_s`,
+//!   `interactions_per_s`, `memory_B_per_particle`, `peak_resident_B_per_particle`,
+//!   `neighbours`, `speedup` (empty for the CPU rows).
+//! - `bench_stages.csv` (`sph bench`): `particles`, `backend`, `stage`, `stage_time_per_step_s`.
+//!
+//! The experimental reference records (`martin_moyce_1952_surge_front.csv`,
+//! `yeh_petroff_column_force_*.csv`) are external data with their own columns, described in
+//! their `SOURCES.md`; they are read, never written.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -136,20 +171,7 @@ impl CsvTable {
         // The row is formatted whole and handed to the buffer in one piece, so the buffer only
         // ever writes complete rows to the file: a run killed at any moment leaves whole lines.
         let mut line: Vec<u8> = Vec::with_capacity(16 * row.len());
-        let result = (|| {
-            for (i, v) in row.iter().enumerate() {
-                if i > 0 {
-                    line.write_all(b",")?;
-                }
-                match v {
-                    CsvValue::Float(x) => line.write_all(fmt_f64(*x).as_bytes())?,
-                    CsvValue::Int(x) => write!(line, "{x}")?,
-                    CsvValue::Text(s) => write_text(&mut line, s)?,
-                }
-            }
-            line.write_all(b"\n")?;
-            self.writer.write_all(&line)
-        })();
+        let result = write_fields(&mut line, row).and_then(|()| self.writer.write_all(&line));
         result.map_err(|e| OutputError::io(&self.path, e))
     }
 
@@ -159,28 +181,74 @@ impl CsvTable {
     }
 }
 
-/// Log of the hydrodynamic force on each named solid over time, with header
-/// `t,solid,fx,fy,fz` (time in s, force in N, or N/m in 2D; `fz = 0` in 2D).
+/// The unit suffix of force columns in a `dimension`-D run: `N`, or `N_per_m` in 2D (a 2D
+/// force is per metre of depth).
+pub fn force_unit(dimension: usize) -> &'static str {
+    if dimension == 2 { "N_per_m" } else { "N" }
+}
+
+/// Writes one row as CSV text (fields as [`CsvTable::push_row`] writes them, a final `\n`).
+pub fn format_row(row: &[CsvValue]) -> String {
+    let mut line: Vec<u8> = Vec::with_capacity(16 * row.len());
+    // Writing into a Vec<u8> cannot fail.
+    let _ = write_fields(&mut line, row);
+    String::from_utf8_lossy(&line).into_owned()
+}
+
+fn write_fields<W: Write>(line: &mut W, row: &[CsvValue]) -> std::io::Result<()> {
+    for (i, v) in row.iter().enumerate() {
+        if i > 0 {
+            line.write_all(b",")?;
+        }
+        match v {
+            CsvValue::Float(x) => line.write_all(fmt_f64(*x).as_bytes())?,
+            CsvValue::Int(x) => write!(line, "{x}")?,
+            CsvValue::Text(s) => write_text(line, s)?,
+        }
+    }
+    line.write_all(b"\n")
+}
+
+/// Log of the hydrodynamic force on each named solid over time: `forces.csv`, with header
+/// `t_s,solid,fx_N,fy_N,fz_N` in 3D and `t_s,solid,fx_N_per_m,fy_N_per_m` in 2D (time in s,
+/// force in N, or N per metre of depth in 2D).
 #[derive(Debug)]
 pub struct ForceLog {
     table: CsvTable,
+    dimension: usize,
 }
 
 impl ForceLog {
-    /// The header columns.
-    pub const COLUMNS: [&'static str; 5] = ["t", "solid", "fx", "fy", "fz"];
+    /// The header columns of a `dimension`-D run (see the type's documentation).
+    pub fn columns(dimension: usize) -> Vec<String> {
+        let unit = force_unit(dimension);
+        let mut columns = vec!["t_s".to_string(), "solid".to_string()];
+        columns.extend(
+            ["fx", "fy", "fz"]
+                .iter()
+                .take(dimension.clamp(2, 3))
+                .map(|c| format!("{c}_{unit}")),
+        );
+        columns
+    }
 
-    /// Creates (truncates) `path` and writes the header.
-    pub fn create(path: &Path) -> Result<Self, OutputError> {
+    /// Creates (truncates) `path` and writes the header of a `dimension`-D run.
+    pub fn create(path: &Path, dimension: usize) -> Result<Self, OutputError> {
+        let columns = Self::columns(dimension);
+        let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
         Ok(ForceLog {
-            table: CsvTable::create(path, &Self::COLUMNS)?,
+            table: CsvTable::create(path, &columns)?,
+            dimension,
         })
     }
 
     /// Reopens `path` at its length `len` at a checkpoint ([`CsvTable::resume`]).
-    pub fn resume(path: &Path, len: u64) -> Result<Self, OutputError> {
+    pub fn resume(path: &Path, dimension: usize, len: u64) -> Result<Self, OutputError> {
+        let columns = Self::columns(dimension);
+        let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
         Ok(ForceLog {
-            table: CsvTable::resume(path, &Self::COLUMNS, len)?,
+            table: CsvTable::resume(path, &columns, len)?,
+            dimension,
         })
     }
 
@@ -194,15 +262,16 @@ impl ForceLog {
         self.table.path()
     }
 
-    /// Appends the force on solid `solid` at time `t`.
+    /// Appends the force on solid `solid` at time `t` [s] (`force[2]` is not written in 2D).
     pub fn push(&mut self, t: f64, solid: &str, force: [f64; 3]) -> Result<(), OutputError> {
-        self.table.push_row(&[
-            CsvValue::Float(t),
-            CsvValue::Text(solid),
-            CsvValue::Float(force[0]),
-            CsvValue::Float(force[1]),
-            CsvValue::Float(force[2]),
-        ])
+        let mut row = vec![CsvValue::Float(t), CsvValue::Text(solid)];
+        row.extend(
+            force
+                .iter()
+                .take(self.dimension.clamp(2, 3))
+                .map(|&f| CsvValue::Float(f)),
+        );
+        self.table.push_row(&row)
     }
 
     /// Flushes buffered rows to the file (call after each output frame).

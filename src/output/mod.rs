@@ -1,8 +1,8 @@
 //! Result output: VTK XML unstructured-grid frames ([`vtu`]), ParaView
-//! `.pvd` time series ([`pvd`]), CSV logs ([`csv`]) and the JSON run
-//! summary ([`summary`]); free-surface meshes as VTK polydata ([`vtp`]). The
-//! binary arrays of the VTK files are stored zlib-compressed, base64 or raw
-//! ([`encoding`]).
+//! `.pvd` time series ([`pvd`]), CSV logs ([`csv`], with the column convention; read back
+//! by [`csv_read`]) and the JSON run summary ([`summary`]); free-surface meshes as VTK
+//! polydata ([`vtp`]). The binary arrays of the VTK files are stored zlib-compressed, base64
+//! or raw ([`encoding`]).
 //!
 //! Every whole-file writer (`.vtu`, `.vtp`, `.pvd`, `.json`) writes to a sibling
 //! file with `.tmp` appended to its name and then renames it over the
@@ -13,6 +13,7 @@
 //! everything is reported through [`OutputError`].
 
 pub mod csv;
+pub mod csv_read;
 pub mod encoding;
 pub mod frame;
 pub mod plot;
@@ -29,7 +30,8 @@ use std::fs::{self, File};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-pub use csv::{CsvTable, CsvValue, ForceLog};
+pub use csv::{CsvTable, CsvValue, ForceLog, force_unit, format_row};
+pub use csv_read::{CsvFile, CsvReadError};
 pub use encoding::Encoding;
 pub use pvd::PvdSeries;
 pub use summary::{Summary, read_summary, write_summary};
@@ -81,6 +83,9 @@ pub enum OutputError {
         /// What is wrong with it.
         reason: String,
     },
+    /// A CSV file being read is malformed (naming its line and column).
+    #[error(transparent)]
+    Csv(#[from] CsvReadError),
     /// JSON (de)serialisation failed.
     #[error("JSON error on {}: {source}", path.display())]
     Json {

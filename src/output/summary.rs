@@ -13,6 +13,11 @@ fn f64_or_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
+/// The value of a number missing from an older summary: not known.
+fn nan() -> f64 {
+    f64::NAN
+}
+
 /// Summary of one solver run, serialised as pretty JSON by
 /// [`write_summary`].
 ///
@@ -53,14 +58,35 @@ pub struct Summary {
     /// second.
     #[serde(deserialize_with = "f64_or_nan")]
     pub particle_steps_per_second: f64,
-    /// Maximum relative density error over the run (dimensionless): the
-    /// maximum over all steps and fluid particles of `|rho - rho0| / rho0`.
-    #[serde(deserialize_with = "f64_or_nan")]
-    pub max_density_error: f64,
-    /// Mean relative density error (dimensionless): the average over steps
-    /// of the per-step mean over fluid particles of `|rho - rho0| / rho0`.
-    #[serde(deserialize_with = "f64_or_nan")]
-    pub mean_density_error: f64,
+    /// Largest compression over the run (dimensionless): the maximum over steps and fluid
+    /// particles `i` of `max(ρ_i − ρ0_i, 0)/ρ0_i`, `ρ0_i` the particle's rest density. This is
+    /// what the `corrected` solver controls (eq. (24), PAPER.md note 6): it stays below
+    /// `solver.delta` while every correction converges (`extra.unconverged_stages = 0`).
+    ///
+    /// Taken on the state at the start of every step (density summed afresh after the sort):
+    /// the states the run passes through at `t^0, t^1, …`, the same measurement for every
+    /// solver, so `wcsph` and `corrected` runs compare. For `corrected` that state is the one
+    /// the previous step's last correction left (the density re-summed in another order, so it
+    /// may exceed the correction's own value by f32 rounding, ~1e-7); the largest compression
+    /// after any correction, intermediate Runge–Kutta stages and the start-up settle included,
+    /// is `extra.max_compression_after_correction`.
+    #[serde(default = "nan", deserialize_with = "f64_or_nan")]
+    pub max_compression: f64,
+    /// Mean compression (dimensionless): the average over steps of the per-step mean over
+    /// fluid particles of `max(ρ − ρ0, 0)/ρ0` (same states as [`Self::max_compression`]).
+    #[serde(default = "nan", deserialize_with = "f64_or_nan")]
+    pub mean_compression: f64,
+    /// Largest free-surface deficit over the run (dimensionless): the maximum over steps and
+    /// fluid particles of `max(ρ0 − ρ, 0)/ρ0`. A particle at the free surface has neighbours on
+    /// one side only, so its summed density (eq. (18)) falls short of `ρ0` by tens of percent
+    /// without the fluid being expanded; no solver drives this to zero, and it is reported
+    /// apart from the compression so that neither hides the other.
+    #[serde(default = "nan", deserialize_with = "f64_or_nan")]
+    pub max_surface_deficit: f64,
+    /// Mean free-surface deficit (dimensionless): the average over steps of the per-step mean
+    /// over fluid particles of `max(ρ0 − ρ, 0)/ρ0`.
+    #[serde(default = "nan", deserialize_with = "f64_or_nan")]
+    pub mean_surface_deficit: f64,
     /// Final status of the run, e.g. `"ok"`, `"diverged"`, `"interrupted"`.
     pub status: String,
     /// Number of `.vtu` frames written.

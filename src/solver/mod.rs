@@ -252,17 +252,20 @@ pub struct StepReport {
     pub extremes: crate::backend::StateExtremes,
 }
 
-/// Density-error statistics over a run (fluid particles; see `StateExtremes`).
+/// Density statistics over a run, from the state at the start of every step (fluid particles;
+/// see `StateExtremes`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunStats {
-    /// Largest `|ρ − ρ0|/ρ0` seen.
-    pub max_abs_density_error: f64,
-    /// Sum over steps of the per-step mean `|ρ − ρ0|/ρ0`.
-    pub sum_mean_abs_density_error: f64,
     /// Largest compression `max(ρ − ρ0, 0)/ρ0` seen.
     pub max_compression: f64,
     /// Sum over steps of the per-step mean compression.
     pub sum_mean_compression: f64,
+    /// Largest free-surface deficit `max(ρ0 − ρ, 0)/ρ0` seen.
+    #[serde(default)]
+    pub max_surface_deficit: f64,
+    /// Sum over steps of the per-step mean deficit.
+    #[serde(default)]
+    pub sum_mean_surface_deficit: f64,
     /// Position-correction statistics (`corrected` solver; zero otherwise).
     pub correction: CorrectionStats,
     /// Fluid particles the no-penetration guard put back out of a solid

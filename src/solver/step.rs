@@ -171,10 +171,10 @@ impl<const D: usize> Simulation<D> {
         }
         let e = &report.extremes;
         let s = &mut self.stats;
-        s.max_abs_density_error = s.max_abs_density_error.max(e.max_abs_density_error);
-        s.sum_mean_abs_density_error += e.mean_abs_density_error;
         s.max_compression = s.max_compression.max(e.max_compression);
         s.sum_mean_compression += e.mean_compression;
+        s.max_surface_deficit = s.max_surface_deficit.max(e.max_surface_deficit);
+        s.sum_mean_surface_deficit += e.mean_surface_deficit;
         self.clock.time += report.dt;
         self.clock.step += 1;
         // Every step starts from a fresh sort and density, so a step depends only on the fields

@@ -656,10 +656,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             (f64::from(f.density[i]) - rho0) / rho0
         };
         let fluid = |i: usize| f.kind[i] == FLUID;
-        // The largest speed, acceleration, |error| and compression in one pass.
-        let [max_speed, max_acceleration, max_abs, max_comp] = max_each_in_order(n, |i| {
+        // The largest speed, acceleration, |error|, compression and deficit in one pass.
+        let [max_speed, max_acceleration, max_abs, max_comp, max_deficit] = max_each_in_order(n, |i| {
             if !fluid(i) {
-                return [0.0; 4];
+                return [0.0; 5];
             }
             let e = error(i);
             [
@@ -667,6 +667,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 f64::from(f.acceleration[i].norm()),
                 e.abs(),
                 e.max(0.0),
+                (-e).max(0.0),
             ]
         });
         let [count, abs_sum, comp_sum] = sum_in_order(n, |i| {
@@ -694,6 +695,8 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             mean_abs_density_error: mean(abs_sum),
             max_compression: max_comp.max(0.0),
             mean_compression: mean(comp_sum),
+            max_surface_deficit: max_deficit.max(0.0),
+            mean_surface_deficit: mean(abs_sum - comp_sum),
             non_finite,
             escaped,
         }

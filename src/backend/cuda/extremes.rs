@@ -94,6 +94,16 @@ impl DeviceExtremes {
         ((f64::from(from_ordered_bits(self.max_density)) - rho0) / rho0).max(0.0)
     }
 
+    /// The largest free-surface deficit `max(ρ0 − ρ, 0)/ρ0`, at the smallest density (NaN
+    /// densities give 0, as on the CPU).
+    fn max_surface_deficit(&self, rho0: f32) -> f64 {
+        if self.min_density > self.max_density {
+            return 0.0;
+        }
+        let rho0 = f64::from(rho0);
+        (-((f64::from(from_ordered_bits(self.min_density)) - rho0) / rho0)).max(0.0)
+    }
+
     /// The extremes as `CpuBackend::state_extremes` reports them, for rest density `rho0`
     /// [kg/m³], with `non_finite: None`: the host names the field of
     /// [`DeviceExtremes::first_non_finite`] from the particle's values.
@@ -107,6 +117,8 @@ impl DeviceExtremes {
             mean_abs_density_error: mean(self.abs_error_sum),
             max_compression: self.max_compression(rho0).max(0.0),
             mean_compression: mean(self.compression_sum),
+            max_surface_deficit: self.max_surface_deficit(rho0),
+            mean_surface_deficit: mean(self.abs_error_sum - self.compression_sum),
             non_finite: None,
             escaped: (self.escaped != NO_PARTICLE).then_some(self.escaped as usize),
         }
