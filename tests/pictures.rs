@@ -288,11 +288,25 @@ fn plot_charts_forces_probes_and_steps_with_reference_data() {
     let run = tiny_2d_run(&dir.0);
     let out = dir.0.join("charts");
     let scene = format!("{ROOT}/scenes/dam_break_2d.toml");
+    // A made-up front record in the format of the scene's reference file (the chart is tested,
+    // not the data).
+    let refs = dir.0.join("reference");
+    std::fs::create_dir_all(&refs).unwrap();
+    std::fs::write(
+        refs.join("martin_moyce_1952_surge_front.csv"),
+        "series,n2_height_over_width,a_column_width_in,T_n_t_sqrt_g_over_a,Z_front_over_a\n\
+         MM1952_n2-1_jaxsph,1,,0.1,1.01\nMM1952_n2-1_jaxsph,1,,0.3,1.05\n\
+         MM1952_n2-1_trixiparticles,1,,0.2,1.02\nMM1952_n2-1_trixiparticles,1,,0.4,1.08\n",
+    )
+    .unwrap();
+    let refs = refs.to_str().unwrap();
     sph_ok(&[
         "plot",
         run.to_str().unwrap(),
         "--scene",
         &scene,
+        "--reference-dir",
+        refs,
         "--out",
         out.to_str().unwrap(),
     ]);
@@ -320,7 +334,7 @@ fn plot_charts_forces_probes_and_steps_with_reference_data() {
     }
     // Without --scene: the scene file named in summary.json gives the reference chart, by
     // default into RUN_DIR/plots.
-    sph_ok(&["plot", run.to_str().unwrap()]);
+    sph_ok(&["plot", run.to_str().unwrap(), "--reference-dir", refs]);
     let own = png_files(&run.join("plots"));
     assert_eq!(own.len(), 6);
     assert!(own.iter().any(|f| f.ends_with("front_reference.png")));
