@@ -265,6 +265,7 @@ fn sweep_over_solver_kind_writes_table_and_figures() {
             "variant",
             "solver.kind",
             "wall_s",
+            "wall_s_per_simulated_s",
             "particle_steps_per_s",
             "steps",
             "correction_iterations_mean",
@@ -351,5 +352,89 @@ fn a_failed_variant_is_recorded_and_the_sweep_goes_on() {
     assert_eq!(rows.len(), 2);
     assert!(rows[0][status].starts_with("failed: "), "{}", rows[0][status]);
     assert_eq!(rows[1][status], "completed");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn solvers_sweep_each_solver_over_its_own_key() {
+    let sweep = Sweep::solvers(
+        &strings(&["wcsph=20,35", "corrected=1e-2,1e-3,1e-4"]),
+        &strings(&["solver.end_time=0.1"]),
+    )
+    .expect("solvers");
+    assert_eq!(sweep.keys, ["solver.kind", "fluid.sound_speed", "solver.delta"]);
+    let names: Vec<&str> = sweep.variants.iter().map(|v| v.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "solver.kind=wcsph fluid.sound_speed=20",
+            "solver.kind=wcsph fluid.sound_speed=35",
+            "solver.kind=corrected solver.delta=1e-2",
+            "solver.kind=corrected solver.delta=1e-3",
+            "solver.kind=corrected solver.delta=1e-4",
+        ]
+    );
+    assert_eq!(sweep.variants[1].values, ["wcsph", "35", ""]);
+    assert_eq!(sweep.variants[4].values, ["corrected", "", "1e-4"]);
+    assert_eq!(
+        sweep.variants[0].sets,
+        ["solver.end_time=0.1", "solver.kind=wcsph", "fluid.sound_speed=20"]
+    );
+    for (given, sets, part) in [
+        (vec!["sph=1,2"], vec![], "wcsph (sound speeds) or corrected"),
+        (vec!["wcsph"], vec![], "expected KIND=V1,V2"),
+        (vec!["wcsph=20", "wcsph=35"], vec![], "once"),
+        (vec!["corrected=1e-3,"], vec![], "empty value"),
+        (vec!["wcsph=20"], vec!["fluid.rho0=1000,998"], "one value"),
+    ] {
+        let err = Sweep::solvers(&strings(&given), &strings(&sets)).expect_err("refused");
+        assert!(err.to_string().contains(part), "{given:?}: {err}");
+    }
+}
+
+/// `sph sweep --solvers` on the tiny dam break: one row per solver setting, the cost per simulated
+/// second in `sweep.csv`, and `pareto.png` beside the other figures.
+#[test]
+fn solvers_sweep_writes_the_pareto_figure() {
+    let (dir, scene) = scene_dir("solvers");
+    let out = dir.join("out");
+    sph::cli::run([
+        "sph".as_ref(),
+        "sweep".as_ref(),
+        scene.as_os_str(),
+        "--solvers".as_ref(),
+        "wcsph=5,10".as_ref(),
+        "--solvers".as_ref(),
+        "corrected=1e-3".as_ref(),
+        "--end-time".as_ref(),
+        "0.01".as_ref(),
+        "--reference-dir".as_ref(),
+        dir.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ] as [&std::ffi::OsStr; 13])
+    .unwrap_or_else(|e| panic!("sph sweep --solvers: {e:#}"));
+    let (header, rows) = read_csv(&out.join("sweep.csv"));
+    let col = |name: &str| header.iter().position(|h| h == name).expect(name);
+    assert_eq!(rows.len(), 3);
+    let kinds: Vec<&str> = rows.iter().map(|r| r[col("solver.kind")].as_str()).collect();
+    assert_eq!(kinds, ["wcsph", "wcsph", "corrected"]);
+    for row in &rows {
+        assert_eq!(row[col("status")], "completed");
+        let wall: f64 = row[col("wall_s")].parse().expect("wall");
+        let per: f64 = row[col("wall_s_per_simulated_s")].parse().expect("per second");
+        assert!(
+            (per - wall / 0.01).abs() <= 1e-6 * per,
+            "{per} against {wall} / 0.01 s"
+        );
+    }
+    // A stiffer wcsph takes more steps for the same simulated time.
+    let steps: Vec<f64> = rows
+        .iter()
+        .map(|r| r[col("steps")].parse().expect("steps"))
+        .collect();
+    assert!(steps[1] > steps[0], "steps at C = 5 and 10 m/s: {steps:?}");
+    assert_eq!(rows[0][col("solver.delta")], "");
+    assert!(is_png(&out.join("pareto.png")), "pareto.png");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -94,7 +94,8 @@ enum Command {
         resume: Option<PathBuf>,
     },
     /// Run one variant of a scene per value of the swept keys and compare them: writes sweep.csv,
-    /// sweep.png (error against wall time) and fronts.png (probe curves with reference data).
+    /// sweep.png (error against wall time), fronts.png (probe curves with reference data) and
+    /// pareto.png (error against wall time per simulated second, one line per solver).
     Sweep {
         /// Scene file (TOML).
         scene: PathBuf,
@@ -116,6 +117,12 @@ enum Command {
         /// applies to all variants.
         #[arg(long = "set", value_name = "KEY=V1,V2,...")]
         sets: Vec<String>,
+        /// Compare the solvers instead of sweeping keys: `wcsph=C1,C2,...` runs wcsph at each
+        /// sound speed [m/s], `corrected=D1,D2,...` runs corrected at each tolerance delta;
+        /// repeat for both. Adds pareto.png (error against wall time per simulated second, one
+        /// line per solver); every --set then takes one value.
+        #[arg(long = "solvers", value_name = "KIND=V1,V2,...")]
+        solvers: Vec<String>,
     },
     /// Time the solver at several particle counts on each backend (the paper's Fig. 5): prints
     /// the table and writes bench.csv (and with --plot bench.png).
@@ -270,11 +277,12 @@ where
             backend,
             end_time,
             mut sets,
+            solvers,
         } => {
             if let Some(t) = end_time {
                 sets.push(format!("solver.end_time={t:e}"));
             }
-            sweep::sweep(&scene, out, threads, backend, &sets, refs)
+            sweep::sweep(&scene, out, threads, backend, &sets, &solvers, refs)
         }
         Command::Check { scene, sets } => check::check(&scene, &sets, refs),
         Command::Plan { scene, sets } => plan::print_plan(&scene, &sets),

@@ -1,5 +1,6 @@
 //! `sph sweep SCENE --set KEY=V1,V2,...`: run one variant per value (the Cartesian product of
-//! several swept keys) and write `sweep.csv`, `sweep.png` and `fronts.png`.
+//! several swept keys), or `--solvers wcsph=C1,C2 --solvers corrected=D1,D2` (each solver over
+//! its own key), and write `sweep.csv`, `sweep.png`, `fronts.png` and `pareto.png`.
 
 use super::BackendArg;
 use crate::backend::BackendKind;
@@ -16,9 +17,14 @@ pub fn sweep(
     threads: Option<usize>,
     backend: BackendArg,
     sets: &[String],
+    solvers: &[String],
     reference_dir: Option<&Path>,
 ) -> anyhow::Result<()> {
-    let sweep = Sweep::from_sets(sets)?;
+    let sweep = if solvers.is_empty() {
+        Sweep::from_sets(sets)?
+    } else {
+        Sweep::solvers(solvers, sets)?
+    };
     let mut scenes = sweep
         .load(path)
         .with_context(|| format!("loading scene {}", path.display()))?;

@@ -14,7 +14,9 @@
 //!   error when one was measured, else the largest compression `max(ρ − ρ0, 0)/ρ0`;
 //! - `fronts.png`: the first reference probe's curve of every variant with the reference data,
 //!   normalised as in [`crate::probe`] (`T = t sqrt(g/a)`, `Z = z/a`); the paper's Fig. 1 when
-//!   the sweep is over `solver.kind=wcsph,corrected`.
+//!   the sweep is over `solver.kind=wcsph,corrected`;
+//! - `pareto.png`: the same error against wall time per simulated second, one line per solver
+//!   kind ([`solvers`]: `--solvers` sweeps `wcsph` over sound speeds and `corrected` over δ).
 //!
 //! A variant whose run fails (a step error, say) is recorded with its status and the sweep goes on.
 
@@ -24,6 +26,8 @@ use crate::probe::{ProbeComparison, ProbeError, column_name, compare_samples, fr
 use crate::run::{Progress, RunOptions, run_scene};
 use crate::scene::{Scene, SceneError, load_scene};
 use std::path::{Path, PathBuf};
+
+pub mod solvers;
 
 /// Size of the sweep figures [px].
 const FIGURE_SIZE: (u32, u32) = (1000, 650);
@@ -52,6 +56,20 @@ pub enum SweepError {
     #[error("--set {key}: a swept key may be given only once")]
     DuplicateKey {
         /// The key.
+        key: String,
+    },
+    /// A `--solvers` entry is malformed.
+    #[error("--solvers {given:?}: {reason}")]
+    BadSolvers {
+        /// The entry as given.
+        given: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// `--solvers` sweeps the solvers; a `--set` may then give only one value.
+    #[error("--set {key}: with --solvers a --set takes one value (the solvers are the sweep)")]
+    SweptWithSolvers {
+        /// The swept key.
         key: String,
     },
     /// A variant's scene does not load; nothing has run.
@@ -252,7 +270,8 @@ impl Sweep {
     }
 
     /// The header of `sweep.csv` for scenes whose probes with reference data are `probes`:
-    /// `variant`, one column per swept key, `wall_s`, `particle_steps_per_s`, `steps`,
+    /// `variant`, one column per swept key, `wall_s`, `wall_s_per_simulated_s`,
+    /// `particle_steps_per_s`, `steps`,
     /// `correction_iterations_mean` (per corrected stage), `correction_iterations_max`,
     /// `unconverged_stages`, `max_compression`, `max_surface_deficit` (the summary's, see
     /// [`Summary::max_compression`]), `<probe>_relative_error_max` and
@@ -263,6 +282,7 @@ impl Sweep {
         columns.extend(
             [
                 "wall_s",
+                "wall_s_per_simulated_s",
                 "particle_steps_per_s",
                 "steps",
                 "correction_iterations_mean",
@@ -381,8 +401,8 @@ pub struct SweepReport {
 }
 
 /// Runs every variant (`scenes` from [`Sweep::load`]) into `out`, with `options` (its `out_dir`
-/// is replaced by each variant's directory), and writes `sweep.csv`, `sweep.png` and
-/// `fronts.png`.
+/// is replaced by each variant's directory), and writes `sweep.csv`, `sweep.png`, `fronts.png`
+/// and `pareto.png`.
 ///
 /// # Errors
 /// Only for the sweep's own files (`sweep.csv`, directories, a figure that fails to be written
@@ -436,6 +456,10 @@ pub fn run_sweep(
     let figures = [
         ("sweep.png", error_figure(&name, &results, probes.first())),
         ("fronts.png", fronts_figure(&name, &results, probes.first())),
+        (
+            "pareto.png",
+            solvers::pareto_figure(&name, &results, probes.first()),
+        ),
     ];
     for (file, figure) in figures {
         let result = match figure {
@@ -499,6 +523,7 @@ fn push_row(table: &mut CsvTable, r: &VariantResult, probes: &[String]) -> Resul
     let mut row: Vec<CsvValue> = vec![CsvValue::Text(&r.variant.name)];
     row.extend(r.variant.values.iter().map(|v| CsvValue::Text(v)));
     row.push(number(r.summary.as_ref().map(|s| s.wall_seconds)));
+    row.push(number(solvers::wall_per_simulated_second(r)));
     row.push(number(r.summary.as_ref().map(|s| s.particle_steps_per_second)));
     row.push(integer(r.summary.as_ref().map(|s| s.steps)));
     row.push(number(r.extra("correction_iterations_mean")));
