@@ -1,7 +1,7 @@
 //! # sph — incompressible free-surface SPH
 //!
 //! Smoothed-particle hydrodynamics for free-surface water flows after Gugushvili & Evstigneev
-//! (the seed paper; `../shared/PAPER.md` restates it with equation numbers). This crate is the
+//! (the seed paper; docs/method.md gives the equations as implemented, with its numbering). This crate is the
 //! CPU reference solver (rayon): smoothing kernels (20)–(22), a hash-grid neighbour search with
 //! radix sort (section 3), the weakly compressible step (15)–(19), solid boundaries with forces
 //! on named solids, TOML scenes, VTK/CSV/JSON output and the `sph` command-line tool.

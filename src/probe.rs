@@ -4,7 +4,7 @@
 //! `front`: the surge front, the largest fluid coordinate along the probe's axis minus its
 //! origin [m] (Martin & Moyce's z, measured from the back wall). Against a reference it is
 //! normalised as `Z = z/a`, `T = t sqrt(g/a)` with `a` = `reference.length` and `g = |gravity|`
-//! (square column, n = 1; `../shared/validation/SOURCES.md`, section 1).
+//! (square column, n = 1; docs/validation.md).
 //!
 //! `force`: the force of the fluid on one solid along the axis [N] (2D: [N/m]), averaged over
 //! each sampling interval (the per-step force of particle methods is noisy). Against a

@@ -1,7 +1,8 @@
 //! Reference data for validation runs and curve comparison.
 //!
-//! Readers for the digitised experiments in `../shared/validation` (see its
-//! `SOURCES.md` for provenance, columns and normalisation):
+//! Readers for the digitised experiments in the user's reference directory
+//! (`scene::references`; docs/validation.md gives each file's public source, columns and
+//! normalisation):
 //! - [`read_surge_front`]: Martin & Moyce (1952) surge front Z(T) of a
 //!   collapsing water column, `martin_moyce_1952_surge_front.csv`, five
 //!   digitisations for n² = 1 and n² = 2, with T = n t sqrt(g/a), Z = z/a.

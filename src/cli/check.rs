@@ -61,8 +61,8 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
         names.join(" → "),
         if viscosity { " (forces with viscosity)" } else { "" }
     );
+    let skipped = skipped_references(&scene);
     for probe in scene.probes.iter().filter(|p| p.reference.is_some()) {
-        let skipped = skipped_references(&scene);
         match skipped.iter().find(|s| s.probe == probe.name) {
             Some(s) => println!("  warning: {s}"),
             None => println!("  probe {}: reference data found and read", probe.name),

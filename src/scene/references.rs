@@ -79,11 +79,7 @@ impl fmt::Display for SkippedReference {
 /// Returns the probes whose file is not available (their comparison is skipped); the others'
 /// locations become [`ReferenceLocation::Found`].
 pub fn locate_references(scene: &mut Scene, dir: Option<&Path>) -> Vec<SkippedReference> {
-    let mut skipped = Vec::new();
-    for probe in &mut scene.probes {
-        let Some(reference) = probe.reference.as_mut() else {
-            continue;
-        };
+    for reference in scene.probes.iter_mut().filter_map(|p| p.reference.as_mut()) {
         let path = if reference.file.is_absolute() {
             Some(reference.file.clone())
         } else {
@@ -94,15 +90,8 @@ pub fn locate_references(scene: &mut Scene, dir: Option<&Path>) -> Vec<SkippedRe
             Some(p) => ReferenceLocation::Missing(MissingReason::NotFound(p)),
             None => ReferenceLocation::Missing(MissingReason::NoDirectory),
         };
-        if let ReferenceLocation::Missing(reason) = &reference.location {
-            skipped.push(SkippedReference {
-                probe: probe.name.clone(),
-                file: reference.file.clone(),
-                reason: reason.clone(),
-            });
-        }
     }
-    skipped
+    skipped_references(scene)
 }
 
 /// The probes of `scene` whose comparison is skipped (after [`locate_references`]).
