@@ -279,15 +279,16 @@ pub trait Backend<const D: usize> {
     /// `physics::density::density_kernel_gradient`; with the multiphase effect `m_i` in place of
     /// `m_j`, as in `physics::multiphase::density`). Solids move with their own velocity.
     fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32);
-    /// The velocity solve's sweep: `Δu = τ a^press(δp)` for fluid, the displacement of
-    /// `correct_positions` divided by `τ` and scaled down the same way, positions unchanged.
-    fn correct_velocities(
-        &mut self,
-        fields: &mut Fields<D>,
-        params: &StepParams<D>,
-        tau: f32,
-        max_step: f32,
-    ) -> Sweep;
+    /// The velocity solve's next pressure: one Anderson-accelerated projected Jacobi sweep
+    /// (`solver::anderson`) on the fluid pressure `P` [Pa] from the predicted density in
+    /// `density`, `g(P) = max(P + k (ρ* − ρ0), 0)` with stiffness `k` [m²/s²]; `P ≥ 0` (note 6).
+    fn mix_velocity_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32);
+    /// The velocity solve's velocities for the current pressure: `u = u_start + τ a^press(P −
+    /// P_start)` for fluid (the increments extrapolated to the wet solids as
+    /// `correction_pressure` does, the solids' pressure kept ≥ 0, the pressure terms with the
+    /// sum (18) remembered by `begin_velocity_solve`); leaves the increments where
+    /// `solid_forces` (`SolidForceSource::Correction`) reads them.
+    fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32);
     /// Ends the velocity solve. `keep`: the velocities stay, and every particle's pressure
     /// keeps only what the solve released, `P = min(P, P_start)`. Otherwise velocity and
     /// pressure go back to what `begin_velocity_solve` remembered. Either way `density` gets

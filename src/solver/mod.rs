@@ -3,6 +3,7 @@
 //! A [`Simulation`] holds the particle fields, the backend, the plan and the clock. The step
 //! driver (`step.rs`) walks the plan and calls one backend method per stage.
 
+pub mod anderson;
 pub mod checkpoint;
 pub mod plan;
 pub mod stage;

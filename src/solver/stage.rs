@@ -4,7 +4,8 @@
 //! Each stage also says what it implements (PAPER.md equation numbers; [A12] Adami, Hu & Adams,
 //! J. Comput. Phys. 231 (2012); [M92] Monaghan 1992; [MFZ97] Morris, Fox & Zhu 1997; [AAT13]
 //! Akinci, Akinci & Teschner 2013; [LNSZZ94] Lafaurie et al. 1994, the capillary stress;
-//! [M00a] Monaghan 2000, artificial stress; [HA06] Hu & Adams 2006, the `multiphase` variants:
+//! [M00a] Monaghan 2000, artificial stress; [WN11] Walker & Ni,
+//! SIAM J. Numer. Anal. 49 (2011), Anderson acceleration; [HA06] Hu & Adams 2006, the `multiphase` variants:
 //! [`MultiphaseVariant`]) and which particle fields it reads and
 //! writes, one function per piece (`sph plan` prints them), next to the stage itself so the two
 //! cannot drift apart. [`SubStage`] does the same for the steps the driver (`solver::step`) runs
@@ -267,7 +268,8 @@ impl Stage {
     }
 
     /// The steps of the velocity solve the driver runs after the correction loop of a stage
-    /// (`Simulation::solve_velocities`): its start, each sweep, its end. Empty for every other
+    /// (`Simulation::solve_velocities`): its start, each iteration, its end, its push on the
+    /// solids. Empty for every other
     /// stage.
     pub fn velocity_sub_stages(&self, solids: bool) -> Vec<SubStage> {
         if *self != Stage::Correction {
@@ -277,13 +279,13 @@ impl Stage {
             SubStage::BeginVelocitySolve,
             SubStage::PredictedDensity,
             SubStage::CorrectionError,
-            SubStage::CorrectionPressure,
+            SubStage::MixVelocityPressure,
+            SubStage::VelocityFromPressure,
+            SubStage::EndVelocitySolve,
         ];
         if solids {
             steps.push(SubStage::SolidForces);
         }
-        steps.push(SubStage::CorrectVelocities);
-        steps.push(SubStage::EndVelocitySolve);
         steps
     }
 }
@@ -363,9 +365,14 @@ impl SubStage {
                 description: "increments from each particle's own rest density",
                 reads_rest_density: true,
             }),
-            SubStage::SolidForces | SubStage::CorrectPositions | SubStage::CorrectVelocities => {
+            SubStage::SolidForces | SubStage::CorrectPositions | SubStage::VelocityFromPressure => {
                 Some(MP_PRESSURE)
             }
+            SubStage::MixVelocityPressure => Some(MultiphaseVariant {
+                equation: "(19), note 5, own rho0",
+                description: "the map g(P) with each particle's own rest density",
+                reads_rest_density: true,
+            }),
             SubStage::PredictedDensity => Some(MultiphaseVariant {
                 equation: "[HA06] m_i, own rho0",
                 description: "the particle's own mass in the rate and its own rest density",
@@ -399,8 +406,11 @@ pub enum SubStage {
     /// The density `base + τ dρ/dt` the velocities would give `τ` later (`base`: ρ0 inside the
     /// fluid, the particle's own density at the free surface).
     PredictedDensity,
-    /// The velocity solve's sweep: `Δu = τ a^press(δp)`, positions fixed.
-    CorrectVelocities,
+    /// The velocity solve's next pressure: an Anderson-accelerated projected Jacobi sweep
+    /// (`solver::anderson`).
+    MixVelocityPressure,
+    /// The velocity solve's velocities `u_start + τ a^press(P − P_start)`, positions fixed.
+    VelocityFromPressure,
     /// The velocity solve's end: pressure keeps only what it released, or everything is restored.
     EndVelocitySolve,
 }
@@ -418,7 +428,8 @@ impl SubStage {
             SubStage::KeepOut => "keep_out",
             SubStage::BeginVelocitySolve => "begin_velocity_solve",
             SubStage::PredictedDensity => "predicted_density",
-            SubStage::CorrectVelocities => "correct_velocities",
+            SubStage::MixVelocityPressure => "mix_velocity_pressure",
+            SubStage::VelocityFromPressure => "velocity_from_pressure",
             SubStage::EndVelocitySolve => "end_velocity_solve",
         }
     }
@@ -435,7 +446,8 @@ impl SubStage {
             SubStage::KeepOut => "boundary::keep_out",
             SubStage::BeginVelocitySolve | SubStage::EndVelocitySolve => "velocity solve",
             SubStage::PredictedDensity => "continuity with (18)'s kernel",
-            SubStage::CorrectVelocities => "(16), positions fixed",
+            SubStage::MixVelocityPressure => "(19), note 6, [WN11]",
+            SubStage::VelocityFromPressure => "(16), positions fixed",
         }
     }
 
@@ -455,7 +467,12 @@ impl SubStage {
             SubStage::PredictedDensity => {
                 "density the velocities would give tau later: base + tau drho/dt (base rho0, own density at the free surface)"
             }
-            SubStage::CorrectVelocities => "velocity += tau f^press/rho, positions unchanged",
+            SubStage::MixVelocityPressure => {
+                "next pressure: Anderson mix of max(P + k (rho* - rho0), 0) over the last iterates, P >= 0"
+            }
+            SubStage::VelocityFromPressure => {
+                "velocity = start + tau f^press(P - P_start)/rho, increments extrapolated to walls"
+            }
             SubStage::EndVelocitySolve => {
                 "pressure keeps only what the solve released; given up (residual doubled or cap): velocity and pressure restored; density (18) restored"
             }
@@ -476,7 +493,8 @@ impl SubStage {
             SubStage::BeginVelocitySolve => &[Velocity, Pressure, Density],
             SubStage::EndVelocitySolve => &[Velocity, Pressure],
             SubStage::PredictedDensity => &[Position, Velocity, Mass, Kind],
-            SubStage::CorrectVelocities => &[Position, Velocity, Density, Mass, Kind],
+            SubStage::MixVelocityPressure => &[Density, Pressure, Kind],
+            SubStage::VelocityFromPressure => &[Position, Pressure, Mass, Kind],
         }
     }
 
@@ -506,7 +524,8 @@ impl SubStage {
             SubStage::CorrectPositions | SubStage::KeepOut => &[Position, Velocity],
             SubStage::BeginVelocitySolve => &[],
             SubStage::PredictedDensity => &[Density],
-            SubStage::CorrectVelocities => &[Velocity],
+            SubStage::MixVelocityPressure => &[Pressure],
+            SubStage::VelocityFromPressure => &[Velocity, Pressure],
             SubStage::EndVelocitySolve => &[Velocity, Pressure, Density],
         }
     }

@@ -14,6 +14,7 @@ use crate::fields::{FLUID, Fields, PermuteScratch, rest_density_of};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector, max_each_in_order, max_or_nan, sum_by_group, sum_in_order, to_xyz};
 use crate::neighbour_list::{NeighbourList, Neighbours};
+use crate::solver::anderson::{AndersonState, WINDOW};
 use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration,
     correction,
@@ -65,6 +66,15 @@ pub struct CpuBackend<const D: usize> {
     /// built by `begin_velocity_solve` and cleared by `end_velocity_solve`
     /// (`crate::neighbour_list`). Non-empty exactly while a solve runs (it lists every particle).
     velocity_neighbours: NeighbourList,
+    /// The velocity solve's Anderson acceleration (`solver::anderson`): the host state, the
+    /// window's differences `ΔP_j`, `Δf_j` [Pa] of the fluid pressure and of `f = g(P) − P`,
+    /// and the previous iterate with its `f`.
+    anderson: AndersonState,
+    anderson_dp: Vec<Vec<Real>>,
+    anderson_df: Vec<Vec<Real>>,
+    anderson_previous: Vec<Real>,
+    anderson_previous_f: Vec<Real>,
+    anderson_f: Vec<Real>,
 }
 
 impl<const D: usize> CpuBackend<D> {
@@ -133,6 +143,13 @@ impl<const D: usize> CpuBackend<D> {
             + self.pressure_terms.capacity() * 4
             + self.fluid_before.capacity() * 4
             + self.velocity_neighbours.heap_bytes()
+            + (self.anderson_dp.iter().chain(&self.anderson_df))
+                .map(|v| v.capacity() * 4)
+                .sum::<usize>()
+            + (self.anderson_previous.capacity()
+                + self.anderson_previous_f.capacity()
+                + self.anderson_f.capacity())
+                * 4
     }
 
     /// The velocity solve's `list` while one runs (positions fixed; the list is empty
@@ -151,6 +168,7 @@ impl<const D: usize> CpuBackend<D> {
     fn correction_displacements(
         &mut self,
         fields: &Fields<D>,
+        density: &[Real],
         params: &StepParams<D>,
         tau: f32,
         max_step: f32,
@@ -161,9 +179,9 @@ impl<const D: usize> CpuBackend<D> {
         let f = fields;
         let multiphase = !f.rest_density.is_empty();
         if multiphase {
-            fill_volume_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.mass, &f.density);
+            fill_volume_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.mass, density);
         } else {
-            fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.density);
+            fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, density);
         }
         let q = &self.pressure_terms;
         let tau2 = tau * tau;
@@ -204,6 +222,24 @@ impl<const D: usize> CpuBackend<D> {
             largest: largest * f64::from(scale),
             scale: f64::from(scale),
         }
+    }
+
+    /// [A12] eq. (27) without gravity: each wet solid's increment, the Shepard average of its
+    /// fluid neighbours' `delta_p` (densities `density` [kg/m³]), into `wet_increments`.
+    fn extrapolate_increments(&mut self, f: &Fields<D>, density: &[Real], params: &StepParams<D>) {
+        let kernel = params.smoothing();
+        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
+        let fluid_dp = &self.delta_p;
+        self.wet_increments.clear();
+        self.wet_increments.par_extend(self.wet.par_iter().map(|&w| {
+            let mut sums = WallPressureSums::<D>::default();
+            neighbours.for_each_neighbour(&f.position, w as usize, |j, d, r2| {
+                if f.kind[j] == FLUID {
+                    sums.add(fluid_dp[j], density[j], &d, kernel.w(r2));
+                }
+            });
+            sums.increment()
+        }));
     }
 
     /// Whether particle `i` is a solid without fluid candidates since the last sort.
@@ -778,7 +814,6 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         // The last sweep's increments become the previous ones (heavy-ball momentum): a swap of
         // buffers, not a copy; `delta_p` is overwritten below.
         std::mem::swap(&mut self.delta_p, &mut self.delta_p_previous);
-        let kernel = params.smoothing();
         let n = fields.len();
         if self.dry.len() != n {
             self.find_dry_solids(&fields.kind);
@@ -817,18 +852,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         // wall's pressure only grew and pushed its neighbours below ρ0 while they still carried
         // pressure: on `scenes/hard/rest_3d.toml` stages stalled at the 1,000-sweep cap at
         // 999.3–999.5 kg/m³ one or two spacings from the side walls.
-        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
-        let fluid_dp = &self.delta_p;
-        self.wet_increments.clear();
-        self.wet_increments.par_extend(self.wet.par_iter().map(|&w| {
-            let mut sums = WallPressureSums::<D>::default();
-            neighbours.for_each_neighbour(&f.position, w as usize, |j, d, r2| {
-                if f.kind[j] == FLUID {
-                    sums.add(fluid_dp[j], f.density[j], &d, kernel.w(r2));
-                }
-            });
-            sums.increment()
-        }));
+        self.extrapolate_increments(f, &f.density, params);
         for (&w, &dp) in self.wet.iter().zip(&self.wet_increments) {
             let p = &mut fields.pressure[w as usize];
             let dp = (*p + dp).max(0.0) - *p;
@@ -845,7 +869,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         kick_tau: f32,
         max_step: f32,
     ) -> Sweep {
-        let sweep = self.correction_displacements(fields, params, tau, max_step);
+        let sweep = self.correction_displacements(fields, &fields.density, params, tau, max_step);
         let scale = sweep.scale as Real;
         let displacement = &self.displacement;
         let kind = &fields.kind;
@@ -874,6 +898,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         });
         self.velocity_solve_start.clone_from(&fields.velocity);
         self.pressure_solve_start.clone_from(&fields.pressure);
+        self.anderson.reset();
         self.density_solve_start.clone_from(&fields.density);
     }
 
@@ -907,23 +932,107 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         });
     }
 
-    fn correct_velocities(
-        &mut self,
-        fields: &mut Fields<D>,
-        params: &StepParams<D>,
-        tau: f32,
-        max_step: f32,
-    ) -> Sweep {
-        let sweep = self.correction_displacements(fields, params, tau, max_step);
-        let factor = sweep.scale as Real / tau;
-        let displacement = &self.displacement;
+    fn mix_velocity_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
+        let n = fields.len();
+        let (kind, density, rest) = (&fields.kind, &fields.density, &fields.rest_density);
+        // f = g(P) − P for fluid (`physics::correction::pressure_increment`), 0 for solids.
+        self.anderson_f.resize(n, 0.0);
+        self.anderson_f.par_iter_mut().enumerate().for_each(|(i, out)| {
+            *out = if kind[i] == FLUID {
+                let rho0 = rest_density_of(rest, i, params.rho0);
+                correction::pressure_increment(density[i], rho0, fields.pressure[i], k)
+            } else {
+                0.0
+            };
+        });
+        let state = &mut self.anderson;
+        if self.anderson_dp.len() != WINDOW {
+            self.anderson_dp = vec![Vec::new(); WINDOW];
+            self.anderson_df = vec![Vec::new(); WINDOW];
+        }
+        if state.has_previous {
+            let s = state.next;
+            let (dp, df) = (&mut self.anderson_dp[s], &mut self.anderson_df[s]);
+            dp.resize(n, 0.0);
+            df.resize(n, 0.0);
+            let (p, prev, f, prev_f) = (
+                &fields.pressure,
+                &self.anderson_previous,
+                &self.anderson_f,
+                &self.anderson_previous_f,
+            );
+            dp.par_iter_mut()
+                .zip(df.par_iter_mut())
+                .enumerate()
+                .for_each(|(i, (dp, df))| {
+                    *dp = p[i] - prev[i];
+                    *df = f[i] - prev_f[i];
+                });
+            let valid = (state.held + 1).min(WINDOW);
+            let slots = &self.anderson_df;
+            let dots = sum_in_order::<WINDOW, _>(n, |i| {
+                let mut t = [0.0; WINDOW];
+                for (l, out) in t.iter_mut().enumerate().take(valid) {
+                    *out = f64::from(slots[s][i]) * f64::from(slots[l][i]);
+                }
+                t
+            });
+            state.push(&dots);
+        }
+        let held = state.held;
+        let (slots_dp, slots_df, f) = (&self.anderson_dp, &self.anderson_df, &self.anderson_f);
+        let rhs = sum_in_order::<WINDOW, _>(n, |i| {
+            let mut t = [0.0; WINDOW];
+            for (l, out) in t.iter_mut().enumerate().take(held) {
+                *out = f64::from(slots_df[l][i]) * f64::from(f[i]);
+            }
+            t
+        });
+        let gamma = state.coefficients(&rhs).map(|g| g as Real);
+        self.anderson_previous.clone_from(&fields.pressure);
+        self.anderson_previous_f.clone_from(&self.anderson_f);
+        state.has_previous = true;
+        let f = &self.anderson_f;
+        fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
+            if kind[i] == FLUID {
+                let mut mixed = *p + f[i];
+                for l in 0..held {
+                    mixed -= gamma[l] * (slots_dp[l][i] + slots_df[l][i]);
+                }
+                *p = mixed.max(0.0); // note 6
+            }
+        });
+    }
+
+    fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
+        let n = fields.len();
+        let start = &self.pressure_solve_start;
+        let kind = &fields.kind;
+        self.delta_p.resize(n, 0.0);
+        self.delta_p
+            .par_iter_mut()
+            .zip(fields.pressure.par_iter())
+            .enumerate()
+            .for_each(|(i, (dp, p))| *dp = if kind[i] == FLUID { p - start[i] } else { 0.0 });
+        // The solve's density: the sum (18) at its fixed positions, not the predicted one.
+        let density = std::mem::take(&mut self.density_solve_start);
+        self.extrapolate_increments(fields, &density, params);
+        for (&w, &r) in self.wet.iter().zip(&self.wet_increments) {
+            let w = w as usize;
+            let p0 = self.pressure_solve_start[w];
+            let dp = (p0 + r).max(0.0) - p0; // the wall's pressure stays >= 0
+            self.delta_p[w] = dp;
+            fields.pressure[w] = p0 + dp;
+        }
+        self.correction_displacements(fields, &density, params, tau, f32::INFINITY);
+        self.density_solve_start = density;
+        let (start, displacement) = (&self.velocity_solve_start, &self.displacement);
         let kind = &fields.kind;
         fields.velocity.par_iter_mut().enumerate().for_each(|(i, u)| {
             if kind[i] == FLUID {
-                *u += displacement[i] * factor;
+                *u = start[i] + displacement[i] / tau;
             }
         });
-        sweep
     }
 
     fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {
