@@ -1,11 +1,12 @@
 // Eqs. (23)-(24): the position correction (section 2), one sweep as the CPU runs it, and the
-// velocity solve that follows it (`solver::step`). Twins of `CpuBackend::correction_error`,
-// `correction_pressure`, `correct_positions`, `correct_velocities`, `end_velocity_solve` and of
+// end of the velocity solve that follows it (`solver::step`; its iteration is in anderson.cu,
+// which reuses the kernels here). Twins of `CpuBackend::correction_error`,
+// `correction_pressure`, `correct_positions`, `end_velocity_solve` and of
 // `physics::correction`. A sweep on the device:
 //   correction_pressure_fluid -> correction_pressure_wall -> correction_pressure_apply
 //   (= `correction_pressure`), then correction_displacement -> host scale -> apply_displacement
-//   (= `correct_positions`) or -> apply_velocity_change (= `correct_velocities`). Maxima are
-//   float bits in ints (see `extremes.cuh`); the host zeroes them before the launch.
+//   (= `correct_positions`). Maxima are float bits in ints (see `extremes.cuh`); the host zeroes
+//   them before the launch.
 #include "sph.cuh"
 #include "extremes.cuh"
 #include "pair_forces.cuh"
@@ -151,18 +152,6 @@ SPH_KERNEL(apply_displacement)(u32 n, float scale, float tau, const u32* __restr
     for (int k = 0; k < D; ++k) u.c[k] += dx.c[k] / tau;
     vstore(pos, i, vadd(vload(pos, i), dx));
     vstore(vel, i, u);
-}
-
-/// The velocity solve's sweep applied, fluid only: `u += displacement * factor` with
-/// `factor = scale / tau` [1/s] computed once on the host in f32 (the displacement of eq. (23)
-/// divided by `tau`, `du = tau a^press(delta_p)`, scaled as in `apply_displacement`); positions
-/// unchanged. Twin of `CpuBackend::correct_velocities`.
-SPH_KERNEL(apply_velocity_change)(u32 n, float factor, const u32* __restrict__ kind,
-                                  const float* __restrict__ displacement,
-                                  float* __restrict__ vel) {
-    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n || kind[i] != SPH_FLUID) return;
-    vstore(vel, i, vadd(vload(vel, i), vscale(vload(displacement, i), factor)));
 }
 
 /// End of an accepted velocity solve, every particle: `p = min(p, p_start)` [Pa], so the solve

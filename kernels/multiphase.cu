@@ -1,8 +1,8 @@
 // The `multiphase` effect's variants of the density, equation-of-state and correction stages
 // ([HA06] Hu & Adams, J. Comput. Phys. 213 (2006) 844; `physics::multiphase`). Twins of the
 // multiphase branches of `CpuBackend::density`, `equation_of_state`, `correction_error`,
-// `correction_pressure`, `correct_positions` and `predicted_density` (also the branch of
-// `correct_velocities`), which run when `Fields::rest_density` is allocated; `rest` is that field
+// `correction_pressure`, `correct_positions` and `predicted_density` (also the branches of
+// `mix_velocity_pressure` and `velocity_from_pressure`), which run when `Fields::rest_density` is allocated; `rest` is that field
 // (kg/m^3, per particle). The force, wall-pressure, solid-force and state-extremes variants are
 // template flags of their own files (`forces_*_mp`, `wall_pressure_multiphase`,
 // `solid_forces_multiphase`, `state_extremes_multiphase`).

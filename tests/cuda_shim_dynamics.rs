@@ -1,8 +1,8 @@
 //! The force, integration and correction kernels of `kernels/` (`forces.cu`, `solid_forces.cu`,
 //! `state_extremes.cu`, `integrate.cu`, `correction.cu`, `keep_out.cu`, `move_solids.cu`) and the
-//! velocity solve's (`predicted_density` of `density.cu`, `apply_velocity_change` and
-//! `keep_pressure_decreases` of `correction.cu`), run on the CPU through the host shim
-//! (`backend::cuda::shim`), against the rayon stage each mirrors, per particle `id`, in 2D and
+//! velocity solve's (`predicted_density` of `density.cu`, `keep_pressure_decreases` of
+//! `correction.cu`; its iteration, `kernels/anderson.cu`, is in `tests/cuda_shim_anderson.rs`),
+//! run on the CPU through the host shim (`backend::cuda::shim`), against the rayon stage each mirrors, per particle `id`, in 2D and
 //! 3D. These run everywhere, GPU or not.
 //!
 //! Tolerances. A kernel evaluates every pair term with the same f32 operations as its CPU twin,
@@ -835,138 +835,6 @@ fn predicted_density_matches_the_cpu_stage_for_both_density_kernels_3d() {
     for spiky_scale in [0.0, 0.82] {
         check_predicted_density::<3>(0x1357_9bdf_2468_ace0, spiky_scale);
     }
-}
-
-/// The velocity solve's sweep: one sweep's pressures on both sides, then
-/// `correction_displacement` + `apply_velocity_change` (factor `scale/τ` in f32, as the backend
-/// computes it) against `correct_velocities`, with `max_step` a quarter of the largest
-/// displacement so that the scaling is exercised. Velocities by id within [`SUM_ORDER`] of the
-/// displacement's term sum over τ (plus one f32 rounding of the value they are added to);
-/// positions untouched, bitwise, on both sides.
-fn check_correct_velocities<const D: usize>(seed: u64) {
-    let (f, p) = scene::<D>(seed);
-    let mut dev = Device::new(&f, &p);
-    let mut cf = f.clone();
-    let mut cpu = CpuBackend::<D>::new();
-    cpu.sort_by_cell(&mut cf, p.h).expect("finite positions");
-    cpu.begin_velocity_solve(&mut cf);
-    cpu.correction_pressure(&mut cf, &p, STIFFNESS);
-    let n = f.len();
-    let (mut delta_p, mut delta_p_prev) = (vec![0.0f32; n], vec![0.0f32; n]);
-    correction_pressure_on_shim(&mut dev, &p, STIFFNESS, false, &mut delta_p, &mut delta_p_prev);
-
-    let tau = 2.0e-3f32;
-    let mut displacement = vec![f32::NAN; n * D];
-    let mut largest = 0i32;
-    launch!(
-        D,
-        sph_shim_correction_displacement_2,
-        sph_shim_correction_displacement_3,
-        dev.n(),
-        ptr(&p),
-        ptr(&dev.g),
-        dev.cell_start.as_ptr(),
-        dev.cell_key.as_ptr(),
-        dev.pos.as_ptr(),
-        dev.mass.as_ptr(),
-        dev.density.as_ptr(),
-        delta_p.as_ptr(),
-        dev.kind.as_ptr(),
-        tau * tau,
-        displacement.as_mut_ptr(),
-        &mut largest,
-    );
-    let max_step = (0.25 * extremes::max_from_bits(largest)) as f32;
-    let sweep = extremes::sweep(largest, max_step);
-    let cpu_positions = cf.position.clone();
-    let cpu_sweep = cpu.correct_velocities(&mut cf, &p, tau, max_step);
-    assert!(sweep.scale < 0.3, "the scaling is exercised: {sweep:?}");
-    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
-    assert!(
-        rel(sweep.scale, cpu_sweep.scale) <= SUM_ORDER,
-        "{sweep:?} vs {cpu_sweep:?}"
-    );
-    assert!(
-        rel(sweep.largest, cpu_sweep.largest) <= SUM_ORDER,
-        "{sweep:?} vs {cpu_sweep:?}"
-    );
-    assert_eq!(cf.position, cpu_positions, "the CPU's positions stay");
-    let (pos_before, vel_before) = (dev.pos.clone(), dev.vel.clone());
-    let factor = sweep.scale as f32 / tau;
-    launch!(
-        D,
-        sph_shim_apply_velocity_change_2,
-        sph_shim_apply_velocity_change_3,
-        dev.n(),
-        factor,
-        dev.kind.as_ptr(),
-        displacement.as_ptr(),
-        dev.vel.as_mut_ptr(),
-    );
-    assert_eq!(
-        dev.pos.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
-        pos_before.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
-        "the kernel moves nothing"
-    );
-
-    let cpu_at = index_of_id(&cf.id);
-    let dev_at = dev.index_of_id();
-    let dp_by_id: Vec<f32> = (0..n).map(|id| delta_p[dev_at[id]]).collect();
-    let kernel = p.smoothing();
-    let eps = f64::from(f32::EPSILON);
-    let (mut worst, mut changed) = (0.0f64, 0usize);
-    for id in 0..n {
-        let (i, c) = (dev_at[id], cpu_at[id]);
-        if f.kind[id] != FLUID {
-            for k in 0..D {
-                assert_eq!(dev.vel[i * D + k].to_bits(), vel_before[i * D + k].to_bits());
-                assert_eq!(cf.velocity[c][k].to_bits(), f.velocity[id][k].to_bits());
-            }
-            continue;
-        }
-        // Σ|terms| of Δx = τ² a^press(δp), times the scale.
-        let mut terms = 0.0f64;
-        for (j, d, r) in neighbours(&f, p.h, id) {
-            let grad = kernel.grad_w_spiky(&d, r) * p.pressure_gradient_scale;
-            let a = pressure_acceleration(
-                dp_by_id[id],
-                f.density[id],
-                dp_by_id[j],
-                f.density[j],
-                f.mass[j],
-                &grad,
-            );
-            terms += norm(&a);
-        }
-        // Once for the sum order of Δx, once for the scale (inherited from the largest |Δx|).
-        let du_tol = 2.0 * SUM_ORDER * f64::from(tau) * terms * sweep.scale;
-        for k in 0..D {
-            let (u, u_cpu) = (f64::from(dev.vel[i * D + k]), f64::from(cf.velocity[c][k]));
-            assert!(
-                (u - u_cpu).abs() <= du_tol + eps * u_cpu.abs(),
-                "{D}D: particle {id} axis {k}: u {u} vs {u_cpu} (tol {du_tol})"
-            );
-            if du_tol > 0.0 {
-                worst = worst.max((u - u_cpu).abs() / (du_tol / (2.0 * SUM_ORDER)));
-            }
-            changed += usize::from(dev.vel[i * D + k] != vel_before[i * D + k]);
-        }
-    }
-    eprintln!(
-        "{D}D correct_velocities: scale {:.4} vs {:.4}; largest |Δu| / Σ|Δu terms| = {worst:.2e}",
-        sweep.scale, cpu_sweep.scale
-    );
-    assert!(changed > n / 2, "most fluid velocities change ({changed})");
-}
-
-#[test]
-fn correct_velocities_matches_the_cpu_stage_with_scaling_2d() {
-    check_correct_velocities::<2>(0x3333_cccc_5678_1234);
-}
-
-#[test]
-fn correct_velocities_matches_the_cpu_stage_with_scaling_3d() {
-    check_correct_velocities::<3>(0x9999_4444_aaaa_bbbb);
 }
 
 /// `end_velocity_solve`: kept, `keep_pressure_decreases` against the CPU, per-particle

@@ -15,3 +15,4 @@
 #include "exports_neighbours.inc"
 #include "exports_dynamics.inc"
 #include "exports_multiphase.inc"
+#include "exports_anderson.inc"

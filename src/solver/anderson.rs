@@ -61,7 +61,7 @@ impl AndersonState {
             return gamma;
         }
         let trace: f64 = (0..m).map(|j| self.gram[j][j]).sum();
-        if !(trace > 0.0) || !trace.is_finite() {
+        if !trace.is_finite() || trace <= 0.0 {
             return gamma;
         }
         let lambda = 1e-10 * trace / m as f64;
@@ -151,7 +151,10 @@ mod tests {
             f_prev = f;
             state.has_previous = true;
             for i in 0..3 {
-                x[i] += f[i] - (0..state.held).map(|l| gamma[l] * (dx[l][i] + df[l][i])).sum::<f64>();
+                x[i] += f[i]
+                    - (0..state.held)
+                        .map(|l| gamma[l] * (dx[l][i] + df[l][i]))
+                        .sum::<f64>();
             }
         }
         assert!(last < 1e-9, "residual {last:e} after 5 iterations");

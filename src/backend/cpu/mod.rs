@@ -14,7 +14,6 @@ use crate::fields::{FLUID, Fields, PermuteScratch, rest_density_of};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector, max_each_in_order, max_or_nan, sum_by_group, sum_in_order, to_xyz};
 use crate::neighbour_list::{NeighbourList, Neighbours};
-use crate::solver::anderson::{AndersonState, WINDOW};
 use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration,
     correction,
@@ -26,6 +25,7 @@ use crate::physics::{
     surface_tension::{normal_term, surface_tension_acceleration},
     viscosity::viscous_acceleration,
 };
+use crate::solver::anderson::{AndersonState, WINDOW};
 use rayon::prelude::*;
 
 /// CPU backend state: the neighbour grid and reusable scratch buffers.

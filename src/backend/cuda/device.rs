@@ -17,6 +17,7 @@ use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
 use crate::physics::correction;
+use crate::solver::anderson::AndersonState;
 use cudarc::driver::{
     CudaContext, CudaFunction, CudaSlice, CudaStream, DeviceRepr, DriverError, LaunchConfig, PushKernelArg,
 };
@@ -141,6 +142,11 @@ pub struct CudaBackend<const D: usize> {
     /// Densities (18) at `begin_velocity_solve`, for the solve's base density
     /// (`velocity_solve_base`, kernels/sph.cuh).
     density_solve_start: CudaSlice<f32>,
+    /// The velocity solve's Anderson acceleration (`solver::anderson`): the host state, reset by
+    /// `begin_velocity_solve`, and the window on the device (`anderson`), allocated at the first
+    /// `mix_velocity_pressure`.
+    anderson: AndersonState,
+    anderson_buffers: Option<anderson::AndersonBuffers>,
     reduce_i32: CudaSlice<i32>,
     extremes: CudaSlice<DeviceExtremes>,
     solid_out: CudaSlice<f64>,
@@ -293,6 +299,8 @@ impl<const D: usize> CudaBackend<D> {
             velocity_solve_start: zeros_f32(1)?,
             pressure_solve_start: zeros_f32(1)?,
             density_solve_start: zeros_f32(1)?,
+            anderson: AndersonState::default(),
+            anderson_buffers: None,
             reduce_i32: stream.alloc_zeros::<i32>(2).map_err(|e| up("allocating", e))?,
             extremes: stream
                 .clone_htod(&[DeviceExtremes::initial()])
@@ -477,6 +485,11 @@ macro_rules! launch {
     }};
 }
 
+// The velocity solve's iteration, in its own file; a child module, as it reads the private
+// buffers, declared after `launch!` so that it can use it.
+#[path = "anderson.rs"]
+mod anderson;
+
 impl<const D: usize> CudaBackend<D> {
     /// Sizes the `corrected` solver's buffers (`delta_p`, `displacement`, the `*_solve_start`
     /// copies) to the particle count at its first stage; later calls find them sized. Particles
@@ -498,17 +511,17 @@ impl<const D: usize> CudaBackend<D> {
         record(&mut self.error, "allocating the correction's buffers", r);
     }
 
-    /// Eq. (23) without moving anything, shared by `correct_positions` and `correct_velocities`
-    /// (as `CpuBackend::correction_displacements`): `Δx = τ² a^press(δp)` of every fluid particle
-    /// into `displacement`, and the one scale that keeps the largest within `max_step` [m].
-    /// `None` without a grid or after a failure.
-    fn correction_displacements(&mut self, params: &StepParams<D>, tau: f32, max_step: f32) -> Option<Sweep> {
+    /// Launches eq. (23) without moving anything (`correction_displacement`, or its [HA06]
+    /// variant): `Δx = τ² a^press(δp)` of every fluid particle into `displacement`, with the
+    /// densities (18) in the `density` field or, for the velocity solve (`solve_start`), those
+    /// `begin_velocity_solve` remembered; the bits of the largest |Δx| go to `reduce_i32[0]`
+    /// through atomicMax, which the caller clears first when it reads them. `None` without a
+    /// grid or after a failure.
+    fn launch_displacements(&mut self, params: &StepParams<D>, tau: f32, solve_start: bool) -> Option<()> {
         let g = self.grid.as_ref()?;
         if self.error.is_some() {
             return None;
         }
-        let r = self.stream.memset_zeros(&mut self.reduce_i32);
-        record(&mut self.error, "clearing the largest displacement", r)?;
         let n = self.n as u32;
         let tau2 = tau * tau;
         let name = if self.f.rest_density.is_some() {
@@ -516,10 +529,29 @@ impl<const D: usize> CudaBackend<D> {
         } else {
             "correction_displacement"
         };
+        let density = if solve_start {
+            &self.density_solve_start
+        } else {
+            &self.f.density
+        };
         launch!(self, "computing displacements", name, self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            &self.f.density, &self.delta_p, &self.f.kind, &tau2, &mut self.displacement,
+            density, &self.delta_p, &self.f.kind, &tau2, &mut self.displacement,
             &mut self.reduce_i32);
+        Some(())
+    }
+
+    /// `correct_positions`' displacements (as `CpuBackend::correction_displacements`): eq. (23)
+    /// into `displacement`, and the one scale that keeps the largest within `max_step` [m].
+    /// `None` without a grid or after a failure.
+    fn correction_displacements(&mut self, params: &StepParams<D>, tau: f32, max_step: f32) -> Option<Sweep> {
+        self.grid.as_ref()?;
+        if self.error.is_some() {
+            return None;
+        }
+        let r = self.stream.memset_zeros(&mut self.reduce_i32);
+        record(&mut self.error, "clearing the largest displacement", r)?;
+        self.launch_displacements(params, tau, false)?;
         let out = self.stream.clone_dtoh(&self.reduce_i32);
         let out = record(&mut self.error, "copying the largest displacement", out)?;
         Some(sweep(out[0], max_step))
@@ -571,7 +603,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             + self.solid_reference.as_ref().map_or(0, |b| b.num_bytes())
             + self.f.wall_velocity.as_ref().map_or(0, |b| b.num_bytes())
             + self.normal.as_ref().map_or(0, |b| b.num_bytes())
-            + self.f.rest_density.as_ref().map_or(0, |b| b.num_bytes());
+            + self.f.rest_density.as_ref().map_or(0, |b| b.num_bytes())
+            + self.anderson_buffers.as_ref().map_or(0, |b| b.num_bytes());
         if let Some(g) = &self.grid {
             bytes += [
                 &g.key,
@@ -1197,6 +1230,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
 
     fn begin_velocity_solve(&mut self, _fields: &mut Fields<D>) {
         self.has_previous = false;
+        self.anderson.reset();
         self.ensure_correction_buffers();
         if self.error.is_some() {
             return;
@@ -1235,22 +1269,12 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             &self.f.mass, &self.f.kind, &self.density_solve_start, &tau, &mut self.f.density);
     }
 
-    fn correct_velocities(
-        &mut self,
-        _fields: &mut Fields<D>,
-        params: &StepParams<D>,
-        tau: f32,
-        max_step: f32,
-    ) -> Sweep {
-        let Some(sweep) = self.correction_displacements(params, tau, max_step) else {
-            return NO_SWEEP;
-        };
-        let n = self.n as u32;
-        // As the CPU: one f32 factor, `Δu = Δx · (scale/τ)`.
-        let factor = sweep.scale as Real / tau;
-        launch!(self, "changing velocities", "apply_velocity_change", self.n;
-            &n, &factor, &self.f.kind, &self.displacement, &mut self.f.velocity);
-        sweep
+    fn mix_velocity_pressure(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
+        self.mix_pressure(params, k);
+    }
+
+    fn velocity_from_pressure(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
+        self.pressure_to_velocity(params, tau);
     }
 
     fn end_velocity_solve(&mut self, _fields: &mut Fields<D>, keep: bool) {
@@ -1417,7 +1441,6 @@ const KERNEL_NAMES: &[&str] = &[
     "correction_pressure_apply",
     "correction_displacement",
     "apply_displacement",
-    "apply_velocity_change",
     "keep_pressure_decreases",
     "predicted_density",
     "keep_out",
@@ -1438,4 +1461,10 @@ const KERNEL_NAMES: &[&str] = &[
     "correction_pressure_fluid_multiphase",
     "correction_displacement_multiphase",
     "predicted_density_multiphase",
+    "anderson_difference",
+    "anderson_dots",
+    "anderson_mix",
+    "velocity_solve_increments",
+    "velocity_solve_solid_pressure",
+    "velocity_from_displacement",
 ];

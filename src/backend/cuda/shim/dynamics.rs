@@ -3,8 +3,7 @@
 //! `forces_pvar`, `solid_forces`, `state_extremes`,
 //! `integrate`, `store_step_start`, `rk_stage`, `correction_error`, `correction_pressure_fluid`,
 //! `correction_pressure_wall`, `correction_pressure_apply`, `correction_displacement`,
-//! `apply_displacement`, `apply_velocity_change`, `keep_pressure_decreases` (the velocity
-//! solve's), `keep_out`, `move_solids`, `surface_normals`, `surface_tension`. Same arguments
+//! `apply_displacement`, `keep_pressure_decreases` (the velocity solve's end), `keep_out`, `move_solids`, `surface_normals`, `surface_tension`. Same arguments
 //! as the kernels, `StepParams` and `GridGeometry` by pointer.
 #![allow(missing_docs)]
 
@@ -286,13 +285,6 @@ unsafe extern "C" {
         kind: *const u32,
         displacement: *const f32,
         pos: *mut f32,
-        vel: *mut f32,
-    );
-    pub fn sph_shim_apply_velocity_change_2(
-        n: u32,
-        factor: f32,
-        kind: *const u32,
-        displacement: *const f32,
         vel: *mut f32,
     );
     pub fn sph_shim_keep_pressure_decreases_2(n: u32, pressure_start: *const f32, pressure: *mut f32);
@@ -587,13 +579,6 @@ unsafe extern "C" {
         kind: *const u32,
         displacement: *const f32,
         pos: *mut f32,
-        vel: *mut f32,
-    );
-    pub fn sph_shim_apply_velocity_change_3(
-        n: u32,
-        factor: f32,
-        kind: *const u32,
-        displacement: *const f32,
         vel: *mut f32,
     );
     pub fn sph_shim_keep_pressure_decreases_3(n: u32, pressure_start: *const f32, pressure: *mut f32);

@@ -6,10 +6,12 @@
 //! All pointers must be valid for the lengths the kernel reads and writes (`n` items, times `D`
 //! for vectors); the functions are `unsafe` for that reason alone.
 
+mod anderson;
 mod dynamics;
 mod multiphase;
 mod neighbours;
 
+pub use anderson::*;
 pub use dynamics::*;
 pub use multiphase::*;
 pub use neighbours::*;

@@ -1,0 +1,109 @@
+// The velocity solve's iteration (`solver::step::solve_velocities`): Anderson acceleration of the
+// projected Jacobi map [WN11] (`solver::anderson`), and the velocities for the current pressure.
+// Twins of `CpuBackend::mix_velocity_pressure` and `CpuBackend::velocity_from_pressure`. On the
+// device (backend::cuda::anderson):
+//   mix_velocity_pressure:  correction_pressure_fluid(_multiphase) with has_prev = 0 (f = g(P) - P)
+//     -> anderson_difference -> anderson_dots (Gram row) -> host: AndersonState::push
+//     -> anderson_dots (rhs) -> host: AndersonState::coefficients, gamma uploaded -> anderson_mix;
+//   velocity_from_pressure: velocity_solve_increments -> correction_pressure_wall (the start's
+//     pressure and density) -> velocity_solve_solid_pressure -> correction_displacement(_multiphase)
+//     (the start's density) -> velocity_from_displacement.
+// The window's differences are stored slot-major: slot l of a buffer of WINDOW n floats is
+// `slots[l n .. (l + 1) n]`.
+#include "sph.cuh"
+
+/// Most differences held: `solver::anderson::WINDOW` (the backend checks `count <= WINDOW`).
+#define ANDERSON_WINDOW 6u
+
+/// The newest differences into ring slot `slot`, every particle: `dp_l = P - P_prev`,
+/// `df_l = f - f_prev` [Pa] (`CpuBackend::mix_velocity_pressure`).
+SPH_KERNEL(anderson_difference)(u32 n, u32 slot, const float* __restrict__ pressure,
+                                const float* __restrict__ previous, const float* __restrict__ f,
+                                const float* __restrict__ previous_f,
+                                float* __restrict__ dp_slots, float* __restrict__ df_slots) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const size_t at = (size_t)slot * n + i;
+    dp_slots[at] = pressure[i] - previous[i];
+    df_slots[at] = f[i] - previous_f[i];
+}
+
+/// Dot products with the first `count` (<= ANDERSON_WINDOW) slots:
+/// `out[l] += sum_i a_i slots[l n + i]` [Pa^2], products and sums in f64 as the CPU's `math::sum_in_order` (whose fixed order this does not
+/// reproduce: parity is to a relative tolerance). Grid-stride loop: the backend launches about
+/// n/64 threads, each summing its items in registers and adding once per slot; the host zeroes
+/// `out`.
+SPH_KERNEL(anderson_dots)(u32 n, u32 count, const float* __restrict__ a,
+                          const float* __restrict__ slots, double* __restrict__ out) {
+    const u32 stride = gridDim.x * blockDim.x;
+    const u32 first = blockIdx.x * blockDim.x + threadIdx.x;
+    if (first >= n) return;
+    double sum[ANDERSON_WINDOW];
+    for (u32 l = 0; l < ANDERSON_WINDOW; ++l) sum[l] = 0.0;
+    for (u32 i = first; i < n; i += stride) {
+        const double a_i = (double)a[i];
+        for (u32 l = 0; l < count && l < ANDERSON_WINDOW; ++l) {
+            sum[l] += a_i * (double)slots[(size_t)l * n + i];
+        }
+    }
+    for (u32 l = 0; l < count && l < ANDERSON_WINDOW; ++l) atomicAdd(&out[l], sum[l]);
+}
+
+/// The accelerated step, note 6: fluid `P = max(P + f - sum_{l < held} gamma_l (dp_l + df_l), 0)`
+/// with the subtractions in slot order in f32, as the CPU; solids keep theirs. Every particle
+/// first leaves its iterate for the next difference: `previous = P`, `previous_f = f`.
+SPH_KERNEL(anderson_mix)(u32 n, u32 held, const float* __restrict__ gamma,
+                         const u32* __restrict__ kind, const float* __restrict__ f,
+                         const float* __restrict__ dp_slots, const float* __restrict__ df_slots,
+                         float* __restrict__ previous, float* __restrict__ previous_f,
+                         float* __restrict__ pressure) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const float p = pressure[i];
+    previous[i] = p;
+    previous_f[i] = f[i];
+    if (kind[i] != SPH_FLUID) return;
+    float mixed = p + f[i];
+    for (u32 l = 0; l < held; ++l) {
+        const size_t at = (size_t)l * n + i;
+        mixed -= gamma[l] * (dp_slots[at] + df_slots[at]);
+    }
+    pressure[i] = fmaxf(mixed, 0.0f);  // f32::max: a NaN gives 0
+}
+
+/// The solve's total increments so far, fluid: `delta_p = P - P_start` [Pa]; solids get 0 (the
+/// walls' come from `correction_pressure_wall` next).
+SPH_KERNEL(velocity_solve_increments)(u32 n, const u32* __restrict__ kind,
+                                      const float* __restrict__ pressure,
+                                      const float* __restrict__ pressure_start,
+                                      float* __restrict__ delta_p) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    delta_p[i] = kind[i] == SPH_FLUID ? pressure[i] - pressure_start[i] : 0.0f;
+}
+
+/// Solids after `correction_pressure_wall` (run with the start's pressure): `P = P_start +
+/// delta_p`, which is `max(P_start + r, 0)` rounded as the CPU rounds it; fluid untouched.
+SPH_KERNEL(velocity_solve_solid_pressure)(u32 n, const u32* __restrict__ kind,
+                                          const float* __restrict__ pressure_start,
+                                          const float* __restrict__ delta_p,
+                                          float* __restrict__ pressure) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] == SPH_FLUID) return;
+    pressure[i] = pressure_start[i] + delta_p[i];
+}
+
+/// Fluid velocities from the displacement of eq. (23) at `tau`: `u = u_start + dx / tau` [m/s]
+/// (`u_start + tau a^press(P - P_start)`), component by component in f32 as the CPU divides;
+/// solids untouched.
+SPH_KERNEL(velocity_from_displacement)(u32 n, float tau, const u32* __restrict__ kind,
+                                       const float* __restrict__ velocity_start,
+                                       const float* __restrict__ displacement,
+                                       float* __restrict__ vel) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    const vec_t dx = vload(displacement, i);
+    vec_t u = vload(velocity_start, i);
+    for (int k = 0; k < D; ++k) u.c[k] += dx.c[k] / tau;
+    vstore(vel, i, u);
+}
