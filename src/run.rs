@@ -614,6 +614,10 @@ fn drive<const D: usize>(
             cs.mean_velocity_iterations().into(),
         );
         extra.insert(
+            "operator_applications_per_stage".into(),
+            cs.mean_operator_applications().into(),
+        );
+        extra.insert(
             "velocity_solves_given_up".into(),
             cs.velocity_solves_given_up.into(),
         );

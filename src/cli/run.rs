@@ -191,6 +191,15 @@ pub fn run(
             "velocity solve: {mean:.1} iterations per solve on average, {} of {solves} given up",
             summary.extra.get("velocity_solves_given_up").unwrap_or(&0.into())
         );
+        if let Some(work) = summary
+            .extra
+            .get("operator_applications_per_stage")
+            .and_then(|v| v.as_f64())
+        {
+            println!(
+                "correction work: {work:.1} operator applications per stage (position sweeps + velocity iterations)"
+            );
+        }
     }
     if let Some(pushes) = summary
         .extra

@@ -295,7 +295,7 @@ pub struct CorrectionStats {
     /// Velocity solves run (one after every stage whose positions converged).
     #[serde(default)]
     pub velocity_solves: u64,
-    /// Velocity-solve sweeps summed over solves.
+    /// Velocity-solve iterations summed over solves.
     #[serde(default)]
     pub velocity_iterations: u64,
     /// Velocity solves given up (velocity and pressure restored).
@@ -313,7 +313,18 @@ impl CorrectionStats {
         }
     }
 
-    /// Mean sweeps per velocity solve.
+    /// Mean applications of the correction operators per corrected stage: position sweeps plus
+    /// velocity-solve iterations (each one neighbour pass for the density and one for the
+    /// pressure force), the work measure of issue targets and `docs/performance.md`.
+    pub fn mean_operator_applications(&self) -> f64 {
+        if self.stages == 0 {
+            0.0
+        } else {
+            (self.iterations + self.velocity_iterations) as f64 / self.stages as f64
+        }
+    }
+
+    /// Mean iterations per velocity solve.
     pub fn mean_velocity_iterations(&self) -> f64 {
         if self.velocity_solves == 0 {
             0.0
