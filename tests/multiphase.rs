@@ -385,10 +385,11 @@ fn difference(a: &Simulation<2>, b: &Simulation<2>) -> (f64, f64) {
 /// `m_i Σ W` and (18)'s `Σ m_j W` differ in the last bits (f32 sums in another order of
 /// operations), so do the volume-form and (16) pressure forces; the states agree to rounding:
 /// after 20 wcsph steps (about 1 ms) positions within 1e-4 dx and densities within 1e-5
-/// (measured: 4.5e-8 m = 4.5e-6 dx, 3.1e-6); after 2 corrected steps (each stage ~60 correction
-/// sweeps) positions within 1e-4 dx and densities within δ/2 = 5e-5 (measured: 2.8e-7 m,
-/// 1.7e-5), because the loop stops once the residual is below δ = 1e-4 and rounding can end a
-/// stage a sweep earlier or later.
+/// (measured: 4.5e-8 m = 4.5e-6 dx, 3.1e-6); after 2 corrected steps positions within 2e-4 dx
+/// and densities within δ/2 = 5e-5 (measured: 5.5e-7 m = 1.1e-4 dx), because the loops stop
+/// once the residual is below their tolerance and rounding can end a stage an iteration earlier
+/// or later, and the velocity solve's Anderson coefficients (`solver::anderson`) come from dot
+/// products over every particle, so last-bit differences move every particle's update a little.
 #[test]
 fn one_phase_with_the_effect_reproduces_the_plain_run_to_rounding() {
     for (solver, steps) in [("wcsph", 20), ("corrected", 2)] {
@@ -410,7 +411,7 @@ fn one_phase_with_the_effect_reproduces_the_plain_run_to_rounding() {
         eprintln!("{solver}: {steps} steps, largest position difference {dx:.3e} m, density {drho:.3e}");
         assert!(dx > 0.0 || drho > 0.0, "the variants ran (not bitwise equal)");
         assert!(
-            dx <= 1e-4 * scene.spacing,
+            dx <= if solver == "wcsph" { 1e-4 } else { 2e-4 } * scene.spacing,
             "{solver}: positions differ by {dx:.3e} m"
         );
         let density_tolerance = if solver == "wcsph" { 1e-5 } else { 5e-5 };
