@@ -27,8 +27,9 @@
 //! - `probes.csv` (`sph run` with `[[probe]]`): `t_s`, then per probe `<probe>_m` (a front) or
 //!   `<probe>_N` (a force; `<probe>_N_per_m` in 2D).
 //! - `sweep.csv` (`sph sweep`, one row per variant): `variant`, one column per swept scene key
-//!   (named by the key, the value as given), `wall_s`, `particle_steps_per_s`, `steps`,
-//!   `correction_iterations_mean`, `correction_iterations_max`, `unconverged_stages`,
+//!   (named by the key, the value as given), `wall_s`, `wall_s_per_simulated_s`,
+//!   `particle_steps_per_s`, `steps`, `correction_iterations_mean`, `correction_iterations_max`,
+//!   `velocity_iterations_mean`, `operator_applications_per_stage`, `unconverged_stages`,
 //!   `max_compression`, `max_surface_deficit`, per reference probe
 //!   `<probe>_relative_error_max` and `<probe>_relative_error_mean`, and `status`; a value not
 //!   measured is an empty cell.

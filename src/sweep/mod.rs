@@ -273,7 +273,8 @@ impl Sweep {
     /// `variant`, one column per swept key, `wall_s`, `wall_s_per_simulated_s`,
     /// `particle_steps_per_s`, `steps`,
     /// `correction_iterations_mean` (per corrected stage), `correction_iterations_max`,
-    /// `unconverged_stages`, `max_compression`, `max_surface_deficit` (the summary's, see
+    /// `velocity_iterations_mean` (per velocity solve), `operator_applications_per_stage` (both
+    /// per corrected stage), `unconverged_stages`, `max_compression`, `max_surface_deficit` (the summary's, see
     /// [`Summary::max_compression`]), `<probe>_relative_error_max` and
     /// `<probe>_relative_error_mean` per probe, `status`.
     pub fn columns(&self, probes: &[String]) -> Vec<String> {
@@ -287,6 +288,8 @@ impl Sweep {
                 "steps",
                 "correction_iterations_mean",
                 "correction_iterations_max",
+                "velocity_iterations_mean",
+                "operator_applications_per_stage",
                 "unconverged_stages",
                 "max_compression",
                 "max_surface_deficit",
@@ -528,6 +531,8 @@ fn push_row(table: &mut CsvTable, r: &VariantResult, probes: &[String]) -> Resul
     row.push(integer(r.summary.as_ref().map(|s| s.steps)));
     row.push(number(r.extra("correction_iterations_mean")));
     row.push(integer(extra_int("correction_iterations_max")));
+    row.push(number(r.extra("velocity_iterations_mean")));
+    row.push(number(r.extra("operator_applications_per_stage")));
     row.push(integer(extra_int("unconverged_stages")));
     row.push(number(r.max_compression()));
     row.push(number(r.max_surface_deficit()));
