@@ -315,7 +315,11 @@ fn sweep_over_solver_kind_writes_table_and_figures() {
     assert!(
         number(&rows[1], "operator_applications_per_stage") >= number(&rows[1], "correction_iterations_mean")
     );
-    assert_eq!(rows[0][col("operator_applications_per_stage")], "", "wcsph has no correction");
+    assert_eq!(
+        rows[0][col("operator_applications_per_stage")],
+        "",
+        "wcsph has no correction"
+    );
     assert_eq!(number(&rows[1], "unconverged_stages"), 0.0);
 
     // The curves read back from each variant's probes.csv give the errors of its summary.
