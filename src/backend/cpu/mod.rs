@@ -25,8 +25,10 @@ use crate::physics::{
     surface_tension::{normal_term, surface_tension_acceleration},
     viscosity::viscous_acceleration,
 };
-use crate::solver::anderson::{AndersonState, WINDOW};
+use anderson::AndersonBuffers;
 use rayon::prelude::*;
+
+mod anderson;
 
 /// CPU backend state: the neighbour grid and reusable scratch buffers.
 #[derive(Debug, Default)]
@@ -66,15 +68,8 @@ pub struct CpuBackend<const D: usize> {
     /// built by `begin_velocity_solve` and cleared by `end_velocity_solve`
     /// (`crate::neighbour_list`). Non-empty exactly while a solve runs (it lists every particle).
     velocity_neighbours: NeighbourList,
-    /// The velocity solve's Anderson acceleration (`solver::anderson`): the host state, the
-    /// window's differences `ΔP_j`, `Δf_j` [Pa] of the fluid pressure and of `f = g(P) − P`,
-    /// and the previous iterate with its `f`.
-    anderson: AndersonState,
-    anderson_dp: Vec<Vec<Real>>,
-    anderson_df: Vec<Vec<Real>>,
-    anderson_previous: Vec<Real>,
-    anderson_previous_f: Vec<Real>,
-    anderson_f: Vec<Real>,
+    /// The velocity solve's Anderson acceleration (`anderson.rs`).
+    anderson: AndersonBuffers,
 }
 
 impl<const D: usize> CpuBackend<D> {
@@ -143,13 +138,7 @@ impl<const D: usize> CpuBackend<D> {
             + self.pressure_terms.capacity() * 4
             + self.fluid_before.capacity() * 4
             + self.velocity_neighbours.heap_bytes()
-            + (self.anderson_dp.iter().chain(&self.anderson_df))
-                .map(|v| v.capacity() * 4)
-                .sum::<usize>()
-            + (self.anderson_previous.capacity()
-                + self.anderson_previous_f.capacity()
-                + self.anderson_f.capacity())
-                * 4
+            + self.anderson.heap_bytes()
     }
 
     /// The velocity solve's `list` while one runs (positions fixed; the list is empty
@@ -933,75 +922,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     }
 
     fn mix_velocity_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
-        let n = fields.len();
-        let (kind, density, rest) = (&fields.kind, &fields.density, &fields.rest_density);
-        // f = g(P) − P for fluid (`physics::correction::pressure_increment`), 0 for solids.
-        self.anderson_f.resize(n, 0.0);
-        self.anderson_f.par_iter_mut().enumerate().for_each(|(i, out)| {
-            *out = if kind[i] == FLUID {
-                let rho0 = rest_density_of(rest, i, params.rho0);
-                correction::pressure_increment(density[i], rho0, fields.pressure[i], k)
-            } else {
-                0.0
-            };
-        });
-        let state = &mut self.anderson;
-        if self.anderson_dp.len() != WINDOW {
-            self.anderson_dp = vec![Vec::new(); WINDOW];
-            self.anderson_df = vec![Vec::new(); WINDOW];
-        }
-        if state.has_previous {
-            let s = state.next;
-            let (dp, df) = (&mut self.anderson_dp[s], &mut self.anderson_df[s]);
-            dp.resize(n, 0.0);
-            df.resize(n, 0.0);
-            let (p, prev, f, prev_f) = (
-                &fields.pressure,
-                &self.anderson_previous,
-                &self.anderson_f,
-                &self.anderson_previous_f,
-            );
-            dp.par_iter_mut()
-                .zip(df.par_iter_mut())
-                .enumerate()
-                .for_each(|(i, (dp, df))| {
-                    *dp = p[i] - prev[i];
-                    *df = f[i] - prev_f[i];
-                });
-            let valid = (state.held + 1).min(WINDOW);
-            let slots = &self.anderson_df;
-            let dots = sum_in_order::<WINDOW, _>(n, |i| {
-                let mut t = [0.0; WINDOW];
-                for (l, out) in t.iter_mut().enumerate().take(valid) {
-                    *out = f64::from(slots[s][i]) * f64::from(slots[l][i]);
-                }
-                t
-            });
-            state.push(&dots);
-        }
-        let held = state.held;
-        let (slots_dp, slots_df, f) = (&self.anderson_dp, &self.anderson_df, &self.anderson_f);
-        let rhs = sum_in_order::<WINDOW, _>(n, |i| {
-            let mut t = [0.0; WINDOW];
-            for (l, out) in t.iter_mut().enumerate().take(held) {
-                *out = f64::from(slots_df[l][i]) * f64::from(f[i]);
-            }
-            t
-        });
-        let gamma = state.coefficients(&rhs).map(|g| g as Real);
-        self.anderson_previous.clone_from(&fields.pressure);
-        self.anderson_previous_f.clone_from(&self.anderson_f);
-        state.has_previous = true;
-        let f = &self.anderson_f;
-        fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
-            if kind[i] == FLUID {
-                let mut mixed = *p + f[i];
-                for l in 0..held {
-                    mixed -= gamma[l] * (slots_dp[l][i] + slots_df[l][i]);
-                }
-                *p = mixed.max(0.0); // note 6
-            }
-        });
+        self.anderson.mix(fields, params.rho0, k);
     }
 
     fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
