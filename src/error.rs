@@ -33,6 +33,18 @@ pub enum Error {
     /// A checkpoint could not be written, read or applied.
     #[error(transparent)]
     Checkpoint(#[from] crate::solver::checkpoint::CheckpointError),
+    /// The run folder is held by another run, holds another run's files, or cannot be used.
+    #[error(transparent)]
+    Folder(#[from] crate::run::RunFolderError),
+    /// A signal (SIGINT, SIGTERM) ended the run after its current step; the run's state was
+    /// checkpointed and `summary.json` says `interrupted`.
+    #[error(
+        "interrupted by signal {signal}; the run was checkpointed and can be continued with sph run --resume"
+    )]
+    Interrupted {
+        /// The signal's number.
+        signal: usize,
+    },
     /// The requested backend is not available.
     #[error(transparent)]
     Backend(#[from] crate::backend::BackendError),

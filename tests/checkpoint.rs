@@ -104,10 +104,13 @@ fn damaged_and_foreign_checkpoints_are_refused() {
         .write(&path)
         .expect("written");
     let bytes = std::fs::read(&path).expect("read");
-    assert!(
-        !dir.join("checkpoint.tmp").exists(),
-        "the temporary file is renamed away"
-    );
+    for entry in std::fs::read_dir(&dir).expect("folder") {
+        let name = entry.expect("entry").file_name().to_string_lossy().into_owned();
+        assert!(
+            !sph::output::safe_file::is_tmp_name(&name),
+            "the temporary file {name} is renamed away"
+        );
+    }
 
     // Truncated, and one flipped byte: the checksum catches both.
     for (label, damaged) in [

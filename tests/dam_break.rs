@@ -30,6 +30,8 @@ fn corrected_dam_break_front_within_8_percent_of_martin_moyce() {
     assert!(skipped.is_empty(), "reference data missing: {skipped:?}");
     let options = RunOptions {
         out_dir: None,
+        force: false,
+        stop: None,
         backend: Default::default(),
         threads: rayon::current_num_threads(),
         scene_name: "dam_break_2d".into(),

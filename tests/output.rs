@@ -233,7 +233,7 @@ fn vtu_2d_and_3d_round_trip_small_and_empty_in_every_encoding() {
             write_vtu(&path, &p3.frame(1e-7), encoding).unwrap();
             check_round_trip(&path, &p3, 1e-7);
             check_header(&path, n, encoding);
-            assert!(!dir.join(format!("f3_{n}.vtu.tmp")).exists());
+            assert_no_tmp_left(&dir);
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
@@ -346,7 +346,7 @@ fn vtu_length_mismatch_is_error() {
         Err(OutputError::LengthMismatch { field: "kind", .. })
     ));
     assert!(!path.exists());
-    assert!(!dir.join("bad.vtu.tmp").exists());
+    assert_no_tmp_left(&dir);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -470,7 +470,7 @@ fn pvd_lists_frames_in_order() {
         series.write(&pvd).unwrap();
         let back = PvdSeries::read(&pvd).unwrap();
         assert_eq!(back, series);
-        assert!(!dir.join("run.pvd.tmp").exists());
+        assert_no_tmp_left(&dir);
     }
     let back = PvdSeries::read(&pvd).unwrap();
     assert_eq!(back.len(), times.len());
@@ -572,7 +572,10 @@ fn sample_summary() -> Summary {
         mean_compression: 1.0 / 3.0,
         max_surface_deficit: 0.375,
         mean_surface_deficit: 1.0 / 7.0,
-        status: "ok".into(),
+        status: "completed".into(),
+        run_id: "0123456789abcdef".into(),
+        scene_hash: "fedcba9876543210".into(),
+        warnings: vec!["a warning".into()],
         output_frames: 11,
         extra,
     }
@@ -584,7 +587,7 @@ fn summary_round_trips() {
     let path = dir.join("summary.json");
     let s = sample_summary();
     write_summary(&path, &s).unwrap();
-    assert!(!dir.join("summary.json.tmp").exists());
+    assert_no_tmp_left(&dir);
     let back = read_summary(&path).unwrap();
     assert_eq!(back, s);
     let via_serde: Summary = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
@@ -765,5 +768,17 @@ proptest! {
             check_prop(&path, t, &p)?;
         }
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+/// No temporary file of an atomic write is left in `dir`.
+fn assert_no_tmp_left(dir: &std::path::Path) {
+    for entry in std::fs::read_dir(dir).expect("folder") {
+        let name = entry.expect("entry").file_name().to_string_lossy().into_owned();
+        assert!(
+            !sph::output::safe_file::is_tmp_name(&name),
+            "{name} left in {}",
+            dir.display()
+        );
     }
 }

@@ -94,10 +94,7 @@ fn lines_and_markers_write_a_png_of_the_requested_size() {
     fig.vertical_lines.push((1.0, "t = 0.1 s".to_string()));
     write_png(&fig, &path, (800, 500)).unwrap();
     assert_eq!(png_size(&path), (800, 500));
-    assert!(
-        !dir.join("front.png.tmp.png").exists(),
-        "temporary file left behind"
-    );
+    assert_no_tmp_left(&dir);
     // Overwriting an existing figure works, with another size.
     write_png(&fig, &path, (640, 480)).unwrap();
     assert_eq!(png_size(&path), (640, 480));
@@ -150,7 +147,7 @@ fn empty_figure_is_an_error_not_a_panic() {
     let err = write_png(&fig, &path, (400, 300)).unwrap_err();
     assert!(matches!(err, PlotError::NoData { .. }), "{err}");
     assert!(!path.exists());
-    assert!(!dir.join("empty.png.tmp.png").exists());
+    assert_no_tmp_left(&dir);
 }
 
 #[test]
@@ -215,4 +212,16 @@ fn unwritable_path_gives_an_error_naming_the_path() {
     assert!(matches!(err, PlotError::Io { .. }), "{err}");
     let message = err.to_string();
     assert!(message.contains(&path.display().to_string()), "{message}");
+}
+
+/// No temporary file of an atomic write is left in `dir`.
+fn assert_no_tmp_left(dir: &std::path::Path) {
+    for entry in std::fs::read_dir(dir).expect("folder") {
+        let name = entry.expect("entry").file_name().to_string_lossy().into_owned();
+        assert!(
+            !sph::output::safe_file::is_tmp_name(&name),
+            "{name} left in {}",
+            dir.display()
+        );
+    }
 }

@@ -70,7 +70,8 @@ fn a_killed_run_leaves_complete_files_and_resumes_bit_identically() {
     child.kill().expect("SIGKILL");
     let status = child.wait().expect("reaped");
     assert!(!status.success(), "the run was still going when killed");
-    assert!(!killed.join("summary.json").exists(), "killed before the end");
+    let running = read_summary(&killed.join("summary.json")).expect("written at the start");
+    assert_eq!(running.status, "running", "killed before the end");
 
     // Everything left is complete.
     let state = Checkpoint::<2>::read(&checkpoint).expect("the checkpoint is whole");

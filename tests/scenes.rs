@@ -79,6 +79,8 @@ fn run_writes_summary_frames_and_forces() {
     assert_eq!(skipped.len(), 1, "{skipped:?}");
     let options = RunOptions {
         out_dir: Some(out.clone()),
+        force: false,
+        stop: None,
         backend: sph::backend::BackendKind::Cpu,
         threads: rayon::current_num_threads(),
         scene_name: "dam_break_2d".into(),

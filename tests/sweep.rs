@@ -88,6 +88,8 @@ fn strings(v: &[&str]) -> Vec<String> {
 fn options() -> RunOptions {
     RunOptions {
         out_dir: None,
+        force: false,
+        stop: None,
         backend: Default::default(),
         threads: rayon::current_num_threads(),
         scene_name: "tiny_dam_break".into(),

@@ -3,7 +3,7 @@
 fn main() {
     if let Err(e) = sph::cli::run(std::env::args_os()) {
         eprintln!("error: {}", one_line(&e));
-        std::process::exit(1);
+        std::process::exit(sph::cli::signals::exit_status(&e));
     }
 }
 

@@ -15,6 +15,7 @@ mod plan;
 mod plot;
 mod render;
 mod run;
+pub mod signals;
 mod surface;
 mod sweep;
 
@@ -92,6 +93,13 @@ enum Command {
         /// checkpoint; --end-time and --set still apply).
         #[arg(long, value_name = "RUN_DIR", conflicts_with = "out")]
         resume: Option<PathBuf>,
+        /// Replace another run's files in the output folder (only the files its
+        /// run_manifest.json lists are removed; nothing else is touched or overwritten).
+        #[arg(long, conflicts_with = "resume")]
+        force: bool,
+        /// With --resume: continue although the scene file changed since the run started.
+        #[arg(long, requires = "resume")]
+        accept_edited_scene: bool,
     },
     /// Run one variant of a scene per value of the swept keys and compare them: writes sweep.csv,
     /// sweep.png (error against wall time), fronts.png (probe curves with reference data) and
@@ -123,6 +131,9 @@ enum Command {
         /// line per solver); every --set then takes one value.
         #[arg(long = "solvers", value_name = "KIND=V1,V2,...")]
         solvers: Vec<String>,
+        /// Replace another sweep's files in the output folder (only files sph listed as its own).
+        #[arg(long)]
+        force: bool,
     },
     /// Time the solver at several particle counts on each backend (the paper's Fig. 5): prints
     /// the table and writes bench.csv (and with --plot bench.png).
@@ -260,6 +271,8 @@ where
             mut sets,
             checkpoint_every,
             resume,
+            force,
+            accept_edited_scene,
         } => {
             if let Some(t) = end_time {
                 sets.push(format!("solver.end_time={t:e}"));
@@ -267,6 +280,8 @@ where
             let checkpoint = run::CheckpointArgs {
                 every: checkpoint_every,
                 resume,
+                force,
+                accept_edited_scene,
             };
             run::run(scene.as_deref(), out, threads, backend, &sets, checkpoint, refs)
         }
@@ -278,10 +293,12 @@ where
             end_time,
             mut sets,
             solvers,
+            force,
         } => {
             if let Some(t) = end_time {
                 sets.push(format!("solver.end_time={t:e}"));
             }
+            let out = sweep::SweepOut { dir: out, force };
             sweep::sweep(&scene, out, threads, backend, &sets, &solvers, refs)
         }
         Command::Check { scene, sets } => check::check(&scene, &sets, refs),

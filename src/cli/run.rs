@@ -38,6 +38,10 @@ pub struct CheckpointArgs {
     pub every: Option<u64>,
     /// `--resume RUN_DIR`.
     pub resume: Option<PathBuf>,
+    /// `--force`: replace another run's files in the output folder.
+    pub force: bool,
+    /// `--accept-edited-scene`: resume although the scene file changed.
+    pub accept_edited_scene: bool,
 }
 
 /// Runs the scene at `path`, or resumes the run in `checkpoint.resume`.
@@ -87,6 +91,7 @@ pub fn run(
     let restart = Restart {
         every: checkpoint.every,
         resume,
+        accept_edited_scene: checkpoint.accept_edited_scene,
         scene: Some((absolute, sets.clone())),
     };
     let mut builder = rayon::ThreadPoolBuilder::new();
@@ -97,6 +102,8 @@ pub fn run(
     let pool = builder.build().context("starting the worker threads")?;
     let options = RunOptions {
         out_dir: Some(out.clone()),
+        force: checkpoint.force,
+        stop: super::signals::stop_flag(),
         backend: match backend {
             BackendArg::Cpu => BackendKind::Cpu,
             BackendArg::Cuda => BackendKind::Cuda,
@@ -134,8 +141,11 @@ pub fn run(
         })
     });
     bar.finish_and_clear();
+    let refused = matches!(&summary, Err(crate::Error::Folder(_)));
     let summary = summary.with_context(|| {
-        if out.exists() {
+        if refused {
+            format!("running scene {} (the folder was left as it was)", path.display())
+        } else if out.exists() {
             format!(
                 "running scene {} (results so far in {})",
                 path.display(),
@@ -252,6 +262,9 @@ pub fn run(
                 _ => println!("probe {name}: no reference point inside the simulated time"),
             }
         }
+    }
+    for warning in &summary.warnings {
+        eprintln!("warning: {warning}");
     }
     Ok(())
 }

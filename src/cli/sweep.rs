@@ -10,10 +10,19 @@ use anyhow::Context;
 use indicatif::ProgressBar;
 use std::path::{Path, PathBuf};
 
+/// Where a sweep writes: `--out` and `--force`.
+#[derive(Clone, Debug, Default)]
+pub struct SweepOut {
+    /// `--out DIR`.
+    pub dir: Option<PathBuf>,
+    /// `--force`: replace another sweep's files there.
+    pub force: bool,
+}
+
 /// Runs the sweep of the scene at `path` over `sets` (each `KEY=V1,V2,...`).
 pub fn sweep(
     path: &Path,
-    out: Option<PathBuf>,
+    out: SweepOut,
     threads: Option<usize>,
     backend: BackendArg,
     sets: &[String],
@@ -40,7 +49,10 @@ pub fn sweep(
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-sweep")));
+    let force = out.force;
+    let out = out
+        .dir
+        .unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-sweep")));
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(n) = threads {
         anyhow::ensure!(n > 0, "--threads must be at least 1");
@@ -50,6 +62,8 @@ pub fn sweep(
     let scene_name = scenes.first().and_then(|s| s.name.clone()).unwrap_or(stem);
     let options = RunOptions {
         out_dir: None,
+        force,
+        stop: super::signals::stop_flag(),
         backend: match backend {
             BackendArg::Cpu => BackendKind::Cpu,
             BackendArg::Cuda => BackendKind::Cuda,

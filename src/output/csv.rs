@@ -100,9 +100,10 @@ pub struct CsvTable {
 }
 
 impl CsvTable {
-    /// Creates (truncates) `path` and writes the header line.
+    /// Creates `path` and writes the header line; an existing file or link of that name is an
+    /// error ([`super::safe_file::create_new`]).
     pub fn create(path: &Path, columns: &[&str]) -> Result<Self, OutputError> {
-        let file = File::create(path).map_err(|e| OutputError::io(path, e))?;
+        let file = super::safe_file::create_new(path).map_err(|e| OutputError::io(path, e))?;
         let mut table = CsvTable {
             path: path.to_path_buf(),
             columns: columns.len(),
@@ -118,11 +119,7 @@ impl CsvTable {
     /// there. The header must be `columns` ([`OutputError::Malformed`] otherwise).
     pub fn resume(path: &Path, columns: &[&str], len: u64) -> Result<Self, OutputError> {
         let io = |e| OutputError::io(path, e);
-        let mut file = std::fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .open(path)
-            .map_err(io)?;
+        let mut file = super::safe_file::open_existing(path).map_err(io)?;
         let mut first = String::new();
         {
             use std::io::BufRead;
@@ -132,8 +129,19 @@ impl CsvTable {
         if first.trim_end() != columns.join(",") {
             return Err(OutputError::malformed(path, "its header is not this scene's"));
         }
-        if (file.metadata().map_err(io)?.len()) < len {
-            return Err(OutputError::malformed(path, "shorter than at the checkpoint"));
+        let on_disk = file.metadata().map_err(io)?.len();
+        if on_disk < len {
+            return Err(OutputError::malformed(
+                path,
+                format!("{on_disk} bytes, shorter than the {len} it held at the checkpoint"),
+            ));
+        }
+        // The cut must keep the header and end on a whole row.
+        if len < first.len() as u64 || !ends_a_line(&mut file, len).map_err(io)? {
+            return Err(OutputError::malformed(
+                path,
+                format!("the checkpoint cuts it at byte {len}, which is not the end of a row"),
+            ));
         }
         file.set_len(len).map_err(io)?;
         use std::io::Seek;
@@ -180,6 +188,18 @@ impl CsvTable {
     pub fn flush(&mut self) -> Result<(), OutputError> {
         self.writer.flush().map_err(|e| OutputError::io(&self.path, e))
     }
+}
+
+/// Whether byte `len - 1` of `file` is a newline (a cut at `len` keeps whole rows).
+fn ends_a_line(file: &mut File, len: u64) -> std::io::Result<bool> {
+    use std::io::{Read, Seek};
+    if len == 0 {
+        return Ok(false);
+    }
+    file.seek(std::io::SeekFrom::Start(len - 1))?;
+    let mut last = [0u8];
+    file.read_exact(&mut last)?;
+    Ok(last[0] == b'\n')
 }
 
 /// The unit suffix of force columns in a `dimension`-D run: `N`, or `N_per_m` in 2D (a 2D
@@ -233,7 +253,7 @@ impl ForceLog {
         columns
     }
 
-    /// Creates (truncates) `path` and writes the header of a `dimension`-D run.
+    /// Creates `path` (which must not exist) and writes the header of a `dimension`-D run.
     pub fn create(path: &Path, dimension: usize) -> Result<Self, OutputError> {
         let columns = Self::columns(dimension);
         let columns: Vec<&str> = columns.iter().map(String::as_str).collect();

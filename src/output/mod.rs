@@ -4,10 +4,10 @@
 //! polydata ([`vtp`]). The binary arrays of the VTK files are stored zlib-compressed, base64
 //! or raw ([`encoding`]).
 //!
-//! Every whole-file writer (`.vtu`, `.vtp`, `.pvd`, `.json`) writes to a sibling
-//! file with `.tmp` appended to its name and then renames it over the
-//! target, so a crash never leaves a half-written file behind. CSV logs are
-//! append-only and are flushed explicitly.
+//! Every whole-file writer (`.vtu`, `.vtp`, `.pvd`, `.json`) writes to a uniquely named
+//! temporary sibling, created exclusively ([`safe_file`]), and then renames it over the
+//! target, so a crash never leaves a half-written file behind and a planted link is never
+//! written through. CSV logs are append-only, created exclusively and flushed explicitly.
 //!
 //! No function in this module panics on I/O problems or malformed input;
 //! everything is reported through [`OutputError`].
@@ -18,6 +18,7 @@ pub mod encoding;
 pub mod frame;
 pub mod plot;
 pub mod pvd;
+pub mod safe_file;
 pub mod summary;
 pub mod surface_series;
 pub mod vtk_type;
@@ -25,7 +26,6 @@ pub mod vtp;
 pub mod vtu;
 mod xml;
 
-use std::ffi::OsString;
 use std::fs::{self, File};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -115,14 +115,6 @@ impl OutputError {
     }
 }
 
-/// The temporary sibling used for atomic writes: the file name with `.tmp`
-/// appended (`frame.vtu` -> `frame.vtu.tmp`).
-pub fn tmp_path(path: &Path) -> PathBuf {
-    let mut name: OsString = path.as_os_str().to_owned();
-    name.push(".tmp");
-    PathBuf::from(name)
-}
-
 /// Capacity of the buffered writers used for output files (1 MiB).
 const BUF_CAPACITY: usize = 1 << 20;
 
@@ -133,14 +125,14 @@ pub(crate) fn write_atomically<F>(path: &Path, body: F) -> Result<(), OutputErro
 where
     F: FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 {
-    let tmp = tmp_path(path);
-    let file = File::create(&tmp).map_err(|e| OutputError::io(&tmp, e))?;
+    let tmp = safe_file::unique_tmp_path(path, "");
+    let file = safe_file::create_new(&tmp).map_err(|e| OutputError::io(path, e))?;
     let mut writer = BufWriter::with_capacity(BUF_CAPACITY, file);
     let written = body(&mut writer).and_then(|()| writer.flush());
     drop(writer);
     if let Err(e) = written {
         let _ = fs::remove_file(&tmp);
-        return Err(OutputError::io(&tmp, e));
+        return Err(OutputError::io(path, e));
     }
     if let Err(e) = fs::rename(&tmp, path) {
         let _ = fs::remove_file(&tmp);
@@ -187,13 +179,5 @@ mod tests {
             assert_eq!(x.to_bits(), y.to_bits(), "{s}");
         }
         assert!(fmt_f64(f64::NAN).parse::<f64>().unwrap().is_nan());
-    }
-
-    #[test]
-    fn tmp_path_appends() {
-        assert_eq!(
-            tmp_path(Path::new("a/b/frame_0001.vtu")),
-            Path::new("a/b/frame_0001.vtu").with_extension("vtu.tmp")
-        );
     }
 }

@@ -16,7 +16,7 @@
 //! written to a sibling temporary file and then renamed over the target.
 
 use std::cell::Cell;
-use std::fs::{self, File};
+use std::fs;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -152,7 +152,7 @@ pub struct Figure {
 /// Draws `figure` and writes it as a PNG image of `size` = (width, height) \[px\]
 /// to `path`, whatever the extension of `path`.
 ///
-/// The image is drawn into `<path>.tmp.png` (the encoder picks its format
+/// The image is drawn into a unique hidden `.tmp.png` sibling (the encoder picks its format
 /// from the extension) and renamed over `path` once complete, so `path`
 /// never holds a half-written image; on failure the temporary file is
 /// removed and `path` is left untouched.
@@ -197,7 +197,7 @@ pub fn write_png(figure: &Figure, path: &Path, size: (u32, u32)) -> Result<(), P
     };
     // Create the file here so that an unwritable location is reported as an
     // I/O error rather than as an image-encoder message.
-    File::create(&tmp).map_err(io_error)?;
+    super::safe_file::create_new(&tmp).map_err(io_error)?;
     let ranges = (&x_range, &y_range);
     let (x, y) = (x_range.clone(), y_range.clone());
     let drawn = match (figure.log_x, figure.log_y) {
@@ -211,7 +211,7 @@ pub fn write_png(figure: &Figure, path: &Path, size: (u32, u32)) -> Result<(), P
 
 /// Writes an 8-bit RGB image (`pixels`: row-major from the top-left, 3 bytes per pixel, `size` =
 /// (width, height) [px]) as a PNG to `path`, atomically as [`write_png`] (drawn into
-/// `<path>.tmp.png`, renamed once complete). For pictures drawn pixel by pixel, such as the
+/// a unique hidden `.tmp.png` sibling, renamed once complete). For pictures drawn pixel by pixel, such as the
 /// particle frames of `sph render`.
 ///
 /// # Errors
@@ -228,7 +228,7 @@ pub fn write_rgb_png(pixels: &[u8], size: (u32, u32), path: &Path) -> Result<(),
         path: path.to_path_buf(),
         source,
     };
-    File::create(&tmp).map_err(io_error)?;
+    super::safe_file::create_new(&tmp).map_err(io_error)?;
     let drawn = (|| {
         let mut backend = BitMapBackend::new(&tmp, size);
         backend
@@ -258,11 +258,9 @@ fn finish_png(tmp: &Path, path: &Path, drawn: Result<(), String>) -> Result<(), 
     result
 }
 
-/// The temporary sibling the image is drawn into: `fig.png` -> `fig.png.tmp.png`.
+/// The temporary sibling the image is drawn into: `fig.png` -> `.fig.png.PID-N.tmp.png`.
 fn tmp_png_path(path: &Path) -> PathBuf {
-    let mut name = path.as_os_str().to_owned();
-    name.push(".tmp.png");
-    PathBuf::from(name)
+    super::safe_file::unique_tmp_path(path, ".png")
 }
 
 /// Whether `v` can be placed on an axis: finite, and on a log axis positive

@@ -87,8 +87,19 @@ pub struct Summary {
     /// over fluid particles of `max(ρ0 − ρ, 0)/ρ0`.
     #[serde(default = "nan", deserialize_with = "f64_or_nan")]
     pub mean_surface_deficit: f64,
-    /// Final status of the run, e.g. `"ok"`, `"diverged"`, `"interrupted"`.
+    /// Status of the run: `"running"` while it runs, then `"completed"`, `"failed: …"` (the
+    /// error) or `"interrupted (signal N)"`.
     pub status: String,
+    /// The run's identifier (kept across resumes; [`crate::run::RunIdentity`]).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub run_id: String,
+    /// FNV-1a hash of the scene file the run started from (16 hex digits).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub scene_hash: String,
+    /// What the user should know about the results (e.g. a weakly compressible run whose
+    /// compression shows its sound speed is too low for the flow).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// Number of `.vtu` frames written.
     pub output_frames: u64,
     /// Free-form additional values (scene- or backend-specific metrics).

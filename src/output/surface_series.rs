@@ -37,6 +37,11 @@ pub enum SurfaceOutputError {
 /// Name of the surface series file in a run directory.
 pub const SURFACE_PVD: &str = "surface.pvd";
 
+/// The mesh file of frame `index`, relative to the run folder.
+pub fn surface_file(index: usize) -> String {
+    format!("surface/surface_{index:05}.vtp")
+}
+
 /// Writes the surface meshes of a run directory and keeps `surface.pvd` current.
 #[derive(Debug, Clone)]
 pub struct SurfaceSeries {
@@ -50,7 +55,7 @@ impl SurfaceSeries {
     /// `encoding`.
     pub fn create(dir: &Path, encoding: Encoding) -> Result<Self, OutputError> {
         let sub = dir.join("surface");
-        std::fs::create_dir_all(&sub).map_err(|e| OutputError::io(&sub, e))?;
+        super::safe_file::ensure_dir(&sub).map_err(|e| OutputError::io(&sub, e))?;
         Ok(Self {
             dir: dir.to_path_buf(),
             pvd: PvdSeries::new(),
@@ -79,7 +84,7 @@ impl SurfaceSeries {
         time: f64,
         mesh: &SurfaceMesh<D>,
     ) -> Result<String, OutputError> {
-        let vtp = format!("surface/surface_{index:05}.vtp");
+        let vtp = surface_file(index);
         write_vtp(&self.dir.join(&vtp), mesh, time, self.encoding)?;
         self.pvd.push(time, vtp.clone());
         self.pvd.write(&self.dir.join(SURFACE_PVD))?;

@@ -134,7 +134,7 @@ const APPENDED_TAG: &[u8] = b"<AppendedData";
 /// Writes `frame` as a VTK XML unstructured grid with its arrays appended in `encoding` (see
 /// the [module documentation](self) for the layout).
 ///
-/// The file is written to `path` with `.tmp` appended and then renamed onto
+/// The file is written to a unique temporary sibling and then renamed onto
 /// `path`. Errors: [`OutputError::LengthMismatch`] if the slices differ in
 /// length, [`OutputError::UnsupportedDimension`] if `D > 3`,
 /// [`OutputError::Io`] on any file-system failure.

@@ -10,7 +10,8 @@
 //! `u64` length and the JSON of [`Header`] (plus the caller's metadata), then the arrays
 //! position, velocity, acceleration (`n·D` f32 each), density, pressure, mass (`n` f32), kind, id
 //! (`n` u32), and an FNV-1a 64-bit checksum of everything before it. It is written to
-//! `<path>.tmp`, flushed to disk and renamed over `<path>`, so `<path>` always holds a complete
+//! a unique temporary sibling created exclusively (`output::safe_file`), flushed to disk and
+//! renamed over `<path>`, so `<path>` always holds a complete
 //! checkpoint.
 
 use super::{Clock, RunStats, Simulation};
@@ -77,14 +78,14 @@ pub enum CheckpointError {
 }
 
 /// FNV-1a, 64 bit: detects a truncated or altered file (not an adversary).
-fn fnv1a(bytes: &[u8], mut hash: u64) -> u64 {
+pub(crate) fn fnv1a(bytes: &[u8], mut hash: u64) -> u64 {
     for &b in bytes {
         hash ^= u64::from(b);
         hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
     }
     hash
 }
-const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+pub(crate) const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
 fn put_reals(out: &mut Vec<u8>, values: impl Iterator<Item = Real>) {
     for v in values {
@@ -266,9 +267,9 @@ impl<const D: usize> Checkpoint<D> {
         }
         let sum = fnv1a(&out, FNV_OFFSET);
         out.extend_from_slice(&sum.to_le_bytes());
-        let tmp = path.with_extension("tmp");
+        let tmp = crate::output::safe_file::unique_tmp_path(path, "");
         let write = || -> std::io::Result<()> {
-            let mut file = std::fs::File::create(&tmp)?;
+            let mut file = crate::output::safe_file::create_new(&tmp)?;
             file.write_all(&out)?;
             file.sync_all()?;
             std::fs::rename(&tmp, path)

@@ -95,6 +95,15 @@ pub enum SweepError {
     /// A probe could not be compared with its reference data.
     #[error(transparent)]
     Probe(#[from] ProbeError),
+    /// The sweep's folder is in use or holds files of another sweep or run.
+    #[error(transparent)]
+    Folder(#[from] crate::run::RunFolderError),
+    /// A signal ended the sweep during a variant (that variant was checkpointed).
+    #[error("interrupted by signal {signal}; the variants so far are in sweep.csv")]
+    Interrupted {
+        /// The signal's number.
+        signal: usize,
+    },
 }
 
 fn culprits(settings: &[String]) -> String {
@@ -417,7 +426,9 @@ pub fn run_sweep(
     options: &RunOptions,
     events: &mut dyn FnMut(SweepEvent),
 ) -> Result<SweepReport, SweepError> {
-    std::fs::create_dir_all(out).map_err(|e| OutputError::io(out, e))?;
+    // The sweep owns its folder as a run does (`run::folder`): locked, its own files listed,
+    // another sweep's replaced only with `force`; each variant's folder is a run folder.
+    let mut folder = crate::run::RunFolder::fresh(out, crate::run::RunIdentity::new(None), options.force)?;
     let mut probes: Vec<String> = Vec::new();
     for scene in scenes {
         for p in scene.probes.iter().filter(|p| p.reference.is_some()) {
@@ -428,7 +439,7 @@ pub fn run_sweep(
     }
     let columns = sweep.columns(&probes);
     let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
-    let mut table = CsvTable::create(&out.join("sweep.csv"), &columns)?;
+    let mut table = CsvTable::create(&folder.claim("sweep.csv")?, &columns)?;
     let count = sweep.variants.len();
     let mut results = Vec::with_capacity(count);
     for (i, (variant, scene)) in sweep.variants.iter().zip(scenes).enumerate() {
@@ -444,6 +455,13 @@ pub fn run_sweep(
         })?;
         push_row(&mut table, &result, &probes)?;
         table.flush()?;
+        let signal = options
+            .stop
+            .as_ref()
+            .map_or(0, |s| s.load(std::sync::atomic::Ordering::SeqCst));
+        if signal != 0 {
+            return Err(SweepError::Interrupted { signal });
+        }
         events(SweepEvent::Finished {
             index: i + 1,
             count,
@@ -466,7 +484,7 @@ pub fn run_sweep(
     ];
     for (file, figure) in figures {
         let result = match figure {
-            Some(figure) => write_png(&figure, &out.join(file), FIGURE_SIZE),
+            Some(figure) => write_png(&figure, &folder.claim(file)?, FIGURE_SIZE),
             None => Err(PlotError::NoData { title: file.into() }),
         };
         match result {
@@ -490,14 +508,8 @@ fn run_variant(
     options: &RunOptions,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<VariantResult, SweepError> {
-    std::fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))?;
-    // Files read back below must come from this run, not an earlier sweep into the same place.
-    for file in ["summary.json", "probes.csv", "steps.csv"] {
-        let path = dir.join(file);
-        if path.exists() {
-            std::fs::remove_file(&path).map_err(|e| OutputError::io(&path, e))?;
-        }
-    }
+    // The files read back below come from this run: the variant's folder is a new run's
+    // (another sweep's variant replaced only when the sweep is forced, `run::folder`).
     let options = RunOptions {
         out_dir: Some(dir.to_path_buf()),
         ..options.clone()

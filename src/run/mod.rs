@@ -1,0 +1,567 @@
+//! A whole run: scene → simulation (dimension chosen once) → steps → output files.
+//!
+//! Output directory layout: `summary.json`, `forces.csv` (one row per solid per step),
+//! `steps.csv` (one row per step: time, dt, the criterion that limited it, extremes; columns
+//! in [`crate::output::csv`]),
+//! `particles.pvd` and `frames/frame_NNNNN.vtu` (every particle with its stable `id`, or only the
+//! fluid with `[output] fluid_only = true`; arrays stored as `[output] encoding` says); with
+//! `[output] surface = true` also `surface.pvd` and `surface/surface_NNNNN.vtp` (the free surface
+//! of eq. (25) at each frame time, [`crate::output::surface_series`]). The `.pvd` is rewritten
+//! after every frame and every file is written to a temporary name and renamed, so a run that
+//! stops (error or kill) leaves every frame written so far readable; on a step error
+//! `summary.json` records it.
+//!
+//! The folder belongs to one run at a time ([`folder`]): a lock, a manifest of the run's files,
+//! and `summary.json` written at the start with status `running` and replaced on every way out
+//! by `completed`, `failed: …` or `interrupted …`. A checkpoint carries the run's identity and
+//! `--resume` continues only the run that wrote it, from the scene file it started from.
+
+use crate::backend::{BackendKind, cuda};
+use crate::boundary::keep_out::KeepOutBox;
+use crate::error::Error;
+use crate::math::{Real, Vector};
+use crate::output::{CsvValue, Summary};
+use crate::probe::ProbeLog;
+use crate::scene::{Effect, Scene, SceneError, SolidShape, SolverKind, generate};
+use crate::solver::checkpoint::{Checkpoint, CheckpointError};
+use crate::solver::{Correction, Integrator};
+use crate::solver::{SimConfig, Simulation, SurfaceTension};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+pub mod folder;
+mod report;
+mod writers;
+
+pub use folder::{RunFolder, RunFolderError, RunIdentity};
+pub use writers::CHECKPOINT_FILE;
+use writers::Writers;
+
+/// A simulation of either dimension, chosen once at load time.
+pub enum AnySimulation {
+    /// A 2D simulation.
+    D2(Simulation<2>),
+    /// A 3D simulation.
+    D3(Simulation<3>),
+}
+
+/// Builds the `D`-dimensional simulation of a validated scene.
+pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation<D>, Error> {
+    let layout = generate::<D>(scene)?;
+    let config = sim_config::<D>(scene);
+    let solids: Vec<(String, Vec<Vector<D>>)> =
+        layout.solids.into_iter().map(|s| (s.name, s.position)).collect();
+    let motions = scene.solids.iter().map(|s| s.motion.clone()).collect();
+    let mut sim = Simulation::new(config, &layout.fluid_position, &layout.fluid_velocity, &solids)?
+        .with_solid_motion(motions)?;
+    if scene.has(Effect::Multiphase) {
+        sim = sim.with_phases(&crate::scene::fluid_rest_density(scene)?)?;
+    }
+    sim.set_keep_out(keep_out_boxes::<D>(scene, &solids))?;
+    Ok(sim)
+}
+
+/// The solids' volumes for the no-penetration guard (`boundary::keep_out`): a `box` solid is its
+/// region, a `container` the slabs of its walls (`wall_layers` spacings thick).
+fn keep_out_boxes<const D: usize>(scene: &Scene, solids: &[(String, Vec<Vector<D>>)]) -> Vec<KeepOutBox<D>> {
+    let vector = |v: &[f64]| Vector::<D>::from_iterator(v.iter().map(|&c| c as Real));
+    let thickness = (scene.wall_layers() as f64 * scene.spacing) as Real;
+    let mut boxes = Vec::new();
+    for s in &scene.solids {
+        let Some(index) = solids.iter().position(|(name, _)| *name == s.name) else {
+            continue;
+        };
+        let (min, max) = (vector(&s.region.min), vector(&s.region.max));
+        match s.shape {
+            SolidShape::Box => boxes.push(KeepOutBox::fixed(min, max, index as u32)),
+            SolidShape::Container => boxes.extend(KeepOutBox::container(
+                min,
+                max,
+                thickness,
+                s.open_top,
+                index as u32,
+            )),
+        }
+    }
+    boxes
+}
+
+/// The solver settings of a validated scene (`scene.dimension` must be `D`).
+pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
+    let vector = |v: &[f64]| Vector::<D>::from_iterator(v.iter().map(|&c| c as f32));
+    SimConfig::<D> {
+        spacing: scene.spacing,
+        h: scene.smoothing_length,
+        rho0: scene.rho0,
+        sound_speed: scene.sound_speed,
+        viscosity: if scene.has(Effect::Viscosity) {
+            scene.viscosity
+        } else {
+            None
+        },
+        artificial_viscosity: if scene.has(Effect::ArtificialViscosity) {
+            scene.artificial_viscosity
+        } else {
+            None
+        },
+        gravity: if scene.has(Effect::Gravity) {
+            scene.gravity.as_deref().map(vector)
+        } else {
+            None
+        },
+        gravity_ramp: scene.gravity_ramp,
+        angular_velocity: if scene.has(Effect::RotatingFrame) {
+            scene.angular_velocity
+        } else {
+            None
+        },
+        rotation_centre: vector(&scene.rotation_centre),
+        surface_tension: if scene.has(Effect::SurfaceTension) {
+            scene.surface_tension.map(|sigma| SurfaceTension {
+                sigma,
+                model: scene.surface_tension_model,
+            })
+        } else {
+            None
+        },
+        dt: scene.dt,
+        cfl: scene.cfl,
+        domain_min: vector(&scene.domain.min),
+        domain_max: vector(&scene.domain.max),
+        integrator: integrator(scene),
+        correction: correction(scene),
+    }
+}
+
+/// What the stage plan of a validated scene depends on (`solver::plan`): its effects, its
+/// solids and whether any moves, its integrator and solver.
+pub fn plan_inputs(scene: &Scene) -> crate::solver::plan::PlanInputs {
+    crate::solver::plan::PlanInputs {
+        viscosity: scene.has(Effect::Viscosity),
+        artificial_viscosity: scene.has(Effect::ArtificialViscosity),
+        rotating_frame: scene.has(Effect::RotatingFrame),
+        surface_tension: scene
+            .has(Effect::SurfaceTension)
+            .then_some(scene.surface_tension_model),
+        solids: !scene.solids.is_empty(),
+        moving_solids: scene.solids.iter().any(|s| s.motion.is_some()),
+        integrator: integrator(scene),
+        corrected: correction(scene).is_some(),
+    }
+}
+
+/// The scene's integrator.
+pub fn integrator(scene: &Scene) -> Integrator {
+    match scene.solver.integrator {
+        crate::scene::Integrator::SymplecticEuler => Integrator::SymplecticEuler,
+        crate::scene::Integrator::Rk3 => Integrator::Rk3,
+    }
+}
+
+/// The scene's position-correction settings; `None` for `wcsph`.
+pub fn correction(scene: &Scene) -> Option<Correction> {
+    let s = &scene.solver;
+    match s.kind {
+        SolverKind::Wcsph => None,
+        SolverKind::Corrected => Some(Correction {
+            delta: s.delta,
+            max_iterations: s.max_iterations,
+            strict: s.strict,
+            relaxation: s.relaxation,
+        }),
+    }
+}
+
+impl AnySimulation {
+    /// Builds the simulation of a validated scene in the scene's dimension.
+    pub fn from_scene(scene: &Scene) -> Result<Self, Error> {
+        match scene.dimension {
+            2 => Ok(Self::D2(simulation_from_scene::<2>(scene)?)),
+            3 => Ok(Self::D3(simulation_from_scene::<3>(scene)?)),
+            d => Err(SceneError::Dimension {
+                scene: d,
+                requested: 3,
+            }
+            .into()),
+        }
+    }
+}
+
+/// How to run a scene.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Output directory; `None` writes nothing (tests, benchmarks).
+    pub out_dir: Option<PathBuf>,
+    /// Replace the files of another run in `out_dir` (only those its manifest lists).
+    pub force: bool,
+    /// Backend to use.
+    pub backend: BackendKind,
+    /// Worker threads in use (reported in the summary).
+    pub threads: usize,
+    /// Scene name for the summary.
+    pub scene_name: String,
+    /// Checkpoints and restart.
+    pub restart: Restart,
+    /// Set to a signal number (non-zero) to end the run after its current step with a
+    /// checkpoint and status `interrupted` ([`Error::Interrupted`]).
+    pub stop: Option<Arc<AtomicUsize>>,
+}
+
+/// Checkpoints of a run (`sph run --checkpoint-every N`, `sph run --resume DIR`).
+#[derive(Clone, Debug, Default)]
+pub struct Restart {
+    /// Write `checkpoint.bin` in the output directory every this many steps and at the end.
+    pub every: Option<u64>,
+    /// Continue from `checkpoint.bin` in the output directory.
+    pub resume: bool,
+    /// Resume although the scene file changed since the run started.
+    pub accept_edited_scene: bool,
+    /// The scene file and its overrides, kept in the checkpoint for `--resume`.
+    pub scene: Option<(PathBuf, Vec<String>)>,
+}
+
+/// The run driver's state kept in a checkpoint beside the simulation's.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct RunState {
+    /// The run that wrote the checkpoint; `--resume` refuses a checkpoint of another run.
+    #[serde(default)]
+    pub identity: Option<RunIdentity>,
+    /// The scene file (absolute) and its overrides.
+    pub scene: Option<(PathBuf, Vec<String>)>,
+    /// Time of the next output frame [s].
+    pub next_frame: f64,
+    /// Frames written so far: `(t [s], file)`.
+    pub frames: Vec<(f64, String)>,
+    /// Surface meshes written so far: `(t [s], vtp file)`.
+    #[serde(default)]
+    pub surfaces: Vec<(f64, String)>,
+    /// Steps per time-step limit so far.
+    pub limits: std::collections::BTreeMap<String, u64>,
+    /// The probes' record so far.
+    pub probes: crate::probe::ProbeState,
+    /// Length of `forces.csv` [bytes].
+    pub forces_len: Option<u64>,
+    /// Length of `steps.csv` [bytes].
+    #[serde(default)]
+    pub steps_len: Option<u64>,
+    /// Wall seconds spent before the checkpoint.
+    pub wall_seconds: f64,
+}
+
+/// Progress of a run, reported after every step.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Simulated time [s].
+    pub time: f64,
+    /// End time [s].
+    pub end_time: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Particle updates per wall-clock second so far.
+    pub particle_steps_per_second: f64,
+    /// Integrator stages whose position correction hit the iteration cap so far.
+    pub unconverged_stages: u64,
+}
+
+/// Runs `scene` to its end time. Returns the summary (also written to `summary.json`).
+pub fn run_scene(
+    scene: &Scene,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Summary, Error> {
+    // A missing or malformed reference file must stop the run before it computes, not after.
+    crate::probe::check_references(scene)?;
+    if options.backend == BackendKind::Cuda {
+        cuda::probe()?;
+    }
+    match AnySimulation::from_scene(scene)? {
+        AnySimulation::D2(sim) => drive(sim, scene, options, progress),
+        AnySimulation::D3(sim) => drive(sim, scene, options, progress),
+    }
+}
+
+/// The FNV-1a hash of the run's scene file now (empty when the run names none).
+fn scene_hash(options: &RunOptions) -> Result<String, Error> {
+    match &options.restart.scene {
+        Some((file, _)) => {
+            let bytes = std::fs::read(file).map_err(|e| crate::output::OutputError::io(file, e))?;
+            Ok(folder::hex(&bytes))
+        }
+        None => Ok(String::new()),
+    }
+}
+
+/// The checkpoint to resume from, checked against the folder's run and the scene file.
+fn resumed_state<const D: usize>(
+    sim: &mut Simulation<D>,
+    folder: &RunFolder,
+    options: &RunOptions,
+) -> Result<RunState, Error> {
+    let path = folder.dir().join(CHECKPOINT_FILE);
+    let bad = |reason: String| CheckpointError::Malformed {
+        path: path.clone(),
+        reason,
+    };
+    if !folder.owns(CHECKPOINT_FILE) {
+        return Err(bad(format!(
+            "not written by the run this folder holds (not in {})",
+            folder::MANIFEST_FILE
+        ))
+        .into());
+    }
+    let checkpoint = Checkpoint::<D>::read(&path)?;
+    let state: RunState = serde_json::from_value(checkpoint.header.metadata.clone())
+        .map_err(|e| bad(format!("run state: {e}")))?;
+    let held = folder.identity();
+    match &state.identity {
+        Some(id) if id.run_id == held.run_id => {}
+        Some(id) => {
+            return Err(bad(format!(
+                "written by run {}, but the folder holds run {} (a checkpoint from another run or folder)",
+                id.run_id, held.run_id
+            ))
+            .into());
+        }
+        None => return Err(bad("it names no run".into()).into()),
+    }
+    let now = scene_hash(options)?;
+    if now != held.scene_hash && !options.restart.accept_edited_scene {
+        let file = options.restart.scene.as_ref().map(|s| s.0.display().to_string());
+        return Err(bad(format!(
+            "the scene file {} changed since the run started (hash {} now, {} then); resuming would mix two scenes: give --accept-edited-scene to continue anyway",
+            file.unwrap_or_default(),
+            now,
+            held.scene_hash
+        ))
+        .into());
+    }
+    sim.restore(checkpoint)?;
+    Ok(state)
+}
+
+/// Where the time loop ended.
+enum Ending {
+    /// At the end time.
+    Completed,
+    /// A step or a write failed.
+    Failed(Error),
+    /// A signal asked to stop (its number).
+    Interrupted(usize),
+}
+
+/// What the time loop carries from step to step.
+struct Loop {
+    writers: Option<Writers>,
+    probes: Option<ProbeLog>,
+    next_frame: f64,
+    limits: std::collections::BTreeMap<String, u64>,
+    wall_before: f64,
+    start: Instant,
+    /// Largest particle speed over the steps [m/s].
+    max_speed: f64,
+}
+
+fn drive<const D: usize>(
+    mut sim: Simulation<D>,
+    scene: &Scene,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Summary, Error> {
+    let restart = &options.restart;
+    let with_forces = !sim.solid_names().is_empty();
+    // The folder first: a refused folder is left exactly as it was.
+    let folder = match &options.out_dir {
+        Some(dir) if restart.resume => Some(RunFolder::resume(dir)?),
+        Some(dir) => {
+            let identity = RunIdentity {
+                scene_hash: scene_hash(options)?,
+                ..RunIdentity::new(None)
+            };
+            Some(RunFolder::fresh(dir, identity, options.force)?)
+        }
+        None => None,
+    };
+    let resumed = match &folder {
+        Some(f) if restart.resume => Some(resumed_state(&mut sim, f, options)?),
+        _ => None,
+    };
+    let mut summary = report::initial(&sim, scene, options, folder.as_ref().map(|f| f.identity()));
+    let mut state = Loop {
+        writers: None,
+        probes: None,
+        next_frame: scene.output_interval,
+        limits: Default::default(),
+        wall_before: 0.0,
+        start: Instant::now(),
+        max_speed: 0.0,
+    };
+    let ending = match start(
+        &mut sim,
+        scene,
+        options,
+        folder,
+        resumed,
+        with_forces,
+        &mut summary,
+        &mut state,
+    )
+    .and_then(|()| steps(&mut sim, scene, options, &mut state, progress))
+    {
+        Ok(ending) => ending,
+        Err(e) => Ending::Failed(e),
+    };
+    report::finish(&mut sim, scene, &mut summary, &mut state, ending)
+}
+
+/// Opens the output files, writes the `running` summary and, on a new run, the first frame.
+#[allow(clippy::too_many_arguments)]
+fn start<const D: usize>(
+    sim: &mut Simulation<D>,
+    scene: &Scene,
+    options: &RunOptions,
+    folder: Option<RunFolder>,
+    resumed: Option<RunState>,
+    with_forces: bool,
+    summary: &mut Summary,
+    state: &mut Loop,
+) -> Result<(), Error> {
+    state.writers = match (folder, &resumed) {
+        (Some(folder), Some(r)) => Some(Writers::resume::<D>(folder, with_forces, scene, r)?),
+        (Some(folder), None) => Some(Writers::create::<D>(folder, with_forces, scene)?),
+        (None, _) => None,
+    };
+    sim.use_backend(options.backend)?;
+    summary.backend = sim.backend_name().into();
+    if let Some(w) = state.writers.as_mut() {
+        w.summary(summary)?;
+    }
+    let probe_interval = scene.output_interval / 10.0;
+    let probe_file = match state.writers.as_mut() {
+        Some(w) if !scene.probes.is_empty() => Some(w.folder.claim("probes.csv")?),
+        _ => None,
+    };
+    let probe_dir = probe_file.as_deref().and_then(|p| p.parent());
+    match resumed {
+        Some(r) => {
+            state.probes = Some(ProbeLog::resume(scene, probe_dir, probe_interval, r.probes)?);
+            state.next_frame = r.next_frame;
+            state.limits = r.limits;
+            state.wall_before = r.wall_seconds;
+        }
+        None => {
+            let mut probes = ProbeLog::create(scene, probe_dir, probe_interval)?;
+            if let Some(w) = state.writers.as_mut() {
+                w.frame(sim, scene.write_frames)?;
+            }
+            probes.record(0.0, 0.0, &sim.fields, sim.solid_forces(), true)?;
+            state.probes = Some(probes);
+        }
+    }
+    state.start = Instant::now();
+    Ok(())
+}
+
+/// The checkpoint of the run's state now.
+fn write_checkpoint<const D: usize>(
+    sim: &mut Simulation<D>,
+    options: &RunOptions,
+    state: &mut Loop,
+) -> Result<(), Error> {
+    let (Some(w), Some(probes)) = (state.writers.as_mut(), state.probes.as_mut()) else {
+        return Ok(());
+    };
+    let run_state = RunState {
+        identity: Some(w.folder.identity().clone()),
+        scene: options.restart.scene.clone(),
+        next_frame: state.next_frame,
+        frames: w.frames().to_vec(),
+        surfaces: w.surfaces(),
+        limits: state.limits.clone(),
+        probes: probes.state()?,
+        forces_len: match w.forces.as_mut() {
+            Some(f) => Some(f.len_on_disk()?),
+            None => None,
+        },
+        steps_len: Some(w.steps.len_on_disk()?),
+        wall_seconds: state.wall_before + state.start.elapsed().as_secs_f64(),
+    };
+    w.checkpoint(sim, &run_state)
+}
+
+/// Steps to the end time (or a failure, or a stop signal).
+fn steps<const D: usize>(
+    sim: &mut Simulation<D>,
+    scene: &Scene,
+    options: &RunOptions,
+    state: &mut Loop,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Ending, Error> {
+    let end = scene.end_time;
+    let every = options.restart.every;
+    while sim.clock().time < end {
+        let iterations_before = sim.stats().correction.iterations;
+        let report = match sim.step(end) {
+            Ok(report) => report,
+            Err(e) => return Ok(Ending::Failed(e.into())),
+        };
+        let name = serde_json::to_value(report.limit)
+            .ok()
+            .and_then(|v| v.as_str().map(String::from))
+            .unwrap_or_default();
+        let clock = sim.clock();
+        if let Some(w) = state.writers.as_mut() {
+            let e = &report.extremes;
+            w.steps.push_row(&[
+                CsvValue::Int(clock.step as i64),
+                CsvValue::Float(clock.time),
+                CsvValue::Float(report.dt),
+                CsvValue::Text(&name),
+                CsvValue::Float(e.max_speed),
+                CsvValue::Float(e.max_compression),
+                CsvValue::Float(e.max_surface_deficit),
+                CsvValue::Int((sim.stats().correction.iterations - iterations_before) as i64),
+            ])?;
+        }
+        *state.limits.entry(name).or_default() += 1;
+        state.max_speed = state.max_speed.max(report.extremes.max_speed);
+        let last = clock.time >= end;
+        let frame_time = clock.time >= state.next_frame - 1e-12 * end || last;
+        let frame_due = state.writers.is_some() && (scene.write_frames || scene.write_surface) && frame_time;
+        let probes = state.probes.as_mut().expect("opened by start");
+        if frame_due || probes.wants_fields(clock.time, last) {
+            sim.sync_fields()?;
+        }
+        probes.record(clock.time, report.dt, &sim.fields, sim.solid_forces(), last)?;
+        if let Some(w) = state.writers.as_mut() {
+            if let Some(log) = w.forces.as_mut() {
+                for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
+                    log.push(clock.time, name, *force)?;
+                }
+            }
+            if frame_time {
+                w.frame(sim, scene.write_frames)?;
+                while state.next_frame <= clock.time + 1e-12 * end {
+                    state.next_frame += scene.output_interval;
+                }
+            }
+        }
+        let signal = options.stop.as_ref().map_or(0, |s| s.load(Ordering::SeqCst));
+        if every.is_some_and(|n| clock.step % n.max(1) == 0 || last) || signal != 0 {
+            write_checkpoint(sim, options, state)?;
+        }
+        if signal != 0 {
+            return Ok(Ending::Interrupted(signal));
+        }
+        let wall = state.start.elapsed().as_secs_f64();
+        progress(&Progress {
+            time: clock.time,
+            end_time: end,
+            steps: clock.step,
+            particle_steps_per_second: clock.step as f64 * sim.fields.len() as f64 / wall.max(1e-9),
+            unconverged_stages: sim.stats().correction.unconverged_stages,
+        });
+    }
+    Ok(Ending::Completed)
+}
