@@ -168,6 +168,12 @@ impl<const D: usize> Fields<D> {
     /// Reorders every field by `perm` (new index → old index). The one place fields are permuted.
     pub fn permute(&mut self, perm: &[u32], scratch: &mut PermuteScratch<D>) {
         debug_assert_eq!(perm.len(), self.len());
+        self.permute_into(perm, scratch);
+    }
+
+    /// Gathers every field by `perm` (new index → old index), which may be shorter than the
+    /// fields (a subset).
+    fn permute_into(&mut self, perm: &[u32], scratch: &mut PermuteScratch<D>) {
         gather(&mut self.position, perm, &mut scratch.vector);
         gather(&mut self.velocity, perm, &mut scratch.vector);
         gather(&mut self.acceleration, perm, &mut scratch.vector);
@@ -190,6 +196,14 @@ impl<const D: usize> Fields<D> {
         if !self.rest_density.is_empty() {
             gather(&mut self.rest_density, perm, &mut scratch.real);
         }
+    }
+
+    /// Keeps only the particles `kept` (indices in increasing order) in every field, in that
+    /// order: removes the others (`solver::escape`). Optional fields stay unallocated.
+    pub fn keep(&mut self, kept: &[u32]) {
+        debug_assert!(kept.windows(2).all(|w| w[0] < w[1]));
+        let mut scratch = PermuteScratch::default();
+        self.permute_into(kept, &mut scratch);
     }
 
     /// Whether `field` has storage (one entry per particle). The optional fields are allocated

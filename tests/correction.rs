@@ -231,6 +231,7 @@ fn config<const D: usize>(
             strict: true,
             relaxation: 0.5,
         }),
+        on_escape: Default::default(),
     }
 }
 

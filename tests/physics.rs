@@ -199,6 +199,7 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             domain_max: Vector::<D>::repeat(10.0),
             integrator: Default::default(),
             correction: None,
+            on_escape: Default::default(),
         };
         let mut sim = Simulation::new(config, &x, &u, &[]).expect("builds");
         let p0 = sim.fluid_momentum();

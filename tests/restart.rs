@@ -183,6 +183,7 @@ velocity = [5.0, 0.0]
 [solver]
 kind = "wcsph"
 end_time = 0.5
+on_escape = "stop"
 
 [output]
 interval = 0.02
@@ -273,4 +274,130 @@ fn a_non_finite_velocity_stops_the_step_naming_the_particle_and_quantity() {
         }
         other => panic!("expected NonFinite at step 3, got {other:?}"),
     }
+}
+
+/// A droplet thrown out of the domain (the default `solver.on_escape = "remove"`) is removed at
+/// the next step's start, counted per step in `steps.csv` and in `summary.json` with a warning,
+/// and the run goes on to its end; a run resumed from a checkpoint taken after the removal ends
+/// with the same bytes as one never stopped.
+#[test]
+fn a_droplet_leaving_the_domain_is_removed_and_the_run_goes_on() {
+    let dir = scratch("droplet");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let scene = dir.join("droplet.toml");
+    std::fs::write(
+        &scene,
+        r#"name = "droplet"
+dimension = 2
+effects = []
+
+[domain]
+min = [0.0, 0.0]
+max = [1.0, 1.0]
+
+[particles]
+spacing = 0.02
+smoothing_ratio = 2.0
+
+[fluid]
+rho0 = 1000.0
+sound_speed = 50.0
+
+[[fluid_box]]
+min = [0.3, 0.1]
+max = [0.7, 0.3]
+
+[[fluid_box]]
+min = [0.4, 0.6]
+max = [0.5, 0.7]
+velocity = [5.0, 0.0]
+
+[solver]
+kind = "wcsph"
+end_time = 0.3
+
+[output]
+interval = 0.05
+"#,
+    )
+    .expect("scene");
+    let run = |out: &Path, extra: &[&str]| {
+        Command::new(BIN)
+            .args(["run"])
+            .arg(&scene)
+            .args(["--threads", "1", "--out"])
+            .arg(out)
+            .args(extra)
+            .output()
+            .expect("runs")
+    };
+    let straight = dir.join("straight");
+    let done = run(&straight, &[]);
+    assert!(done.status.success(), "{}", String::from_utf8_lossy(&done.stderr));
+    assert!(String::from_utf8_lossy(&done.stderr).contains("left the domain and are removed"));
+    let summary = read_summary(&straight.join("summary.json")).expect("summary");
+    assert_eq!(summary.status, "completed");
+    assert!((summary.simulated_time - 0.3).abs() < 1e-12);
+    // The droplet is 5 x 5 particles; the pool stays.
+    assert_eq!(summary.extra["removed_particles"], 25);
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("25 fluid particles left the domain"))
+    );
+    let steps = sph::output::CsvFile::read(&straight.join("steps.csv")).expect("steps.csv");
+    let removed: f64 = steps
+        .numbers(steps.column("removed_particles").expect("column"))
+        .expect("numbers")
+        .iter()
+        .sum();
+    assert_eq!(removed, 25.0);
+    let series = PvdSeries::read(&straight.join("particles.pvd")).expect("series");
+    let (_, last) = series.entries().last().expect("frames");
+    let frame = read_vtu(&straight.join(last)).expect("frame");
+    assert_eq!(frame.points.len() as u64, summary.particles - 25);
+
+    // Killed once a checkpoint holds fewer particles than the scene, then resumed: the same
+    // bytes.
+    let resumed = dir.join("resumed");
+    let mut child = Command::new(BIN)
+        .args(["run"])
+        .arg(&scene)
+        .args(["--threads", "1", "--checkpoint-every", "5", "--out"])
+        .arg(&resumed)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("starts");
+    let started = Instant::now();
+    loop {
+        let smaller = Checkpoint::<2>::read(&resumed.join("checkpoint.bin"))
+            .is_ok_and(|c| (c.fields.len() as u64) < summary.particles);
+        if smaller || child.try_wait().expect("status").is_some() {
+            break;
+        }
+        assert!(started.elapsed() < Duration::from_secs(120), "no removal");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    child.kill().ok();
+    child.wait().expect("reaped");
+    let again = Command::new(BIN)
+        .args(["run", "--threads", "1", "--resume"])
+        .arg(&resumed)
+        .output()
+        .expect("resumes");
+    assert!(
+        again.status.success(),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    for file in ["steps.csv", "particles.pvd", last.as_str()] {
+        assert!(
+            std::fs::read(straight.join(file)).expect("straight")
+                == std::fs::read(resumed.join(file)).expect("resumed"),
+            "{file} differs after resuming past the removal"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }

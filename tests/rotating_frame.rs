@@ -168,6 +168,7 @@ fn a_lone_particle_moves_in_a_straight_line_in_the_inertial_frame() {
             domain_max: Vector::<D>::repeat(10.0),
             integrator: Default::default(),
             correction: None,
+            on_escape: Default::default(),
         };
         let (x0, u0, w) = (Vector3::from(x0), Vector3::from(u0), Vector3::from(omega));
         let mut sim = Simulation::new(config, &[to_d(x0)], &[to_d(u0)], &[]).expect("builds");

@@ -2,6 +2,7 @@
 //! position-correction settings) and for `[[probe]]` tables: defaults, one problem per bad
 //! value naming its key and line, `--set` overrides, and reference-path resolution.
 
+use sph::solver::escape::EscapePolicy;
 use std::path::{Path, PathBuf};
 
 use sph::scene as sc;
@@ -169,6 +170,7 @@ fn wcsph_defaults() {
             max_iterations: 200,
             strict: false,
             relaxation: 0.5,
+            on_escape: EscapePolicy::Remove,
         }
     );
     assert_eq!(s.cfl, 0.2);
@@ -188,6 +190,7 @@ fn corrected_defaults() {
             max_iterations: 200,
             strict: false,
             relaxation: 0.5,
+            on_escape: EscapePolicy::Remove,
         }
     );
     assert_eq!(s.solver, SolverSettings::defaults(SolverKind::Corrected));
@@ -209,6 +212,7 @@ fn corrected_with_every_key_and_probes() {
             max_iterations: 50,
             strict: true,
             relaxation: 0.8,
+            on_escape: EscapePolicy::Remove,
         }
     );
     assert_eq!(s.probes.len(), 2);
@@ -660,6 +664,7 @@ fn overrides_set_the_new_solver_keys() {
             max_iterations: 25,
             strict: true,
             relaxation: 0.25,
+            on_escape: EscapePolicy::Remove,
         }
     );
     let s = parse_set(WCSPH, &["solver.integrator=rk3"]).unwrap();

@@ -141,7 +141,8 @@ fn run_writes_summary_frames_and_forces() {
             "max_speed_m_per_s",
             "max_compression",
             "max_surface_deficit",
-            "correction_iterations"
+            "correction_iterations",
+            "removed_particles"
         ]
     );
     assert_eq!(steps.len() as u64, summary.steps);

@@ -115,6 +115,7 @@ pub fn run(
     let bar = progress_bar();
     let mut last = std::time::Instant::now();
     let mut warned = 0u64;
+    let mut warned_removed = false;
     let summary = pool.install(|| {
         run_scene(&scene, &options, &mut |p| {
             if p.unconverged_stages > warned {
@@ -129,6 +130,15 @@ pub fn run(
                     });
                 }
                 warned = p.unconverged_stages;
+            }
+            if p.removed_particles > 0 && !warned_removed {
+                warned_removed = true;
+                bar.suspend(|| {
+                    eprintln!(
+                        "warning: t = {:.4} s: fluid particles left the domain and are removed (counted in steps.csv and summary.json; solver.on_escape = \"stop\" ends the run instead)",
+                        p.time
+                    )
+                });
             }
             if last.elapsed().as_millis() >= 100 || p.time >= p.end_time {
                 last = std::time::Instant::now();

@@ -132,6 +132,7 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
         domain_max: vector(&scene.domain.max),
         integrator: integrator(scene),
         correction: correction(scene),
+        on_escape: scene.solver.on_escape,
     }
 }
 
@@ -263,6 +264,8 @@ pub struct Progress {
     pub particle_steps_per_second: f64,
     /// Integrator stages whose position correction hit the iteration cap so far.
     pub unconverged_stages: u64,
+    /// Fluid particles removed so far for having left the domain.
+    pub removed_particles: u64,
 }
 
 /// Runs `scene` to its end time. Returns the summary (also written to `summary.json`).
@@ -522,6 +525,7 @@ fn steps<const D: usize>(
                 CsvValue::Float(e.max_compression),
                 CsvValue::Float(e.max_surface_deficit),
                 CsvValue::Int((sim.stats().correction.iterations - iterations_before) as i64),
+                CsvValue::Int(report.removed as i64),
             ])?;
         }
         *state.limits.entry(name).or_default() += 1;
@@ -561,6 +565,7 @@ fn steps<const D: usize>(
             steps: clock.step,
             particle_steps_per_second: clock.step as f64 * sim.fields.len() as f64 / wall.max(1e-9),
             unconverged_stages: sim.stats().correction.unconverged_stages,
+            removed_particles: sim.stats().removed_particles,
         });
     }
     Ok(Ending::Completed)

@@ -105,7 +105,14 @@ fn statistics<const D: usize>(
             10.0 * state.max_speed
         ));
     }
+    if stats.removed_particles > 0 {
+        summary.warnings.push(format!(
+            "{} fluid particles left the domain and were removed (steps.csv: removed_particles); enlarge the domain or close the tank if the fluid must be conserved (solver.on_escape = \"stop\" ends the run instead)",
+            stats.removed_particles
+        ));
+    }
     let extra = &mut summary.extra;
+    extra.insert("removed_particles".into(), stats.removed_particles.into());
     extra.insert("fluid_mass".into(), sim.fluid_mass().into());
     extra.insert("memory_bytes".into(), (sim.heap_bytes() as u64).into());
     extra.insert(

@@ -21,7 +21,7 @@ use std::path::Path;
 pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
 
 /// Columns of `steps.csv`.
-const STEP_COLUMNS: [&str; 8] = [
+const STEP_COLUMNS: [&str; 9] = [
     "step",
     "t_s",
     "dt_s",
@@ -30,6 +30,7 @@ const STEP_COLUMNS: [&str; 8] = [
     "max_compression",
     "max_surface_deficit",
     "correction_iterations",
+    "removed_particles",
 ];
 
 /// Output files of one run.

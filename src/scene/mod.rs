@@ -139,6 +139,8 @@ pub struct SolverSettings {
     pub strict: bool,
     /// Relaxation factor omega of the position correction, in (0, 1].
     pub relaxation: f64,
+    /// What a fluid particle outside the domain does (`solver::escape`).
+    pub on_escape: crate::solver::escape::EscapePolicy,
 }
 
 impl SolverSettings {
@@ -166,6 +168,7 @@ impl SolverSettings {
             max_iterations: Self::DEFAULT_MAX_ITERATIONS,
             strict: false,
             relaxation: Self::DEFAULT_RELAXATION,
+            on_escape: Default::default(),
         }
     }
 }

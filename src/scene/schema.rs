@@ -330,6 +330,9 @@ pub struct SolverFile {
     pub cfl: Option<f64>,
     /// Simulated time \[s\] > 0, and >= `dt` when `dt` is given.
     pub end_time: f64,
+    /// What a fluid particle outside the domain does: `remove` (default: dropped, counted,
+    /// the run goes on) or `stop` (the run ends naming it; strict conservation).
+    pub on_escape: Option<crate::solver::escape::EscapePolicy>,
 }
 
 /// `[output]`: what to write and how often.

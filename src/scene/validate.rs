@@ -805,6 +805,9 @@ fn check_solver(c: &mut Checker, sp: &KeyPath, sv: &SolverFile) -> Option<Solver
     if let Some(strict) = sv.strict {
         settings.strict = strict;
     }
+    if let Some(policy) = sv.on_escape {
+        settings.on_escape = policy;
+    }
     if let Some(w) = sv.relaxation {
         match in_range(c, sp.k("relaxation"), w, 0.0, 1.0, true) {
             Some(w) => settings.relaxation = w,

@@ -16,7 +16,7 @@
 
 use super::{Clock, RunStats, Simulation};
 use crate::backend::BackendError;
-use crate::fields::Fields;
+use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -127,7 +127,8 @@ impl<const D: usize> Simulation<D> {
     pub fn restore(&mut self, checkpoint: Checkpoint<D>) -> Result<(), CheckpointError> {
         let mismatch = |reason: String| CheckpointError::Mismatch { reason };
         let (ours, theirs) = (&self.fields, &checkpoint.fields);
-        if ours.len() != theirs.len() {
+        // Fluid particles that left the domain may have been removed (`solver::escape`).
+        if theirs.len() > ours.len() {
             return Err(mismatch(format!(
                 "{} particles in the checkpoint, {} in the scene",
                 theirs.len(),
@@ -160,6 +161,12 @@ impl<const D: usize> Simulation<D> {
                     "particle {id} differs in kind or mass (spacing, boxes or solids changed?)"
                 )));
             }
+        }
+        if let Some(i) = (0..ours.len()).find(|&i| !seen[ours.id[i] as usize] && ours.kind[i] != FLUID) {
+            return Err(mismatch(format!(
+                "solid particle {} of the scene is not in the checkpoint",
+                ours.id[i]
+            )));
         }
         let kind = self.backend_kind();
         let no_slip = !self.fields.wall_velocity.is_empty();

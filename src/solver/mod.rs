@@ -5,6 +5,7 @@
 
 pub mod anderson;
 pub mod checkpoint;
+pub mod escape;
 pub mod plan;
 pub mod stage;
 pub mod step;
@@ -135,6 +136,8 @@ pub struct SimConfig<const D: usize> {
     pub integrator: Integrator,
     /// The position correction (23)–(24); `None` for the weakly compressible solver.
     pub correction: Option<Correction>,
+    /// What a step does with a fluid particle outside the domain ([`escape`]).
+    pub on_escape: escape::EscapePolicy,
 }
 
 /// Errors that stop a step. Each names the step, the time, the particle and the quantity.
@@ -251,6 +254,9 @@ pub struct StepReport {
     pub limit: TimeStepLimit,
     /// Extremes of the state at the start of the step.
     pub extremes: crate::backend::StateExtremes,
+    /// Fluid particles removed at the start of the step for having left the domain
+    /// ([`escape::EscapePolicy::Remove`]).
+    pub removed: u64,
 }
 
 /// Density statistics over a run, from the state at the start of every step (fluid particles;
@@ -273,6 +279,9 @@ pub struct RunStats {
     /// (`boundary::keep_out`): how often the guard, not the particle boundary, held the fluid.
     #[serde(default)]
     pub keep_out_pushes: u64,
+    /// Fluid particles removed for having left the domain ([`escape`]).
+    #[serde(default)]
+    pub removed_particles: u64,
 }
 
 /// What the position correction did over a run.

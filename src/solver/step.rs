@@ -65,6 +65,7 @@ impl<const D: usize> Simulation<D> {
             dt: 0.0,
             limit: TimeStepLimit::Fixed,
             extremes: StateExtremes::default(),
+            removed: 0,
         };
         let solids = self.solid_names.len();
         // Until this step stores its start (SSP-RK3), the guard has no start to go by.
@@ -260,7 +261,18 @@ impl<const D: usize> Simulation<D> {
         end_time: f64,
     ) -> Result<StepReport, StepError> {
         let (step, time) = (self.clock.step, self.clock.time);
-        let e = self.backend.state_extremes(&self.fields, params);
+        let mut e = self.backend.state_extremes(&self.fields, params);
+        let mut removed = 0;
+        if e.non_finite.is_none()
+            && e.escaped.is_some()
+            && self.config.on_escape == super::escape::EscapePolicy::Remove
+        {
+            self.fields_stale = self.backend.holds_state();
+            self.sync_fields()
+                .map_err(|source| StepError::Backend { step, source })?;
+            removed = self.remove_escaped()?;
+            e = self.backend.state_extremes(&self.fields, params);
+        }
         if e.non_finite.is_some() || e.escaped.is_some() {
             // Name the particle from the backend's own state (device order for CUDA).
             self.fields_stale = self.backend.holds_state();
@@ -316,6 +328,7 @@ impl<const D: usize> Simulation<D> {
             dt,
             limit,
             extremes: e,
+            removed,
         })
     }
 

@@ -1,0 +1,61 @@
+//! Fluid particles that leave the domain box (a splash over a side wall, a droplet thrown
+//! out): removed, or the run stops ([`EscapePolicy`], `solver.on_escape` in a scene).
+//!
+//! Removal happens at the start of a step, on the host: the fields are synced, every fluid
+//! particle outside the domain (the test `StateExtremes::escaped` applies) is dropped from
+//! every field in order ([`crate::fields::Fields::keep`]), and the backend is built again from
+//! the remaining particles, as on a change of backend. The count goes to the step's report,
+//! the run's statistics, `steps.csv` and `summary.json`. A checkpoint then holds fewer
+//! particles than the scene; restoring it accepts that as long as every missing particle is
+//! fluid.
+
+use super::{Simulation, StepError};
+use crate::fields::FLUID;
+
+/// What a step does when a fluid particle is outside the domain box.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EscapePolicy {
+    /// Remove it, count it and go on (the default: a splash that leaves the tank should not
+    /// end a long run).
+    #[default]
+    Remove,
+    /// Stop with [`StepError::Escaped`] naming the particle (strict conservation: the
+    /// hard-case scenes, which check that no fluid is lost).
+    Stop,
+}
+
+impl EscapePolicy {
+    /// The name used in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            EscapePolicy::Remove => "remove",
+            EscapePolicy::Stop => "stop",
+        }
+    }
+}
+
+impl<const D: usize> Simulation<D> {
+    /// Removes every fluid particle outside the domain box from the (synced) host fields and
+    /// rebuilds the backend; returns how many went.
+    pub(super) fn remove_escaped(&mut self) -> Result<u64, StepError> {
+        let step = self.clock.step;
+        let (lo, hi) = (self.config.domain_min, self.config.domain_max);
+        let f = &self.fields;
+        let outside = |i: usize| (0..D).any(|k| f.position[i][k] < lo[k] || f.position[i][k] > hi[k]);
+        let kept: Vec<u32> = (0..f.len())
+            .filter(|&i| f.kind[i] != FLUID || !outside(i))
+            .map(|i| i as u32)
+            .collect();
+        let removed = (f.len() - kept.len()) as u64;
+        if removed == 0 {
+            return Ok(0);
+        }
+        let kind = self.backend_kind();
+        self.fields.keep(&kept);
+        self.stats.removed_particles += removed;
+        self.use_backend(kind)
+            .map_err(|source| StepError::Backend { step, source })?;
+        Ok(removed)
+    }
+}
