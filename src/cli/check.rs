@@ -1,8 +1,89 @@
 //! `sph check SCENE`: validate and report.
 
-use crate::scene::{bytes_per_particle, count_particles, skipped_references};
+use crate::scene::{
+    GenerationReport, ParticleCounts, Scene, bytes_per_particle, count_particles, generate::describe,
+    generate_reported, skipped_references,
+};
 use anyhow::Context;
 use std::path::Path;
+
+/// Largest scene (particles before trimming) whose particles `check` generates to report the
+/// trimming exactly; a larger one is reported by its lattice counts (about 100 bytes a particle
+/// while generating, so 400 MB at this cap).
+const GENERATE_CAP: u64 = 4_000_000;
+
+/// The particles `generate` keeps and its report, if the scene is small enough to generate.
+fn generated(
+    scene: &Scene,
+    lattice: &ParticleCounts,
+) -> anyhow::Result<Option<(ParticleCounts, GenerationReport)>> {
+    if lattice.total > GENERATE_CAP {
+        return Ok(None);
+    }
+    let (fluid, solids, report) = match scene.dimension {
+        2 => {
+            let (l, r) = generate_reported::<2>(scene)?;
+            (
+                l.fluid_position.len(),
+                l.solids
+                    .iter()
+                    .map(|s| (s.name.clone(), s.position.len()))
+                    .collect::<Vec<_>>(),
+                r,
+            )
+        }
+        _ => {
+            let (l, r) = generate_reported::<3>(scene)?;
+            (
+                l.fluid_position.len(),
+                l.solids
+                    .iter()
+                    .map(|s| (s.name.clone(), s.position.len()))
+                    .collect(),
+                r,
+            )
+        }
+    };
+    let solid: Vec<(String, u64)> = solids.into_iter().map(|(n, c)| (n, c as u64)).collect();
+    let total = fluid as u64 + solid.iter().map(|(_, c)| c).sum::<u64>();
+    Ok(Some((
+        ParticleCounts {
+            fluid: fluid as u64,
+            solid,
+            total,
+        },
+        report,
+    )))
+}
+
+/// Prints what generation did beyond whole-spacing boxes (the lines start with `lattice:`).
+fn print_report(scene: &Scene, report: &GenerationReport) {
+    for f in &report.fitted {
+        let axis = crate::scene::generate::axis_name(f.axis);
+        println!(
+            "  lattice: fluid_box[{}] is {:.3} spacings along {axis}, not a whole number: {} layer{}, {}",
+            f.fluid_box,
+            f.spacings,
+            f.layers,
+            if f.layers == 1 { "" } else { "s" },
+            if f.spacings < 1.0 {
+                "reaching past its max face (thinner than a spacing)"
+            } else {
+                "at least half a spacing inside each face"
+            }
+        );
+    }
+    for t in &report.trimmed {
+        println!(
+            "  lattice: trimmed {} of {} particles of {} closer than {} spacings to {}",
+            t.count,
+            t.of,
+            describe(scene, t.removed_from),
+            crate::scene::MIN_GAP,
+            describe(scene, t.next_to)
+        );
+    }
+}
 
 /// Validates the scene and prints counts, memory and plan.
 /// Reads every reference file the scene's probes name that is available (a malformed one is an
@@ -11,7 +92,10 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
     let scene = super::load_located(path, sets, reference_dir, false)
         .with_context(|| format!("checking scene {}", path.display()))?;
     crate::probe::check_references(&scene).with_context(|| format!("checking scene {}", path.display()))?;
-    let counts = count_particles(&scene)?;
+    let lattice = count_particles(&scene)?;
+    let generated =
+        generated(&scene, &lattice).with_context(|| format!("checking scene {}", path.display()))?;
+    let counts = generated.as_ref().map_or(lattice, |(c, _)| c.clone());
     println!(
         "scene {}: valid ({}D, solver {}, integrator {}{})",
         path.display(),
@@ -38,6 +122,12 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
         println!("  solid {name:<10} {n:>12}");
     }
     println!("  total particles  {:>12}", counts.total);
+    match &generated {
+        Some((_, report)) => print_report(&scene, report),
+        None => println!(
+            "  lattice: not generated (more than {GENERATE_CAP} particles): counts before trimming, which `sph run` may do"
+        ),
+    }
     let bytes = counts.total * bytes_per_particle(scene.dimension);
     println!(
         "  memory needed    {:>12.1} MiB ({} bytes per particle)",

@@ -1,15 +1,28 @@
 //! Initial particle placement on a Cartesian lattice.
 //!
-//! A box `[min, max]` with spacing dx holds `n_k = round((max_k - min_k) / dx)`
-//! particles along axis k, at `min_k + (i_k + 0.5) dx` for `i_k in 0..n_k`
-//! (computed in `f64`, stored as `f32`). Every particle therefore lies inside
-//! its box, at least dx/2 from a box face when `n_k dx` equals the extent.
+//! Every box is filled on a lattice anchored at its own `min` corner: particle `i_k` along axis k
+//! at `min_k + (i_k + 0.5) s` (computed in `f64`, stored as `f32`), `s` the box's spacing.
 //!
-//! A container with inside box `[min, max]` has walls of
-//! `L = ceil(h / dx - 1e-9)` layers: lattice indices `i_k in -L..n_k + L` on
-//! every axis, keeping the points outside the inside index range on at least
-//! one axis; an open top drops `i_{D-1} >= n_{D-1}` (last axis = vertical).
-//! [`count_particles`] gives the exact counts by arithmetic alone.
+//! - A **fluid box** of extent `E_k` holds `n_k = floor(E_k / s + 1e-6)` particles along axis k
+//!   (at least one when `E_k >= s/2`): every particle lies at least `s/2` inside every face, so
+//!   two fluid boxes that share a face are at least one spacing apart whatever their extents
+//!   (the `1e-6` keeps a whole number of spacings whole through floating-point rounding). A
+//!   box thinner than one spacing but at least half of one keeps a single layer at `min + s/2`,
+//!   which reaches up to `s/2` past its `max` face.
+//! - A **solid box** holds `n_k = round(E_k / dx)`, its particles between `0` and `dx` inside its
+//!   faces, so that a solid reaches its faces as closely as the lattice allows.
+//! - A **container** with inside box `[min, max]` has walls of `L = ceil(h / dx - 1e-9)` layers:
+//!   lattice indices `i_k in -L..n_k + L` with `n_k = round(E_k / dx)` on every axis, keeping the
+//!   points outside the inside index range on at least one axis; an open top drops
+//!   `i_{D-1} >= n_{D-1}` (last axis = vertical).
+//!
+//! When extents are whole spacings all bodies meet one spacing apart and nothing more happens.
+//! When they are not, a solid's particles (or a thin fluid layer) can still land closer than a
+//! spacing to another body's; [`super::trim`] then removes the particles of the lower-priority
+//! body (fluid before solid, later before earlier) that lie closer than
+//! [`MIN_GAP`](super::trim::MIN_GAP) spacings, and [`generate_reported`] says what it removed
+//! and which fluid axes were not whole spacings. [`count_particles`] gives the counts before
+//! that trimming by arithmetic alone (exact when nothing is trimmed).
 //!
 //! A fluid box with `compression = c` uses the finer spacing `dx / (1 + c)^(1/D)` for its own
 //! lattice; one with `coincident = f` adds a twin, at the same position, right after each of
@@ -17,6 +30,7 @@
 
 use nalgebra::SVector;
 
+use super::trim::{self, Body, MAX_TRIMMED_FRACTION, MIN_GAP, Points, Trimmed};
 use super::validate::RawProblem;
 use super::{Aabb, FluidBox, KeyPath, Location, Problem, Scene, SceneError, Solid, SolidShape};
 
@@ -30,6 +44,8 @@ pub struct Layout<const D: usize> {
     pub fluid_position: Vec<SVector<f32, D>>,
     /// Fluid particle velocities \[m/s\], parallel to `fluid_position`.
     pub fluid_velocity: Vec<SVector<f32, D>>,
+    /// The `[[fluid_box]]` index of each fluid particle, parallel to `fluid_position`.
+    pub fluid_box: Vec<u32>,
     /// Solid particles, one entry per `[[solid]]`, in scene order.
     pub solids: Vec<SolidParticles<D>>,
 }
@@ -43,7 +59,8 @@ pub struct SolidParticles<const D: usize> {
     pub position: Vec<SVector<f32, D>>,
 }
 
-/// Particle counts of a scene, exactly as [`generate()`] would produce them.
+/// Particle counts of a scene, as [`generate()`] places them before trimming (exact when its
+/// [`GenerationReport::trimmed`] is empty, an upper bound otherwise).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ParticleCounts {
     /// Number of fluid particles.
@@ -52,6 +69,28 @@ pub struct ParticleCounts {
     pub solid: Vec<(String, u64)>,
     /// `fluid` plus all solids.
     pub total: u64,
+}
+
+/// A fluid box axis whose extent is not a whole number of spacings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fitted {
+    /// The `[[fluid_box]]` index.
+    pub fluid_box: usize,
+    /// The axis (0 = x).
+    pub axis: usize,
+    /// The extent in spacings, `(max - min) / s`.
+    pub spacings: f64,
+    /// Particle layers placed along the axis (see the module doc).
+    pub layers: u64,
+}
+
+/// What [`generate_reported`] did beyond filling boxes with whole spacings; `sph check` prints it.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct GenerationReport {
+    /// Fluid box axes that are not whole spacings, in scene order.
+    pub fitted: Vec<Fitted>,
+    /// Particles removed for lying closer than [`MIN_GAP`] spacings to another body's.
+    pub trimmed: Vec<Trimmed>,
 }
 
 /// Container wall thickness in layers: `L = ceil(h / dx - 1e-9)` for kernel
@@ -144,12 +183,53 @@ pub(crate) fn box_count(min: &[f64], max: &[f64], dx: f64, path: &KeyPath) -> Re
     product(dims.axes().iter().map(|&n| Some(n))).ok_or_else(|| overflow(path))
 }
 
+/// Tolerance, in spacings, under which an extent counts as a whole number of spacings.
+const WHOLE: f64 = 1e-6;
+
+/// Lattice size of a fluid box at spacing `s` \[m\]: `floor(E_k / s + WHOLE)` per axis, at
+/// least 1 (the module doc); the errors of [`lattice_dims`].
+fn fluid_dims(min: &[f64], max: &[f64], s: f64, path: &KeyPath) -> Result<Dims, RawProblem> {
+    let mut dims = lattice_dims(min, max, s, path)?;
+    for ((n, &lo), &hi) in dims.n.iter_mut().zip(min).zip(max) {
+        let inside = ((hi - lo) / s + WHOLE).floor();
+        if inside >= 1.0 && inside < *n as f64 {
+            *n = inside as u64;
+        }
+    }
+    Ok(dims)
+}
+
 /// Particles of a fluid box: its lattice at [`FluidBox::lattice_spacing`] plus its coincident
 /// twins ([`FluidBox::twins`]).
 pub(crate) fn fluid_box_count(fb: &FluidBox, dx: f64, path: &KeyPath) -> Result<u64, RawProblem> {
     let (min, max) = (&fb.region.min, &fb.region.max);
-    let n = box_count(min, max, fb.lattice_spacing(dx, min.len()), path)?;
+    let dims = fluid_dims(min, max, fb.lattice_spacing(dx, min.len()), path)?;
+    let n = product(dims.axes().iter().map(|&n| Some(n))).ok_or_else(|| overflow(path))?;
     n.checked_add(fb.twins(n)).ok_or_else(|| overflow(path))
+}
+
+/// The fluid box axes that are not whole spacings, with the layers placed.
+fn fitted(scene: &Scene) -> Vec<Fitted> {
+    let mut out = Vec::new();
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        let (min, max) = (&fb.region.min, &fb.region.max);
+        let s = fb.lattice_spacing(scene.spacing, min.len());
+        let Ok(dims) = fluid_dims(min, max, s, &KeyPath::key("fluid_box").i(i)) else {
+            continue;
+        };
+        for (axis, ((&n, &lo), &hi)) in dims.axes().iter().zip(min).zip(max).enumerate() {
+            let spacings = (hi - lo) / s;
+            if (spacings - spacings.round()).abs() > WHOLE {
+                out.push(Fitted {
+                    fluid_box: i,
+                    axis,
+                    spacings,
+                    layers: n,
+                });
+            }
+        }
+    }
+    out
 }
 
 /// Particles of one solid (box or container with `layers` wall layers).
@@ -178,21 +258,22 @@ pub(crate) fn solid_count(solid: &Solid, dx: f64, layers: u64, path: &KeyPath) -
     }
 }
 
-/// The rest density of every fluid particle's phase \[kg/m^3\], in [`generate()`]'s order (boxes in
-/// scene order, each box's `rho0` or else `fluid.rho0`): what the `multiphase` effect gives
-/// `Simulation::with_phases`.
+/// The rest density of every fluid particle's phase \[kg/m^3\], in [`generate()`]'s order (each
+/// particle's box's `rho0`, or else `fluid.rho0`): what the `multiphase` effect gives
+/// `Simulation::with_phases`. Generates the particles to know which ones trimming kept.
 ///
 /// # Errors
-/// As [`count_particles`].
+/// As [`generate()`].
 pub fn fluid_rest_density(scene: &Scene) -> Result<Vec<f64>, SceneError> {
-    let mut out = Vec::new();
-    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
-        let path = KeyPath::key("fluid_box").i(i);
-        let n = fluid_box_count(fb, scene.spacing, &path).map_err(generate_error)?;
-        reserve(&mut out, n)?;
-        out.extend(std::iter::repeat_n(fb.rho0.unwrap_or(scene.rho0), n as usize));
-    }
-    Ok(out)
+    let boxes = match scene.dimension {
+        2 => generate::<2>(scene)?.fluid_box,
+        _ => generate::<3>(scene)?.fluid_box,
+    };
+    let rho = |b: u32| {
+        let fb = scene.fluid_boxes.get(b as usize);
+        fb.and_then(|fb| fb.rho0).unwrap_or(scene.rho0)
+    };
+    Ok(boxes.into_iter().map(rho).collect())
 }
 
 /// Counts the particles of every fluid box and solid; the first problem found
@@ -291,11 +372,23 @@ fn dims_i64<const D: usize>(dims: &Dims) -> [i64; D] {
     out
 }
 
-/// Generates the initial particles of `scene` in `D` dimensions.
+/// Generates the initial particles of `scene` in `D` dimensions ([`generate_reported`] without
+/// the report).
 ///
-/// Errors if `D != scene.dimension`, if a vector has the wrong length, a box
-/// is thinner than the spacing, or the count exceeds `u32::MAX` or memory.
+/// # Errors
+/// As [`generate_reported`].
 pub fn generate<const D: usize>(scene: &Scene) -> Result<Layout<D>, SceneError> {
+    generate_reported(scene).map(|(layout, _)| layout)
+}
+
+/// Generates the initial particles of `scene` in `D` dimensions (the module doc's lattices, then
+/// [`super::trim`]) and reports the fitted axes and trimmed particles.
+///
+/// Errors if `D != scene.dimension`, if a vector has the wrong length, a box is thinner than
+/// half a spacing, the count exceeds `u32::MAX` or memory, or trimming would remove more than
+/// [`MAX_TRIMMED_FRACTION`] of a body's particles (the error names both bodies and
+/// `particles.spacing`).
+pub fn generate_reported<const D: usize>(scene: &Scene) -> Result<(Layout<D>, GenerationReport), SceneError> {
     if D != scene.dimension {
         return Err(SceneError::Dimension {
             scene: scene.dimension,
@@ -310,67 +403,201 @@ pub fn generate<const D: usize>(scene: &Scene) -> Result<Layout<D>, SceneError> 
         )));
     }
     let dx = scene.spacing;
-    let layers = i64::try_from(scene.wall_layers()).unwrap_or(i64::MAX);
+    let mut fluid = Vec::with_capacity(scene.fluid_boxes.len());
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        fluid.push(fill_fluid_box::<D>(fb, dx, &KeyPath::key("fluid_box").i(i))?);
+    }
+    let mut solids = Vec::with_capacity(scene.solids.len());
+    for (i, (s, (_, n))) in scene.solids.iter().zip(&counts.solid).enumerate() {
+        solids.push(fill_solid::<D>(
+            s,
+            dx,
+            scene.wall_layers(),
+            *n,
+            &KeyPath::key("solid").i(i),
+        )?);
+    }
+    let bodies: Vec<Points<'_, D>> = solids
+        .iter()
+        .enumerate()
+        .map(|(i, p)| Points {
+            body: Body::Solid(i),
+            spacing: dx,
+            position: p,
+        })
+        .chain(
+            scene
+                .fluid_boxes
+                .iter()
+                .zip(&fluid)
+                .enumerate()
+                .map(|(i, (fb, p))| Points {
+                    body: Body::FluidBox(i),
+                    spacing: fb.lattice_spacing(dx, D),
+                    position: p,
+                }),
+        )
+        .collect();
+    let kept = trim::trim(&bodies);
+    refuse_heavy_trims(scene, &kept.trimmed)?;
+    let mut keep = kept.keep.iter();
     let mut layout = Layout {
         fluid_position: Vec::new(),
         fluid_velocity: Vec::new(),
+        fluid_box: Vec::new(),
         solids: Vec::with_capacity(scene.solids.len()),
     };
-    reserve(&mut layout.fluid_position, counts.fluid)?;
-    reserve(&mut layout.fluid_velocity, counts.fluid)?;
-    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
-        let path = KeyPath::key("fluid_box").i(i);
-        let min = corner::<D>(&fb.region.min, &path.k("min"))?;
-        let vel = corner::<D>(&fb.velocity, &path.k("velocity"))?;
-        let v = SVector::<f32, D>::from_fn(|k, _| vel[k] as f32);
-        let spacing = fb.lattice_spacing(dx, D);
-        let dims = lattice_dims(&fb.region.min, &fb.region.max, spacing, &path).map_err(generate_error)?;
-        let mut k = 0u64;
-        for_each_index([0; D], dims_i64::<D>(&dims), |idx| {
-            let x = lattice_point(&min, idx, spacing);
-            layout.fluid_position.push(x);
-            layout.fluid_velocity.push(v);
-            if fb.has_twin(k) {
-                // The twin right after its original: the same f32 position, bit for bit.
-                layout.fluid_position.push(x);
-                layout.fluid_velocity.push(v);
-            }
-            k += 1;
-        });
-    }
-    for (i, (s, (_, n))) in scene.solids.iter().zip(&counts.solid).enumerate() {
-        let path = KeyPath::key("solid").i(i);
-        let min = corner::<D>(&s.region.min, &path.k("min"))?;
-        let dims = lattice_dims(&s.region.min, &s.region.max, dx, &path).map_err(generate_error)?;
-        let n_in = dims_i64::<D>(&dims);
-        let mut position = Vec::new();
-        reserve(&mut position, *n)?;
-        match s.shape {
-            SolidShape::Box => {
-                for_each_index([0; D], n_in, |idx| position.push(lattice_point(&min, idx, dx)));
-            }
-            SolidShape::Container => {
-                let lo = [-layers; D];
-                let mut hi = n_in.map(|n| n.saturating_add(layers));
-                if s.open_top {
-                    if let (Some(h), Some(&n)) = (hi.last_mut(), n_in.last()) {
-                        *h = n;
-                    }
-                }
-                for_each_index(lo, hi, |idx| {
-                    let outside = idx.iter().zip(&n_in).any(|(&i, &n)| i < 0 || i >= n);
-                    if outside {
-                        position.push(lattice_point(&min, idx, dx));
-                    }
-                });
-            }
-        }
+    for (s, p) in scene.solids.iter().zip(&solids) {
+        let k = keep.next().map(Vec::as_slice).unwrap_or_default();
         layout.solids.push(SolidParticles {
             name: s.name.clone(),
-            position,
+            position: p.iter().zip(k).filter(|(_, k)| **k).map(|(x, _)| *x).collect(),
         });
     }
-    Ok(layout)
+    let n_fluid = kept
+        .keep
+        .iter()
+        .skip(solids.len())
+        .flatten()
+        .filter(|k| **k)
+        .count();
+    reserve(&mut layout.fluid_position, n_fluid as u64)?;
+    reserve(&mut layout.fluid_velocity, n_fluid as u64)?;
+    reserve(&mut layout.fluid_box, n_fluid as u64)?;
+    for (i, (fb, p)) in scene.fluid_boxes.iter().zip(&fluid).enumerate() {
+        let k = keep.next().map(Vec::as_slice).unwrap_or_default();
+        let v = SVector::<f32, D>::from_iterator(fb.velocity.iter().map(|&c| c as f32));
+        for (x, _) in p.iter().zip(k).filter(|(_, k)| **k) {
+            layout.fluid_position.push(*x);
+            layout.fluid_velocity.push(v);
+            layout.fluid_box.push(u32::try_from(i).unwrap_or(u32::MAX));
+        }
+    }
+    let report = GenerationReport {
+        fitted: fitted(scene),
+        trimmed: kept.trimmed,
+    };
+    Ok((layout, report))
+}
+
+/// The lattice particles of one fluid box, twins included (right after their originals).
+fn fill_fluid_box<const D: usize>(
+    fb: &FluidBox,
+    dx: f64,
+    path: &KeyPath,
+) -> Result<Vec<SVector<f32, D>>, SceneError> {
+    let min = corner::<D>(&fb.region.min, &path.k("min"))?;
+    corner::<D>(&fb.velocity, &path.k("velocity"))?;
+    let spacing = fb.lattice_spacing(dx, D);
+    let dims = fluid_dims(&fb.region.min, &fb.region.max, spacing, path).map_err(generate_error)?;
+    let n = fluid_box_count(fb, dx, path).map_err(generate_error)?;
+    let mut out = Vec::new();
+    reserve(&mut out, n)?;
+    let mut k = 0u64;
+    for_each_index([0; D], dims_i64::<D>(&dims), |idx| {
+        let x = lattice_point(&min, idx, spacing);
+        out.push(x);
+        if fb.has_twin(k) {
+            // The twin right after its original: the same f32 position, bit for bit.
+            out.push(x);
+        }
+        k += 1;
+    });
+    Ok(out)
+}
+
+/// The particles of one solid (`n` of them, from [`solid_count`]) with `layers` wall layers.
+fn fill_solid<const D: usize>(
+    s: &Solid,
+    dx: f64,
+    layers: u64,
+    n: u64,
+    path: &KeyPath,
+) -> Result<Vec<SVector<f32, D>>, SceneError> {
+    let layers = i64::try_from(layers).unwrap_or(i64::MAX);
+    let min = corner::<D>(&s.region.min, &path.k("min"))?;
+    let dims = lattice_dims(&s.region.min, &s.region.max, dx, path).map_err(generate_error)?;
+    let n_in = dims_i64::<D>(&dims);
+    let mut position = Vec::new();
+    reserve(&mut position, n)?;
+    match s.shape {
+        SolidShape::Box => {
+            for_each_index([0; D], n_in, |idx| position.push(lattice_point(&min, idx, dx)));
+        }
+        SolidShape::Container => {
+            let lo = [-layers; D];
+            let mut hi = n_in.map(|n| n.saturating_add(layers));
+            if s.open_top {
+                if let (Some(h), Some(&n)) = (hi.last_mut(), n_in.last()) {
+                    *h = n;
+                }
+            }
+            for_each_index(lo, hi, |idx| {
+                let outside = idx.iter().zip(&n_in).any(|(&i, &n)| i < 0 || i >= n);
+                if outside {
+                    position.push(lattice_point(&min, idx, dx));
+                }
+            });
+        }
+    }
+    Ok(position)
+}
+
+/// Refuses the scene if trimming took more than [`MAX_TRIMMED_FRACTION`] of any body's
+/// particles: one problem per such body, naming it, its neighbours and `particles.spacing`.
+fn refuse_heavy_trims(scene: &Scene, trimmed: &[Trimmed]) -> Result<(), SceneError> {
+    let mut problems = Vec::new();
+    let mut rest = trimmed;
+    while let Some(first) = rest.first() {
+        let n = rest
+            .iter()
+            .take_while(|t| t.removed_from == first.removed_from)
+            .count();
+        let (group, tail) = rest.split_at(n);
+        rest = tail;
+        let removed: u64 = group.iter().map(|t| t.count).sum();
+        if (removed as f64) <= MAX_TRIMMED_FRACTION * first.of as f64 {
+            continue;
+        }
+        let next: Vec<String> = group.iter().map(|t| describe(scene, t.next_to)).collect();
+        problems.push(Problem {
+            key: match first.removed_from {
+                Body::Solid(i) => KeyPath::key("solid").i(i),
+                Body::FluidBox(i) => KeyPath::key("fluid_box").i(i),
+            }
+            .to_string(),
+            location: Location::Unknown,
+            reason: format!(
+                "at particles.spacing = {} m, {removed} of this box's {} particles lie within {MIN_GAP} spacings of {}'s; \
+                 trimming them would change the scene: give the boxes extents that are whole spacings, or another particles.spacing",
+                scene.spacing,
+                first.of,
+                next.join(" and ")
+            ),
+        });
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(SceneError::Invalid {
+            origin: "scene".into(),
+            problems,
+        })
+    }
+}
+
+/// A body as messages name it: `fluid_box[1] [min, max]` or `solid[0] "tank" [min, max]`.
+pub fn describe(scene: &Scene, body: Body) -> String {
+    match body {
+        Body::FluidBox(i) => match scene.fluid_boxes.get(i) {
+            Some(fb) => format!("{body} {}", fmt_box(&fb.region)),
+            None => body.to_string(),
+        },
+        Body::Solid(i) => match scene.solids.get(i) {
+            Some(s) => format!("{body} \"{}\" {}", s.name, fmt_box(&s.region)),
+            None => body.to_string(),
+        },
+    }
 }
 
 /// The box occupied by a solid's particles, including container walls.

@@ -23,10 +23,12 @@ pub mod generate;
 pub mod overrides;
 pub mod references;
 pub mod schema;
+pub mod trim;
 pub mod validate;
 
 pub use generate::{
-    Layout, ParticleCounts, SolidParticles, count_particles, fluid_rest_density, generate, wall_layers,
+    Fitted, GenerationReport, Layout, ParticleCounts, SolidParticles, count_particles, fluid_rest_density,
+    generate, generate_reported, wall_layers,
 };
 pub use overrides::apply_overrides;
 pub use references::{
@@ -34,6 +36,7 @@ pub use references::{
     skipped_references,
 };
 pub use schema::{Effect, Integrator, ProbeKind, SceneFile, SolidShape, SolverKind};
+pub use trim::{Body, MIN_GAP, Trimmed};
 pub use validate::{bytes_per_particle, validate};
 
 /// A validated scene with all defaults resolved. Floats are `f64`, SI units.
