@@ -2,8 +2,81 @@
 //! resident set (`VmHWM` in `/proc/self/status`), and writing `5` to `/proc/self/clear_refs`
 //! resets that peak to the current resident set, so each benchmark row measures its own peak.
 //! Elsewhere both give nothing and the row says so.
+//!
+//! [`limit`] is the memory a new run may use: the least of the system's `MemAvailable`, the
+//! cgroup's `memory.max` less its `memory.current` (containers, batch schedulers) and the
+//! address-space limit (`ulimit -v`) less what the process already maps.
 
 use std::fs;
+
+/// The memory a new run may use \[B\] and where that bound comes from (for messages); `None`
+/// where none of the sources can be read.
+pub fn limit() -> Option<(u64, &'static str)> {
+    let mut best: Option<(u64, &'static str)> = None;
+    let mut take = |bytes: Option<u64>, what: &'static str| {
+        if let Some(b) = bytes
+            && best.is_none_or(|(m, _)| b < m)
+        {
+            best = Some((b, what));
+        }
+    };
+    take(meminfo_kib("MemAvailable:").map(|k| k * 1024), "MemAvailable");
+    take(cgroup_free(), "the cgroup's memory.max");
+    take(address_space_free(), "ulimit -v");
+    best
+}
+
+/// `memory.max − memory.current` of this process's cgroup (v2) \[B\]; `None` without a limit.
+fn cgroup_free() -> Option<u64> {
+    let cgroup = fs::read_to_string("/proc/self/cgroup").ok()?;
+    // cgroup v2: the line `0::/path`.
+    let path = cgroup.lines().find_map(|l| l.strip_prefix("0::"))?.trim();
+    let dir = std::path::Path::new("/sys/fs/cgroup").join(path.trim_start_matches('/'));
+    let max: u64 = fs::read_to_string(dir.join("memory.max"))
+        .ok()?
+        .trim()
+        .parse()
+        .ok()?;
+    let current: u64 = fs::read_to_string(dir.join("memory.current"))
+        .ok()
+        .and_then(|s| s.trim().parse().ok())
+        .unwrap_or(0);
+    Some(max.saturating_sub(current))
+}
+
+/// The address-space limit (`RLIMIT_AS`, `ulimit -v`) less the process's mapped size \[B\].
+fn address_space_free() -> Option<u64> {
+    #[cfg(unix)]
+    {
+        let mut limit = libc::rlimit {
+            rlim_cur: 0,
+            rlim_max: 0,
+        };
+        // SAFETY: getrlimit writes the struct it is given.
+        let ok = unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut limit) } == 0;
+        if !ok || limit.rlim_cur == libc::RLIM_INFINITY {
+            return None;
+        }
+        let mapped = status_kib("VmSize:").unwrap_or(0) * 1024;
+        Some((limit.rlim_cur as u64).saturating_sub(mapped))
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
+/// The value \[kB\] of line `key` of `/proc/meminfo`.
+fn meminfo_kib(key: &str) -> Option<u64> {
+    let info = fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with(key))?;
+    line[key.len()..]
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()
+}
 
 /// Peak resident set of this process since start or the last [`reset_peak_resident`] [B].
 pub fn peak_resident_bytes() -> Option<u64> {

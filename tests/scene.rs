@@ -432,8 +432,12 @@ fn too_much_memory() {
     let p = with_key(&ps, "particles.spacing");
     assert!(p.reason.contains("3375000000 particles"), "{}", p.reason);
     assert!(p.reason.contains("bytes available"), "{}", p.reason);
-    // Covers the corrected solver's measured 215 B per particle on the 3D column.
-    assert_eq!(sc::bytes_per_particle(3), 236);
+    // The corrected solver needs about twice the memory per particle of wcsph
+    // (tests/memory_estimate.rs checks both against measured peaks).
+    assert!(
+        sc::bytes_per_particle(3, sc::SolverKind::Corrected)
+            > 2 * sc::bytes_per_particle(3, sc::SolverKind::Wcsph) - 10
+    );
 }
 
 #[test]

@@ -2,7 +2,7 @@
 
 use crate::scene::{
     GenerationReport, ParticleCounts, Scene, bytes_per_particle, count_particles, generate::describe,
-    generate_reported, skipped_references,
+    generate_reported, run_bytes, skipped_references,
 };
 use anyhow::Context;
 use std::path::Path;
@@ -128,11 +128,13 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
             "  lattice: not generated (more than {GENERATE_CAP} particles): counts before trimming, which `sph run` may do"
         ),
     }
-    let bytes = counts.total * bytes_per_particle(scene.dimension);
+    let bytes = run_bytes(counts.total, scene.dimension, scene.solver.kind).unwrap_or(u64::MAX);
     println!(
-        "  memory needed    {:>12.1} MiB ({} bytes per particle)",
+        "  memory needed    {:>12.1} MiB ({} bytes per particle with {}, and {:.0} MiB for the program)",
         bytes as f64 / (1024.0 * 1024.0),
-        bytes_per_particle(scene.dimension)
+        bytes_per_particle(scene.dimension, scene.solver.kind),
+        scene.solver.kind.name(),
+        crate::scene::BASE_BYTES as f64 / (1024.0 * 1024.0)
     );
     let effects: Vec<&str> = scene.effects.iter().map(|e| e.name()).collect();
     println!(

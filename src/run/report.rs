@@ -115,6 +115,10 @@ fn statistics<const D: usize>(
     extra.insert("removed_particles".into(), stats.removed_particles.into());
     extra.insert("fluid_mass".into(), sim.fluid_mass().into());
     extra.insert("memory_bytes".into(), (sim.heap_bytes() as u64).into());
+    // The process's peak resident set (Linux), what `sph check`'s estimate is held to.
+    if let Some(peak) = crate::memory::peak_resident_bytes() {
+        extra.insert("peak_resident_bytes".into(), peak.into());
+    }
     extra.insert(
         "memory_bytes_per_particle".into(),
         (sim.heap_bytes() as f64 / sim.fields.len().max(1) as f64).into(),

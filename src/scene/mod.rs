@@ -37,7 +37,7 @@ pub use references::{
 };
 pub use schema::{Effect, Integrator, ProbeKind, SceneFile, SolidShape, SolverKind};
 pub use trim::{Body, MIN_GAP, Trimmed};
-pub use validate::{bytes_per_particle, validate};
+pub use validate::{BASE_BYTES, bytes_per_particle, run_bytes, validate};
 
 /// A validated scene with all defaults resolved. Floats are `f64`, SI units.
 ///
