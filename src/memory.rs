@@ -58,7 +58,10 @@ fn address_space_free() -> Option<u64> {
             return None;
         }
         let mapped = status_kib("VmSize:").unwrap_or(0) * 1024;
-        Some((limit.rlim_cur as u64).saturating_sub(mapped))
+        // rlim_t is u64 on Linux, not on every unix.
+        #[allow(clippy::unnecessary_cast)]
+        let limit = limit.rlim_cur as u64;
+        Some(limit.saturating_sub(mapped))
     }
     #[cfg(not(unix))]
     {
