@@ -77,3 +77,32 @@ fn the_estimate_holds_on_small_scenes_within_the_base_spread() {
         }
     }
 }
+
+/// Under `ulimit -v`, a scene whose estimate exceeds what the limit leaves is refused by
+/// `sph check` and `sph run` before anything is allocated, naming the limit.
+#[cfg(unix)]
+#[test]
+fn the_address_space_limit_is_honoured() {
+    let scene = format!("{}/scenes/dam_break_column_3d.toml", env!("CARGO_MANIFEST_DIR"));
+    for command in ["check", "run"] {
+        let out = Command::new("sh")
+            .arg("-c")
+            .arg(format!(
+                "ulimit -v 150000 && exec '{BIN}' {command} '{scene}' --set particles.spacing=0.006 {}",
+                if command == "run" {
+                    "--out /nonexistent/never-created"
+                } else {
+                    ""
+                }
+            ))
+            .output()
+            .expect("sh");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{command}: {err}");
+        assert!(
+            err.contains("(ulimit -v)") && err.contains("particles.spacing"),
+            "{command}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
