@@ -472,3 +472,28 @@ fn a_weakly_compressible_run_compressed_beyond_ten_percent_warns() {
     assert!(summary.warnings.is_empty(), "{:?}", summary.warnings);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A write past the file-size limit (`ulimit -f`) fails the run with status `failed` naming
+/// the file, instead of SIGXFSZ ending the process with nothing recorded.
+#[cfg(unix)]
+#[test]
+fn a_file_size_limit_leaves_status_failed() {
+    let dir = scratch("fsize");
+    let folder = dir.join("run");
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -f 64 && exec '{BIN}' run '{SCENE}' --set solver.kind=wcsph --set particles.spacing=0.01 --threads 1 --end-time 0.3 --out '{}'",
+            folder.display()
+        ))
+        .output()
+        .unwrap();
+    let err = refused(o, "I/O error");
+    let summary = read_summary(&folder.join("summary.json")).unwrap();
+    assert!(
+        summary.status.starts_with("failed: I/O error"),
+        "{}\n{err}",
+        summary.status
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

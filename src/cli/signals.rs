@@ -1,6 +1,9 @@
 //! SIGINT (Ctrl-C) and SIGTERM end a run after its current step: the run writes a checkpoint
 //! and the `interrupted` status and `sph` exits with 128 + the signal's number (130, 143). A
 //! second signal ends the process at once with that status.
+//!
+//! SIGXFSZ (a write past `ulimit -f`) is ignored, so that the write fails with an error the run
+//! reports (status `failed` naming the file) instead of the signal ending the process.
 
 use std::sync::atomic::AtomicUsize;
 use std::sync::{Arc, OnceLock};
@@ -19,6 +22,10 @@ fn install() -> Option<Arc<AtomicUsize>> {
     use signal_hook::consts::{SIGINT, SIGTERM};
     use signal_hook::flag;
     use std::sync::atomic::AtomicBool;
+    // SAFETY: setting a signal's action to "ignore" installs no handler code.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     let stop = Arc::new(AtomicUsize::new(0));
     let armed = Arc::new(AtomicBool::new(false));
     for signal in [SIGINT, SIGTERM] {
