@@ -10,12 +10,99 @@
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 const SPH: &str = env!("CARGO_BIN_EXE_sph");
 
 /// The small corrected 2D dam break (2,500 fluid particles).
 fn dam_break() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/dam_break_2d.toml")
+}
+
+/// A fresh temporary directory for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sph_guards_{}_{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// What a finished child left: exit code (`None` if a signal ended it), stderr, seconds taken.
+struct Outcome {
+    code: Option<i32>,
+    stderr: String,
+    seconds: f64,
+}
+
+/// Runs `command` with stdout discarded, killing it after `limit`; panics if it had to be killed
+/// (a hang is the failure these tests look for).
+fn run_bounded(mut command: Command, limit: Duration) -> Outcome {
+    let start = Instant::now();
+    let mut child = command
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn sph");
+    let mut stderr = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut stderr, &mut text).ok();
+        text
+    });
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > limit {
+            child.kill().ok();
+            child.wait().ok();
+            panic!("{command:?} still running after {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    Outcome {
+        code: status.code(),
+        stderr: reader.join().unwrap(),
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+#[test]
+fn a_scene_file_above_the_cap_is_refused_before_reading() {
+    let dir = temp_dir("large");
+    // Sparse: 17 MiB long, no blocks written.
+    let big = dir.join("big.toml");
+    let file = std::fs::File::create(&big).unwrap();
+    file.set_len(sph::scene::MAX_SCENE_BYTES + 1024 * 1024).unwrap();
+    drop(file);
+    let mut paths = vec![big];
+    // A character device reports a length of 0 and never ends.
+    let zero = PathBuf::from("/dev/zero");
+    if zero.exists() {
+        paths.push(zero);
+    }
+    for path in paths {
+        // Under a 2 GiB address-space limit, so that a reader without a cap fails in the child
+        // rather than exhausting the machine.
+        let mut command = Command::new("sh");
+        command.args([
+            "-c",
+            "ulimit -v 2097152; exec \"$0\" check \"$1\"",
+            SPH,
+            path.to_str().unwrap(),
+        ]);
+        let out = run_bounded(command, Duration::from_secs(30));
+        assert_eq!(out.code, Some(1), "{}: {}", path.display(), out.stderr);
+        assert!(!out.stderr.contains("panicked"), "{}", out.stderr);
+        assert!(
+            out.stderr.contains("too large") && out.stderr.contains("16 MiB"),
+            "{}: {}",
+            path.display(),
+            out.stderr
+        );
+        assert!(out.seconds < 10.0, "{}: {} s", path.display(), out.seconds);
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// `sph check SCENE | head -1`: the reader closes the pipe after one line, and the program ends
