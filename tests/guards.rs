@@ -12,6 +12,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use sph::solver::StepError;
+
 const SPH: &str = env!("CARGO_BIN_EXE_sph");
 
 /// The small corrected 2D dam break (2,500 fluid particles).
@@ -65,6 +67,32 @@ fn run_bounded(mut command: Command, limit: Duration) -> Outcome {
         stderr: reader.join().unwrap(),
         seconds: start.elapsed().as_secs_f64(),
     }
+}
+
+/// A step of exactly 0 s at run time (what `fluid.artificial_viscosity = 1e308` gives when
+/// validation is bypassed: 59,692 steps of 0 s in 15 s, measured) stops the run with a typed
+/// error, and so does a fixed step below the f64 resolution of the end time.
+#[test]
+fn a_stalled_step_stops_the_run() {
+    let valid = sph::scene::load_scene(&dam_break(), &["solver.end_time=0.01".into()]).unwrap();
+    let mut zero = valid.clone();
+    zero.artificial_viscosity = Some(1e308);
+    let mut tiny = valid.clone();
+    tiny.dt = Some(1e-300);
+    for (scene, what) in [(zero, "zero step"), (tiny, "tiny fixed step")] {
+        let mut sim = sph::run::simulation_from_scene::<2>(&scene).unwrap();
+        match sim.step(scene.end_time) {
+            Err(e @ StepError::Stalled { .. }) => {
+                let text = e.to_string();
+                assert!(text.contains("does not advance"), "{what}: {text}");
+            }
+            other => panic!("{what}: expected StepError::Stalled, got {other:?}"),
+        }
+    }
+    // The valid scene steps on.
+    let mut sim = sph::run::simulation_from_scene::<2>(&valid).unwrap();
+    let report = sim.step(valid.end_time).unwrap();
+    assert!(report.dt > 0.0);
 }
 
 #[test]
