@@ -69,6 +69,74 @@ fn run_bounded(mut command: Command, limit: Duration) -> Outcome {
     }
 }
 
+fn sph(args: &[&str]) -> Command {
+    let mut command = Command::new(SPH);
+    command.args(args);
+    command
+}
+
+/// `args` end promptly with a clean refusal whose problem is reported at `key`.
+fn assert_refused(args: &[&str], key: &str) {
+    let out = run_bounded(sph(args), Duration::from_secs(30));
+    let code = out
+        .code
+        .unwrap_or_else(|| panic!("{args:?} ended by a signal: {}", out.stderr));
+    assert!(
+        code != 0 && code != 101,
+        "{args:?}: exit code {code}\n{}",
+        out.stderr
+    );
+    assert!(!out.stderr.contains("panicked"), "{args:?}: {}", out.stderr);
+    // Problems render as `origin: LOCATION: KEY: reason`.
+    assert!(
+        out.stderr.contains(&format!(": {key}: ")),
+        "{args:?}: no problem at {key}:\n{}",
+        out.stderr
+    );
+}
+
+/// `sph check` with `--set` overrides on the 2D dam break.
+fn check_args<'a>(scene: &'a str, sets: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec!["check", scene];
+    for set in sets {
+        args.extend(["--set", set]);
+    }
+    args
+}
+
+/// Values (alone finite and positive where required) that overflow or underflow in use, and
+/// the key each problem is reported at.
+const OVERFLOW: [(&str, &str); 17] = [
+    ("fluid.rho0=1e308", "fluid.rho0"),
+    ("fluid.rho0=1e-300", "fluid.rho0"),
+    // rho0 C^2 = 1.2e31 Pa: each value alone fits.
+    ("fluid.rho0=1e28", "fluid.rho0"),
+    ("fluid.sound_speed=5e-324", "fluid.sound_speed"),
+    ("fluid.sound_speed=1e200", "fluid.sound_speed"),
+    // C^2 / h = 1e34 m/s^2.
+    ("fluid.sound_speed=1e16", "fluid.sound_speed"),
+    ("fluid.viscosity=1e300", "fluid.viscosity"),
+    ("fluid.viscosity=1e-320", "fluid.viscosity"),
+    ("fluid.artificial_viscosity=1e-310", "fluid.artificial_viscosity"),
+    ("fluid.gravity=[0.0,-1e300]", "fluid.gravity[1]"),
+    ("fluid.gravity=[1e-310,-9.81]", "fluid.gravity[0]"),
+    ("fluid_box.0.velocity=[1e300,0.0]", "fluid_box[0].velocity[0]"),
+    ("particles.spacing=1e-200", "particles.spacing"),
+    ("solver.end_time=1e300", "solver.end_time"),
+    ("solver.dt=1e-200", "solver.dt"),
+    ("output.interval=1e-310", "output.interval"),
+    ("domain.max=[1e300,1.2]", "domain.max[0]"),
+];
+
+#[test]
+fn check_refuses_values_that_overflow_in_use() {
+    let scene = dam_break();
+    let scene = scene.to_str().unwrap();
+    for (set, key) in OVERFLOW {
+        assert_refused(&check_args(scene, &[set]), key);
+    }
+}
+
 /// A step of exactly 0 s at run time (what `fluid.artificial_viscosity = 1e308` gives when
 /// validation is bypassed: 59,692 steps of 0 s in 15 s, measured) stops the run with a typed
 /// error, and so does a fixed step below the f64 resolution of the end time.

@@ -20,6 +20,7 @@ use toml::de::{DeTable, DeValue};
 pub use crate::boundary::motion::Sway;
 
 pub mod generate;
+pub mod magnitude;
 pub mod overrides;
 pub mod read;
 pub mod references;
