@@ -104,6 +104,88 @@ fn check_args<'a>(scene: &'a str, sets: &[&'a str]) -> Vec<&'a str> {
     args
 }
 
+/// Values that make a run that cannot finish, and the key each problem is reported at.
+const NEVER_FINISH: [(&[&str], &str); 9] = [
+    // 6e11 frame times.
+    (&["output.interval=1e-12"], "output.interval"),
+    // |g| T overflows; the step would not change t = 1e30 s.
+    (&["solver.end_time=1e30"], "solver.end_time"),
+    // The step no longer changes the time at the end time.
+    (&["solver.end_time=1e20"], "solver.end_time"),
+    (&["solver.cfl=1e-30"], "solver.cfl"),
+    // About 1e10 steps of the flow-speed CFL limit.
+    (&["solver.cfl=1e-8"], "solver.cfl"),
+    // A viscous limit of exactly 0 s.
+    (
+        &["fluid.artificial_viscosity=1e308"],
+        "fluid.artificial_viscosity",
+    ),
+    // A viscous limit of 1.4e-16 s: 4e15 steps.
+    (&["fluid.artificial_viscosity=1e12"], "fluid.artificial_viscosity"),
+    (&["fluid.sound_speed=1e20"], "fluid.sound_speed"),
+    (&["solver.dt=1e-300"], "solver.dt"),
+];
+
+#[test]
+fn check_refuses_values_that_cannot_finish() {
+    let scene = dam_break();
+    let scene = scene.to_str().unwrap();
+    for (sets, key) in NEVER_FINISH {
+        assert_refused(&check_args(scene, sets), key);
+    }
+    // The weakly compressible solver: its step follows the sound speed.
+    for (sets, key) in [
+        (&["solver.kind=wcsph", "solver.cfl=1e-9"][..], "solver.cfl"),
+        (
+            &["solver.kind=wcsph", "fluid.sound_speed=1e13"],
+            "fluid.sound_speed",
+        ),
+        (&["solver.kind=wcsph", "solver.dt=1e-16"], "solver.dt"),
+    ] {
+        assert_refused(&check_args(scene, sets), key);
+    }
+}
+
+#[test]
+fn run_refuses_values_that_cannot_finish() {
+    let scene = dam_break();
+    let scene = scene.to_str().unwrap();
+    let out = temp_dir("never_finish");
+    for (n, (sets, key)) in NEVER_FINISH.iter().enumerate() {
+        let dir = out.join(n.to_string());
+        let mut args = vec!["run", scene, "--out", dir.to_str().unwrap()];
+        for set in *sets {
+            args.extend(["--set", set]);
+        }
+        assert_refused(&args, key);
+    }
+    // `--end-time` is `--set solver.end_time`.
+    let dir = out.join("end_time");
+    assert_refused(
+        &["run", scene, "--out", dir.to_str().unwrap(), "--end-time", "1e30"],
+        "solver.end_time",
+    );
+    std::fs::remove_dir_all(&out).ok();
+}
+
+#[test]
+fn reasonable_values_still_pass() {
+    let scene = dam_break();
+    let scene = scene.to_str().unwrap();
+    for sets in [
+        &[][..],
+        &["output.interval=1e-6"],
+        &["solver.end_time=10.0"],
+        &["solver.cfl=1e-4"],
+        &["fluid.viscosity=0.0"],
+        &["fluid.gravity=[0.0,0.0]"],
+        &["solver.kind=wcsph", "solver.dt=1e-6"],
+    ] {
+        let out = run_bounded(sph(&check_args(scene, sets)), Duration::from_secs(30));
+        assert_eq!(out.code, Some(0), "{sets:?}: {}", out.stderr);
+    }
+}
+
 /// Values (alone finite and positive where required) that overflow or underflow in use, and
 /// the key each problem is reported at.
 const OVERFLOW: [(&str, &str); 17] = [

@@ -22,6 +22,7 @@ pub use crate::boundary::motion::Sway;
 pub mod generate;
 pub mod magnitude;
 pub mod overrides;
+pub mod progress;
 pub mod read;
 pub mod references;
 pub mod schema;

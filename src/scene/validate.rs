@@ -8,7 +8,8 @@
 //! fits `u32` indices and the available memory. `corrected`-only solver keys
 //! are an error with `wcsph`; probe names are unique and probe axes below
 //! `dimension`. Values and their products must fit the solver's f32 arithmetic
-//! (`scene::magnitude`). All problems are collected.
+//! (`scene::magnitude`) and the run must be able to finish (`scene::progress`).
+//! All problems are collected.
 
 use std::path::PathBuf;
 
@@ -536,8 +537,14 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             // Geometry is checked even when other keys have problems, so
             // that everything is reported at once.
             check_geometry(&mut c, &scene);
-            // Values the f32 solver cannot hold.
-            c.problems.extend(super::magnitude::check(&scene));
+            // Values the f32 solver cannot hold, then values that cannot finish (whose
+            // estimates need the magnitudes to hold).
+            let magnitudes = super::magnitude::check(&scene);
+            let representable = magnitudes.is_empty();
+            c.problems.extend(magnitudes);
+            if representable {
+                c.problems.extend(super::progress::check(&scene));
+            }
             if c.problems.is_empty() {
                 Ok(scene)
             } else {
