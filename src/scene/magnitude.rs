@@ -89,9 +89,10 @@ impl Magnitudes {
     fn derived(&mut self, what: &str, value: f64, unit: &str, factors: &[(KeyPath, f64)]) {
         let failed = |p: &KeyPath| {
             let p = p.to_string();
+            // The key itself, or an entry of it (`fluid.gravity[1]` for `fluid.gravity`).
             self.failed
                 .iter()
-                .any(|f| p == *f || p.starts_with(&format!("{f}[")))
+                .any(|f| p == *f || f.starts_with(&format!("{p}[")))
         };
         if factors.iter().any(|(p, _)| failed(p)) || fits(Rule::Positive, value) {
             return;
