@@ -82,6 +82,16 @@ pub struct Smoothing<const D: usize> {
 pub struct UnsupportedDimension(pub usize);
 
 impl<const D: usize> Smoothing<D> {
+    /// Whether every normalisation constant is a normal f32 number (neither overflowed to
+    /// infinity nor flushed towards 0). False for a support radius far from 1 m, whose
+    /// `h^-(D+6)` leaves f32's range: below about 5e-5 m or above about 1e4 m in 3D. Scene
+    /// validation refuses such a radius (`scene::magnitude`).
+    pub fn constants_are_normal(&self) -> bool {
+        [self.poly6, self.spiky, self.visc, self.visc_laplacian]
+            .iter()
+            .all(|c| c.is_normal())
+    }
+
     /// Kernels with support radius `h` [m] in dimension `D` (2 or 3).
     pub fn new(h: Real) -> Result<Self, UnsupportedDimension> {
         let hd = f64::from(h);

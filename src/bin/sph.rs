@@ -1,6 +1,7 @@
 //! The `sph` command-line tool; see `sph --help`.
 
 fn main() {
+    sph::cli::quiet_broken_pipe();
     if let Err(e) = sph::cli::run(std::env::args_os()) {
         eprintln!("error: {}", one_line(&e));
         std::process::exit(sph::cli::signals::exit_status(&e));

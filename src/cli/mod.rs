@@ -55,6 +55,22 @@ pub(crate) fn load_located(
     Ok(scene)
 }
 
+/// Makes a closed output pipe end the program quietly, as it ends `cat` or `grep`: restores
+/// the default action of SIGPIPE (terminate), which the Rust runtime sets to "ignore" at start.
+///
+/// Why: with SIGPIPE ignored, a write to a pipe whose reader has gone (`sph check SCENE | head
+/// -1`) fails with `EPIPE`, and `println!` turns that into a panic ("failed printing to stdout:
+/// Broken pipe"). With the default action the kernel ends the process at that write, silently,
+/// and the shell sees the usual status 128 + 13. Call it first thing in `main`; a no-op off unix.
+pub fn quiet_broken_pipe() {
+    #[cfg(unix)]
+    // SAFETY: `signal` with `SIG_DFL` installs no handler (no code runs in signal context); it
+    // is called at the start of `main`, before any thread is spawned.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 /// Backend choice on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
 pub enum BackendArg {

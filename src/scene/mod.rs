@@ -20,7 +20,10 @@ use toml::de::{DeTable, DeValue};
 pub use crate::boundary::motion::Sway;
 
 pub mod generate;
+pub mod magnitude;
 pub mod overrides;
+pub mod progress;
+pub mod read;
 pub mod references;
 pub mod schema;
 pub mod trim;
@@ -31,6 +34,7 @@ pub use generate::{
     generate, generate_reported, wall_layers,
 };
 pub use overrides::apply_overrides;
+pub use read::MAX_SCENE_BYTES;
 pub use references::{
     MissingReason, REFERENCE_DIR_ENV, ReferenceLocation, SkippedReference, locate_references, reference_dir,
     skipped_references,
@@ -349,6 +353,20 @@ pub enum SceneError {
         /// The underlying error.
         source: std::io::Error,
     },
+    /// The scene file is larger than [`MAX_SCENE_BYTES`] (refused before parsing).
+    #[error(
+        "scene file {} is too large: {}, the limit is {} bytes (16 MiB); a scene is a few kilobytes of TOML",
+        path.display(),
+        size.map_or_else(|| format!("more than {MAX_SCENE_BYTES} bytes could be read from it"), |n| format!("{n} bytes")),
+        MAX_SCENE_BYTES
+    )]
+    TooLarge {
+        /// The path given.
+        path: PathBuf,
+        /// Its metadata length [bytes], or `None` when the length was only found by reading
+        /// (a device or a pipe, whose metadata length is 0).
+        size: Option<u64>,
+    },
     /// The scene is malformed or invalid; one line per problem.
     #[error("{}", render_problems(origin, problems))]
     Invalid {
@@ -381,13 +399,11 @@ impl SceneError {
 ///
 /// `sets` are `KEY=VALUE` overrides (see [`apply_overrides`]). Probe reference files are
 /// left as the scene names them ([`locate_references`] looks them up). Errors: the
-/// file is missing, a directory or unreadable ([`SceneError::Io`]); not UTF-8,
+/// file is missing, a directory or unreadable ([`SceneError::Io`]); larger than
+/// [`MAX_SCENE_BYTES`] ([`SceneError::TooLarge`], found before reading); not UTF-8,
 /// bad TOML, schema mismatch or invalid values ([`SceneError::Invalid`]).
 pub fn load_scene(path: &Path, sets: &[String]) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = read::read_scene_bytes(path)?;
     let origin = path.display().to_string();
     let text = match String::from_utf8(bytes) {
         Ok(t) => t,

@@ -7,7 +7,9 @@
 //! solid (the interior of a container is fine), and that the particle count
 //! fits `u32` indices and the available memory. `corrected`-only solver keys
 //! are an error with `wcsph`; probe names are unique and probe axes below
-//! `dimension`. All problems are collected.
+//! `dimension`. Values and their products must fit the solver's f32 arithmetic
+//! (`scene::magnitude`) and the run must be able to finish (`scene::progress`).
+//! All problems are collected.
 
 use std::path::PathBuf;
 
@@ -538,6 +540,14 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             // Geometry is checked even when other keys have problems, so
             // that everything is reported at once.
             check_geometry(&mut c, &scene);
+            // Values the f32 solver cannot hold, then values that cannot finish (whose
+            // estimates need the magnitudes to hold).
+            let magnitudes = super::magnitude::check(&scene);
+            let representable = magnitudes.is_empty();
+            c.problems.extend(magnitudes);
+            if representable {
+                c.problems.extend(super::progress::check(&scene));
+            }
             if c.problems.is_empty() {
                 Ok(scene)
             } else {
@@ -1152,7 +1162,7 @@ fn check_counts(c: &mut Checker, scene: &Scene) {
 
 /// A number as a person reads it in one line: plain in [1e-4, 1e9), else in exponent form
 /// (`1e308`, not 309 digits).
-fn num(v: f64) -> String {
+pub(crate) fn num(v: f64) -> String {
     if v == 0.0 || !v.is_finite() || (1e-4..1e9).contains(&v.abs()) {
         format!("{v}")
     } else {

@@ -188,6 +188,28 @@ pub enum StepError {
         /// The tolerance.
         delta: f64,
     },
+    /// The chosen time step cannot advance the run: zero, not finite, or so small that the
+    /// time does not change in f64 (`t + dt == t`, or `end + dt == end` for a step not cut to
+    /// land on the end time, which the run could then never reach). Without this stop such a
+    /// run loops for ever. `sph check` refuses the scene values that lead here in advance
+    /// (`scene::progress`); this catches what only the flow decides.
+    #[error(
+        "step {step}, t = {time:e} s: the time step dt = {dt:e} s ({limit} limit) does not advance \
+         the time in f64 (end time {end_time:e} s), so the run cannot finish; check solver.dt, \
+         solver.cfl, fluid.sound_speed, fluid.viscosity and fluid.artificial_viscosity"
+    )]
+    Stalled {
+        /// Step number.
+        step: u64,
+        /// Simulated time [s].
+        time: f64,
+        /// The step chosen [s].
+        dt: f64,
+        /// The criterion that chose it.
+        limit: TimeStepLimit,
+        /// The run's end time [s].
+        end_time: f64,
+    },
     /// The backend failed (a device launch or copy).
     #[error("step {step}: {source}")]
     Backend {

@@ -324,6 +324,15 @@ impl<const D: usize> Simulation<D> {
             fixed: c.dt,
             remaining: end_time - time,
         });
+        if timestep::stalls(dt, limit, time, end_time) {
+            return Err(StepError::Stalled {
+                step,
+                time,
+                dt,
+                limit,
+                end_time,
+            });
+        }
         Ok(StepReport {
             dt,
             limit,

@@ -33,6 +33,38 @@ pub enum TimeStepLimit {
     EndTime,
 }
 
+impl TimeStepLimit {
+    /// The name `steps.csv` and `summary.json` use (`fixed`, `sound_speed`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            TimeStepLimit::Fixed => "fixed",
+            TimeStepLimit::SoundSpeed => "sound_speed",
+            TimeStepLimit::FlowSpeed => "flow_speed",
+            TimeStepLimit::Force => "force",
+            TimeStepLimit::Viscosity => "viscosity",
+            TimeStepLimit::EndTime => "end_time",
+        }
+    }
+}
+
+impl std::fmt::Display for TimeStepLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Whether a step `dt` [s] chosen by `limit` at time `time` [s] cannot advance a run that ends
+/// at `end_time` [s]: `dt` is zero, negative or not finite; `time + dt == time` in f64; or, for a
+/// step not cut to land on the end time, `end_time + dt == end_time` (below the f64 resolution
+/// of the end time, so the run would need more than 2^52 such steps). A step cut to the end
+/// time is exempt from the last test (it may legitimately be one ulp of `time`), and so is an
+/// infinite end time (stepping without an end, as the tests and benches do).
+pub fn stalls(dt: f64, limit: TimeStepLimit, time: f64, end_time: f64) -> bool {
+    !(dt > 0.0 && dt.is_finite())
+        || time + dt == time
+        || (limit != TimeStepLimit::EndTime && end_time.is_finite() && end_time + dt == end_time)
+}
+
 /// Inputs of the time-step choice, in SI units.
 #[derive(Clone, Copy, Debug)]
 pub struct TimeStepInputs {
@@ -169,6 +201,32 @@ mod tests {
             ..inputs()
         });
         assert_eq!((dt, limit), (1e-4, TimeStepLimit::EndTime));
+    }
+
+    #[test]
+    fn limit_names_are_the_serialized_ones() {
+        use TimeStepLimit::*;
+        for limit in [Fixed, SoundSpeed, FlowSpeed, Force, Viscosity, EndTime] {
+            assert_eq!(serde_json::to_value(limit).unwrap(), limit.name());
+        }
+    }
+
+    #[test]
+    fn a_step_that_cannot_advance_the_time_stalls() {
+        use TimeStepLimit::*;
+        assert!(!stalls(1e-4, SoundSpeed, 0.5, 1.0));
+        assert!(stalls(0.0, Viscosity, 0.0, 1.0));
+        assert!(stalls(f64::NAN, Fixed, 0.0, 1.0));
+        assert!(stalls(f64::INFINITY, Fixed, 0.0, 1.0));
+        // Advances t = 0 but not the end time: the run would never finish.
+        assert!(stalls(1e-300, Fixed, 0.0, 1.0));
+        assert!(stalls(1e-17, Fixed, 0.5, 1.0));
+        // Stepping without an end time.
+        assert!(!stalls(1e-4, SoundSpeed, 0.0, f64::INFINITY));
+        assert!(stalls(0.0, Viscosity, 0.0, f64::INFINITY));
+        // The last step, cut to the end time, may be one ulp of t.
+        let t = 1.0 - f64::EPSILON / 2.0;
+        assert!(!stalls(1.0 - t, EndTime, t, 1.0));
     }
 
     #[test]

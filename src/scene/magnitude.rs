@@ -1,0 +1,313 @@
+//! Magnitudes the solver can compute with: scene values, and the products of them the solver
+//! forms, must be representable in its `f32` arithmetic ([`crate::math::Real`]).
+//!
+//! Why: validation otherwise only asks for finite, positive numbers in f64, so `fluid.rho0 =
+//! 1e308` or `fluid.sound_speed = 5e-324` pass and the run fails at its first step (an
+//! infinite particle mass, a sound speed flushed to 0). Each value must be 0 (where 0 is
+//! allowed) or have a magnitude in [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`]; so must the derived
+//! scales: the particle mass `ρ0 dx^D`, the pressure scale `ρ0 C²`, the acoustic acceleration
+//! `C²/h`, the artificial viscosity's `α C`, the kinematic viscosity `μ/ρ0` and the speed
+//! gravity gives over the run, `|g| T`. The kernels' normalisation constants (up to
+//! `h^-(D+6)`, `smoothing::Smoothing::new`) are stored as f32 and must be normal f32 numbers.
+//! Coordinates (domain, boxes, rotation centre) may be 0 or tiny but not above the largest
+//! magnitude.
+
+use super::validate::{RawProblem, num};
+use super::{KeyPath, Scene};
+use crate::smoothing::Smoothing;
+
+/// The smallest non-zero magnitude of a scene value or derived scale (SI units): 1e-30. The
+/// solver computes in f32, whose normal numbers span 1.2e-38 to 3.4e38; a value in [1e-30,
+/// 1e30] leaves a factor of 1e8 either side for the products the kernels form from it
+/// (a kernel value, a neighbour sum, a squared speed) before they leave that span.
+pub const MIN_MAGNITUDE: f64 = 1e-30;
+
+/// The largest magnitude of a scene value or derived scale (SI units): 1e30; see
+/// [`MIN_MAGNITUDE`].
+pub const MAX_MAGNITUDE: f64 = 1e30;
+
+/// What a value may be.
+#[derive(Clone, Copy, PartialEq)]
+enum Rule {
+    /// Positive, in `[MIN_MAGNITUDE, MAX_MAGNITUDE]`.
+    Positive,
+    /// 0, or a magnitude in `[MIN_MAGNITUDE, MAX_MAGNITUDE]`.
+    ZeroOr,
+    /// A coordinate: magnitude at most `MAX_MAGNITUDE`.
+    Coordinate,
+}
+
+/// The range of `rule` in words, for an error message.
+fn range(rule: Rule) -> String {
+    match rule {
+        Rule::Positive => format!("must have a magnitude in [{MIN_MAGNITUDE:e}, {MAX_MAGNITUDE:e}]"),
+        Rule::ZeroOr => format!("must be 0 or have a magnitude in [{MIN_MAGNITUDE:e}, {MAX_MAGNITUDE:e}]"),
+        Rule::Coordinate => format!("must have a magnitude of at most {MAX_MAGNITUDE:e}"),
+    }
+}
+
+fn fits(rule: Rule, v: f64) -> bool {
+    let a = v.abs();
+    match rule {
+        Rule::Positive => (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&a),
+        Rule::ZeroOr => a == 0.0 || (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&a),
+        Rule::Coordinate => a <= MAX_MAGNITUDE,
+    }
+}
+
+/// Collects problems; remembers which keys failed so that a derived scale is only checked
+/// when its factors passed (one problem per mistake).
+struct Magnitudes {
+    problems: Vec<RawProblem>,
+    failed: Vec<String>,
+}
+
+impl Magnitudes {
+    fn value(&mut self, path: KeyPath, v: f64, rule: Rule) {
+        if !fits(rule, v) {
+            self.failed.push(path.to_string());
+            self.problems.push(RawProblem::new(
+                path,
+                format!(
+                    "{} (the solver computes in f32, see scene::magnitude), got {}",
+                    range(rule),
+                    num(v)
+                ),
+            ));
+        }
+    }
+
+    fn values(&mut self, path: KeyPath, vs: &[f64], rule: Rule) {
+        for (i, &v) in vs.iter().enumerate() {
+            self.value(path.i(i), v, rule);
+        }
+    }
+
+    /// A derived scale `what = formula` [unit] made of `factors` (key, value): checked only when
+    /// no factor failed; the problem is reported at the factor furthest from 1 in magnitude (the
+    /// likeliest mistake) and names every factor.
+    fn derived(&mut self, what: &str, value: f64, unit: &str, factors: &[(KeyPath, f64)]) {
+        let failed = |p: &KeyPath| {
+            let p = p.to_string();
+            // The key itself, or an entry of it (`fluid.gravity[1]` for `fluid.gravity`).
+            self.failed
+                .iter()
+                .any(|f| p == *f || f.starts_with(&format!("{p}[")))
+        };
+        if factors.iter().any(|(p, _)| failed(p)) || fits(Rule::Positive, value) {
+            return;
+        }
+        let extreme = factors
+            .iter()
+            .max_by(|a, b| a.1.abs().log10().abs().total_cmp(&b.1.abs().log10().abs()));
+        let Some((path, _)) = extreme else {
+            return;
+        };
+        let named: Vec<String> = factors
+            .iter()
+            .map(|(p, v)| format!("{p} = {}", num(*v)))
+            .collect();
+        self.problems.push(RawProblem::new(
+            path.clone(),
+            format!(
+                "{what} = {} {unit} {} ({}; the solver computes in f32, see scene::magnitude)",
+                short(value),
+                range(Rule::Positive),
+                named.join(", ")
+            ),
+        ));
+    }
+}
+
+/// The magnitude problems of `scene` (empty when every value and scale fits).
+pub(crate) fn check(scene: &Scene) -> Vec<RawProblem> {
+    let mut m = Magnitudes {
+        problems: Vec::new(),
+        failed: Vec::new(),
+    };
+    let key = KeyPath::key;
+    let (fp, pp, sp) = (key("fluid"), key("particles"), key("solver"));
+    m.values(key("domain").k("min"), &scene.domain.min, Rule::Coordinate);
+    m.values(key("domain").k("max"), &scene.domain.max, Rule::Coordinate);
+    m.value(pp.k("spacing"), scene.spacing, Rule::Positive);
+    m.value(fp.k("rho0"), scene.rho0, Rule::Positive);
+    m.value(fp.k("sound_speed"), scene.sound_speed, Rule::Positive);
+    if let Some(mu) = scene.viscosity {
+        m.value(fp.k("viscosity"), mu, Rule::ZeroOr);
+    }
+    if let Some(alpha) = scene.artificial_viscosity {
+        m.value(fp.k("artificial_viscosity"), alpha, Rule::ZeroOr);
+    }
+    if let Some(g) = &scene.gravity {
+        m.values(fp.k("gravity"), g, Rule::ZeroOr);
+        m.value(fp.k("gravity_ramp"), scene.gravity_ramp, Rule::ZeroOr);
+    }
+    if let Some(omega) = scene.angular_velocity {
+        for w in omega {
+            m.value(fp.k("angular_velocity"), w, Rule::ZeroOr);
+        }
+        m.values(fp.k("rotation_centre"), &scene.rotation_centre, Rule::Coordinate);
+    }
+    if let Some(sigma) = scene.surface_tension {
+        m.value(fp.k("surface_tension"), sigma, Rule::Positive);
+    }
+    for (i, b) in scene.fluid_boxes.iter().enumerate() {
+        let path = key("fluid_box").i(i);
+        m.values(path.k("min"), &b.region.min, Rule::Coordinate);
+        m.values(path.k("max"), &b.region.max, Rule::Coordinate);
+        m.values(path.k("velocity"), &b.velocity, Rule::ZeroOr);
+        if let Some(rho0) = b.rho0 {
+            m.value(path.k("rho0"), rho0, Rule::Positive);
+        }
+    }
+    for (i, s) in scene.solids.iter().enumerate() {
+        let path = key("solid").i(i);
+        m.values(path.k("min"), &s.region.min, Rule::Coordinate);
+        m.values(path.k("max"), &s.region.max, Rule::Coordinate);
+        if let Some(sway) = &s.motion {
+            let mp = path.k("motion");
+            m.values(mp.k("amplitude"), &sway.amplitude, Rule::ZeroOr);
+            m.value(mp.k("period"), sway.period, Rule::Positive);
+            m.value(mp.k("ramp"), sway.ramp, Rule::ZeroOr);
+        }
+    }
+    if let Some(dt) = scene.dt {
+        m.value(sp.k("dt"), dt, Rule::Positive);
+    }
+    m.value(sp.k("end_time"), scene.end_time, Rule::Positive);
+    m.value(key("output").k("interval"), scene.output_interval, Rule::Positive);
+
+    derived_scales(&mut m, scene);
+    kernel(&mut m, scene);
+    m.problems
+}
+
+/// The products of scene values the solver forms (see the module documentation).
+fn derived_scales(m: &mut Magnitudes, scene: &Scene) {
+    let key = KeyPath::key;
+    let (fp, pp) = (key("fluid"), key("particles"));
+    let (dx, h, c) = (scene.spacing, scene.smoothing_length, scene.sound_speed);
+    let d = scene.dimension as i32;
+    // Every phase's rest density, with its key.
+    let mut densities = vec![(fp.k("rho0"), scene.rho0)];
+    for (i, b) in scene.fluid_boxes.iter().enumerate() {
+        if let Some(rho0) = b.rho0 {
+            densities.push((key("fluid_box").i(i).k("rho0"), rho0));
+        }
+    }
+    for (rho_key, rho0) in &densities {
+        m.derived(
+            &format!("particle mass {rho_key} * spacing^{d}"),
+            rho0 * dx.powi(d),
+            "kg",
+            &[(rho_key.clone(), *rho0), (pp.k("spacing"), dx)],
+        );
+        m.derived(
+            &format!("pressure scale {rho_key} * sound_speed^2"),
+            rho0 * c * c,
+            "Pa",
+            &[(rho_key.clone(), *rho0), (fp.k("sound_speed"), c)],
+        );
+        if let Some(mu) = scene.viscosity.filter(|&mu| mu > 0.0) {
+            m.derived(
+                &format!("kinematic viscosity viscosity / {rho_key}"),
+                mu / rho0,
+                "m^2/s",
+                &[(fp.k("viscosity"), mu), (rho_key.clone(), *rho0)],
+            );
+        }
+    }
+    m.derived(
+        "acoustic acceleration sound_speed^2 / h",
+        c * c / h,
+        "m/s^2",
+        &[(fp.k("sound_speed"), c), (pp.k("spacing"), dx)],
+    );
+    if let Some(alpha) = scene.artificial_viscosity.filter(|&a| a > 0.0) {
+        m.derived(
+            "artificial viscosity artificial_viscosity * sound_speed",
+            alpha * c,
+            "m/s",
+            &[(fp.k("artificial_viscosity"), alpha), (fp.k("sound_speed"), c)],
+        );
+    }
+    if let Some(g) = &scene.gravity {
+        let norm = g.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm > 0.0 {
+            m.derived(
+                "speed gained under gravity |gravity| * end_time",
+                norm * scene.end_time,
+                "m/s",
+                &[
+                    (fp.k("gravity"), norm),
+                    (key("solver").k("end_time"), scene.end_time),
+                ],
+            );
+        }
+    }
+}
+
+/// The kernels' normalisation constants must be normal f32 numbers (they are stored as f32).
+fn kernel(m: &mut Magnitudes, scene: &Scene) {
+    let path = KeyPath::key("particles").k("spacing");
+    let h = scene.smoothing_length;
+    if m.failed.iter().any(|f| f.starts_with("particles")) || !fits(Rule::Positive, h) {
+        return;
+    }
+    let normal = match scene.dimension {
+        2 => Smoothing::<2>::new(h as f32).is_ok_and(|k| k.constants_are_normal()),
+        3 => Smoothing::<3>::new(h as f32).is_ok_and(|k| k.constants_are_normal()),
+        _ => true,
+    };
+    if !normal {
+        let d = scene.dimension;
+        m.problems.push(RawProblem::new(
+            path,
+            format!(
+                "the support radius h = {} m makes the kernel's normalisation 1/h^{} leave the range of f32 (the kernels store it as f32, see smoothing::Smoothing::new); use a support radius between about 1e-4 m and 1e4 m",
+                num(h),
+                d + 6
+            ),
+        ));
+    }
+}
+
+/// `v` with four significant digits, plain in [1e-4, 1e9) and in exponent form otherwise
+/// (`6.386e-33`, `1.566`), so that a problem stays one readable line.
+pub(crate) fn short(v: f64) -> String {
+    let trim = |s: String| -> String {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if v == 0.0 || !v.is_finite() {
+        format!("{v}")
+    } else if (1e-4..1e9).contains(&v.abs()) {
+        let decimals = (3 - v.abs().log10().floor() as i32).max(0) as usize;
+        trim(format!("{v:.decimals$}"))
+    } else {
+        let text = format!("{v:.3e}");
+        match text.split_once('e') {
+            Some((mantissa, exponent)) => format!("{}e{exponent}", trim(mantissa.to_string())),
+            None => text,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short;
+
+    #[test]
+    fn short_numbers_keep_four_digits() {
+        assert_eq!(short(6.385508568141009e-33), "6.386e-33");
+        assert_eq!(short(1.5660459763365826), "1.566");
+        assert_eq!(short(0.2), "0.2");
+        assert_eq!(short(35.0), "35");
+        assert_eq!(short(9.396275859e9), "9.396e9");
+        assert_eq!(short(1e30), "1e30");
+        assert_eq!(short(0.0), "0");
+    }
+}
