@@ -106,3 +106,32 @@ fn the_address_space_limit_is_honoured() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+/// A run that `sph check` accepts but whose address space runs out (here `ulimit -v` leaves
+/// room for the estimate, not for the worker threads' heaps) ends with the allocation failure
+/// on stderr and `summary.json` saying `failed: out of memory`, not `running`.
+#[cfg(unix)]
+#[test]
+fn a_run_out_of_memory_leaves_status_failed() {
+    let scene = format!("{}/scenes/dam_break_column_3d.toml", env!("CARGO_MANIFEST_DIR"));
+    let out = std::env::temp_dir().join(format!("sph_memory_{}_oom", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let run = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 120000 && exec '{BIN}' run '{scene}' --set solver.kind=corrected --end-time 0.01 --threads 2 --out '{}'",
+            out.display()
+        ))
+        .output()
+        .expect("sh");
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "{err}");
+    assert!(err.contains("memory allocation of"), "{err}");
+    let summary = read_summary(&out.join("summary.json")).expect("summary");
+    assert!(
+        summary.status.starts_with("failed: out of memory"),
+        "{}",
+        summary.status
+    );
+    std::fs::remove_dir_all(&out).ok();
+}

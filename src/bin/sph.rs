@@ -1,5 +1,9 @@
 //! The `sph` command-line tool; see `sph --help`.
 
+/// The system allocator, leaving a run's `failed` status behind when memory runs out.
+#[global_allocator]
+static ALLOCATOR: sph::run::out_of_memory::FailureAware = sph::run::out_of_memory::FailureAware;
+
 fn main() {
     sph::cli::quiet_broken_pipe();
     if let Err(e) = sph::cli::run(std::env::args_os()) {

@@ -32,6 +32,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 pub mod folder;
+pub mod out_of_memory;
 mod report;
 mod writers;
 

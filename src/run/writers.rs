@@ -166,8 +166,16 @@ impl Writers {
     }
 
     /// Writes `summary.json`.
+    /// Writes `summary.json`; while the status is `running`, a `failed: out of memory` copy is
+    /// kept ready ([`super::out_of_memory`]).
     pub(super) fn summary(&mut self, summary: &Summary) -> Result<(), Error> {
-        Ok(write_summary(&self.folder.claim("summary.json")?, summary)?)
+        let path = self.folder.claim("summary.json")?;
+        if summary.status == "running" {
+            super::out_of_memory::prepare(&path, summary);
+        } else {
+            super::out_of_memory::clear();
+        }
+        Ok(write_summary(&path, summary)?)
     }
 
     /// Writes `checkpoint.bin` with the run driver's `state`.

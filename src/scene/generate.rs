@@ -20,7 +20,7 @@
 //! When they are not, a solid's particles (or a thin fluid layer) can still land closer than a
 //! spacing to another body's; [`super::trim`] then removes the particles of the lower-priority
 //! body (fluid before solid, later before earlier) that lie closer than
-//! [`MIN_GAP`](super::trim::MIN_GAP) spacings, and [`generate_reported`] says what it removed
+//! [`MIN_GAP`] spacings, and [`generate_reported`] says what it removed
 //! and which fluid axes were not whole spacings. [`count_particles`] gives the counts before
 //! that trimming by arithmetic alone (exact when nothing is trimmed).
 //!
