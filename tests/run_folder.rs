@@ -376,7 +376,8 @@ fn an_output_error_during_the_run_leaves_status_failed() {
         .args(out(&[&folder]))
         .spawn()
         .unwrap();
-    wait_for(&folder.join("summary.json"));
+    // The first frame creates frames/.
+    wait_for(&folder.join("frames/frame_00000.vtu"));
     // A file of the user's where the run's 25th frame goes.
     std::fs::write(folder.join("frames/frame_00025.vtu"), "mine").unwrap();
     let ended = child.wait_with_output().unwrap();
