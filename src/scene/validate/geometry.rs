@@ -1,0 +1,118 @@
+//! Geometry: boxes with `min < max`, fluid boxes and solids inside the domain, fluid boxes
+//! overlapping neither each other nor a solid (the inside of a container is fine).
+
+use super::*;
+
+pub(super) fn check_box(c: &mut Checker, path: &KeyPath, b: &BoxFile, dim: Option<usize>) -> Option<Aabb> {
+    c.aabb(path, &b.min, &b.max, dim)
+}
+
+/// Domain containment, overlaps and particle-count / memory limits.
+pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
+    let dx = scene.spacing;
+    let tol = 1e-6 * dx;
+    let layers = scene.wall_layers();
+    let domain = &scene.domain;
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        if let Some(k) = outside_axis(&fb.region, domain, tol) {
+            c.err(
+                KeyPath::key("fluid_box").i(i),
+                format!(
+                    "fluid box {} extends outside the domain {} on axis {}",
+                    fmt_box(&fb.region),
+                    fmt_box(domain),
+                    axis_name(k)
+                ),
+            );
+        }
+    }
+    let extents: Vec<Aabb> = scene.solids.iter().map(|s| solid_extent(s, dx, layers)).collect();
+    for (i, (s, ext)) in scene.solids.iter().zip(&extents).enumerate() {
+        if let Some(m) = &s.motion {
+            // The box the moving solid sweeps: |d_k(t)| <= |A_k| since |r sin| <= 1.
+            let swept = Aabb {
+                min: ext
+                    .min
+                    .iter()
+                    .zip(&m.amplitude)
+                    .map(|(x, a)| x - a.abs())
+                    .collect(),
+                max: ext
+                    .max
+                    .iter()
+                    .zip(&m.amplitude)
+                    .map(|(x, a)| x + a.abs())
+                    .collect(),
+            };
+            if let Some(k) = outside_axis(&swept, domain, tol) {
+                c.err(
+                    KeyPath::key("solid").i(i).k("motion").k("amplitude"),
+                    format!(
+                        "solid \"{}\" sweeps {} while moving by ±{} m on axis {}, outside the domain {}",
+                        s.name,
+                        fmt_box(&swept),
+                        num(m.amplitude[k].abs()),
+                        axis_name(k),
+                        fmt_box(domain)
+                    ),
+                );
+                continue;
+            }
+        }
+        if let Some(k) = outside_axis(ext, domain, tol) {
+            let walls = match s.shape {
+                SolidShape::Box => String::new(),
+                SolidShape::Container => format!(" (including walls of {layers} layers x {dx} m)"),
+            };
+            c.err(
+                KeyPath::key("solid").i(i),
+                format!(
+                    "solid \"{}\" occupies {}{walls}, outside the domain {} on axis {}",
+                    s.name,
+                    fmt_box(ext),
+                    fmt_box(domain),
+                    axis_name(k)
+                ),
+            );
+        }
+    }
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        let path = KeyPath::key("fluid_box").i(i);
+        for (s, ext) in scene.solids.iter().zip(&extents) {
+            let Some(cut) = intersection(&fb.region, ext, tol) else {
+                continue;
+            };
+            match s.shape {
+                SolidShape::Box => c.err(
+                    path.clone(),
+                    format!(
+                        "fluid box {} overlaps solid box \"{}\" {}",
+                        fmt_box(&fb.region),
+                        s.name,
+                        fmt_box(&s.region)
+                    ),
+                ),
+                SolidShape::Container => {
+                    if outside_axis(&cut, &s.region, tol).is_some() {
+                        c.err(
+                            path.clone(),
+                            format!(
+                                "fluid box {} overlaps the walls of container \"{}\" (walls occupy {} minus the inside {})",
+                                fmt_box(&fb.region),
+                                s.name,
+                                fmt_box(ext),
+                                fmt_box(&s.region)
+                            ),
+                        );
+                    }
+                }
+            }
+        }
+        for (j, other) in scene.fluid_boxes.iter().enumerate().take(i) {
+            if intersection(&fb.region, &other.region, tol).is_some() {
+                c.err(path.clone(), format!("fluid box overlaps fluid_box[{j}]"));
+            }
+        }
+    }
+    check_counts(c, scene);
+}

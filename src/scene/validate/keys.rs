@@ -1,0 +1,174 @@
+//! Single-table rules: names of solids and probes, a solid's `motion`, the `[solver]`
+//! settings and the rotating frame's keys.
+
+use super::*;
+
+/// Checks a solid or probe name: non-empty, `[A-Za-z0-9_-]` only, not among `earlier`
+/// (the names of the preceding `what` tables). Reports at `path`; returns whether it is fine.
+pub(super) fn check_name(c: &mut Checker, path: KeyPath, name: &str, earlier: &[&str], what: &str) -> bool {
+    if name.is_empty() {
+        c.err(path, "must not be empty".into());
+    } else if let Some(bad) = name
+        .chars()
+        .find(|ch| !(ch.is_ascii_alphanumeric() || *ch == '_' || *ch == '-'))
+    {
+        c.err(
+            path,
+            format!("may only contain A-Z, a-z, 0-9, '_' and '-', found {bad:?}"),
+        );
+    } else if let Some(j) = earlier.iter().position(|o| *o == name) {
+        c.err(
+            path,
+            format!("duplicate {what} name \"{name}\" (already used by {what}[{j}])"),
+        );
+    } else {
+        return true;
+    }
+    false
+}
+
+/// A solid's `motion` table (`schema::MotionFile`): finite amplitudes, not all zero, a positive
+/// period, a non-negative ramp. The swept box is checked with the geometry.
+pub(super) fn check_motion(
+    c: &mut Checker,
+    path: &KeyPath,
+    m: &MotionFile,
+    dim: Option<usize>,
+) -> Option<Sway> {
+    let amplitude = c.vector(path.k("amplitude"), &m.amplitude, dim);
+    if amplitude.as_ref().is_some_and(|a| a.iter().all(|&x| x == 0.0)) {
+        c.err(
+            path.k("amplitude"),
+            "all entries are 0, so the solid would not move (remove `motion` for a fixed solid)".into(),
+        );
+        return None;
+    }
+    let period = c.positive(path.k("period"), m.period);
+    let ramp = match m.ramp {
+        Some(r) => c.non_negative(path.k("ramp"), r),
+        None => Some(0.0),
+    };
+    Some(Sway {
+        amplitude: amplitude?,
+        period: period?,
+        ramp: ramp?,
+    })
+}
+
+/// The `[solver]` scheme settings; `corrected`-only keys are an error with `wcsph`.
+pub(super) fn check_solver(c: &mut Checker, sp: &KeyPath, sv: &SolverFile) -> Option<SolverSettings> {
+    let mut settings = SolverSettings::defaults(sv.kind);
+    if let Some(integrator) = sv.integrator {
+        settings.integrator = integrator;
+    }
+    let corrected = sv.kind == SolverKind::Corrected;
+    let mut ok = true;
+    let given = [
+        ("delta", sv.delta.is_some()),
+        ("max_iterations", sv.max_iterations.is_some()),
+        ("strict", sv.strict.is_some()),
+        ("relaxation", sv.relaxation.is_some()),
+    ];
+    for (key, present) in given {
+        if present && !corrected {
+            c.err(
+                sp.k(key),
+                format!(
+                    "only with solver.kind = \"corrected\" (solver.kind is \"{}\")",
+                    sv.kind.name()
+                ),
+            );
+            ok = false;
+        }
+    }
+    if !ok {
+        return None;
+    }
+    if let Some(d) = sv.delta {
+        match in_range(c, sp.k("delta"), d, 0.0, 0.1, true) {
+            Some(d) => settings.delta = d,
+            None => ok = false,
+        }
+    }
+    if let Some(n) = sv.max_iterations {
+        match u32::try_from(n) {
+            Ok(m) if (1..=100_000).contains(&m) => settings.max_iterations = m,
+            _ => {
+                c.err(
+                    sp.k("max_iterations"),
+                    format!("must be an integer in [1, 100000], got {n}"),
+                );
+                ok = false;
+            }
+        }
+    }
+    if let Some(strict) = sv.strict {
+        settings.strict = strict;
+    }
+    if let Some(policy) = sv.on_escape {
+        settings.on_escape = policy;
+    }
+    if let Some(w) = sv.relaxation {
+        match in_range(c, sp.k("relaxation"), w, 0.0, 1.0, true) {
+            Some(w) => settings.relaxation = w,
+            None => ok = false,
+        }
+    }
+    ok.then_some(settings)
+}
+
+/// `fluid.angular_velocity` as 3 components and `fluid.rotation_centre` (default the origin):
+/// required / allowed iff the `rotating_frame` effect is on (`schema::FluidFile`).
+pub(super) fn rotating_frame(
+    c: &mut Checker,
+    fp: &KeyPath,
+    f: &crate::scene::schema::FluidFile,
+    on: bool,
+    dim: Option<usize>,
+) -> (Option<[f64; 3]>, Option<Vec<f64>>) {
+    use crate::scene::schema::AngularVelocityFile;
+    let key = fp.k("angular_velocity");
+    let omega = match (&f.angular_velocity, on, dim) {
+        (Some(_), false, _) => {
+            c.err(
+                key,
+                "given but effect \"rotating_frame\" is not enabled (add it to `effects` or remove this key)"
+                    .into(),
+            );
+            None
+        }
+        (None, true, _) => {
+            c.err(
+                key,
+                "required because effect \"rotating_frame\" is enabled".into(),
+            );
+            None
+        }
+        (None, false, _) | (Some(_), true, None) => None,
+        (Some(AngularVelocityFile::Scalar(w)), true, Some(2)) => c.finite(key, *w).map(|w| [0.0, 0.0, w]),
+        (Some(AngularVelocityFile::Scalar(_)), true, Some(d)) => {
+            c.err(
+                key,
+                format!(
+                    "expected {d} entries (dimension = {d}); a single number (about the out-of-plane axis) is for 2D only"
+                ),
+            );
+            None
+        }
+        (Some(AngularVelocityFile::Vector(v)), true, Some(d)) => c
+            .vector(key, v, Some(d))
+            .map(|v| [v[0], v[1], if d > 2 { v[2] } else { 0.0 }]),
+    };
+    let centre = match (&f.rotation_centre, on) {
+        (Some(_), false) => {
+            c.err(
+                fp.k("rotation_centre"),
+                "given but effect \"rotating_frame\" is not enabled".into(),
+            );
+            None
+        }
+        (Some(x), true) => c.vector(fp.k("rotation_centre"), x, dim),
+        (None, _) => dim.map(|d| vec![0.0; d]),
+    };
+    (omega, centre)
+}

@@ -1,0 +1,159 @@
+//! `[[probe]]` tables: unique names, axes below `dimension`, solids that exist, reference
+//! data described consistently.
+
+use super::*;
+
+/// Checks `probe[i]`; `has_grav` is whether the gravity effect is on.
+pub(super) fn check_probe(
+    c: &mut Checker,
+    file: &SceneFile,
+    i: usize,
+    pf: &ProbeFile,
+    dim: Option<usize>,
+    has_grav: bool,
+) -> Option<Probe> {
+    let path = KeyPath::key("probe").i(i);
+    let earlier: Vec<&str> = file.probe.iter().take(i).map(|o| o.name.as_str()).collect();
+    let mut ok = check_name(c, path.k("name"), &pf.name, &earlier, "probe");
+    let axis_text = pf.axis.as_deref().unwrap_or("x");
+    let axis = match (["x", "y", "z"].iter().position(|a| *a == axis_text), dim) {
+        (Some(a), Some(d)) if a < d => Some(a),
+        (Some(_), None) => None,
+        (found, d) => {
+            let allowed = if d == Some(2) {
+                "\"x\" or \"y\""
+            } else {
+                "\"x\", \"y\" or \"z\""
+            };
+            let why = match (found, d) {
+                (Some(_), Some(d)) => format!(" (dimension = {d})"),
+                _ => String::new(),
+            };
+            c.err(
+                path.k("axis"),
+                format!("must be {allowed}{why}, got {axis_text:?}"),
+            );
+            None
+        }
+    };
+    let origin = match pf.origin {
+        Some(o) => c.finite(path.k("origin"), o),
+        None => Some(0.0),
+    };
+    let force = pf.kind == ProbeKind::Force;
+    let solid = match (&pf.solid, force) {
+        (None, false) => Some(None),
+        (Some(_), false) => {
+            c.err(path.k("solid"), "only with kind = \"force\"".into());
+            None
+        }
+        (None, true) => {
+            c.err(
+                path.k("solid"),
+                "required with kind = \"force\": the solid's name".into(),
+            );
+            None
+        }
+        (Some(name), true) => match file.solid.iter().position(|s| &s.name == name) {
+            Some(k) => Some(Some(k)),
+            None => {
+                c.err(path.k("solid"), format!("no solid named {name:?}"));
+                None
+            }
+        },
+    };
+    if force && pf.origin.is_some() {
+        c.err(path.k("origin"), "only with kind = \"front\"".into());
+        ok = false;
+    }
+    let reference = match &pf.reference {
+        None => Some(None),
+        Some(r) => {
+            let rp = path.k("reference");
+            if !has_grav && !force {
+                c.err(
+                    rp.clone(),
+                    "needs effect \"gravity\" (the reference time is T = t sqrt(g / a))".into(),
+                );
+                ok = false;
+            }
+            if r.file.trim().is_empty() {
+                c.err(rp.k("file"), "must not be empty".into());
+                ok = false;
+            }
+            let series = r.series.clone().unwrap_or_default();
+            for (j, name) in series.iter().enumerate() {
+                if name.trim().is_empty() {
+                    c.err(rp.k("series").i(j), "must not be empty".into());
+                    ok = false;
+                } else if let Some(k) = series.iter().take(j).position(|o| o == name) {
+                    c.err(
+                        rp.k("series").i(j),
+                        format!("duplicate series \"{name}\" (already at series[{k}])"),
+                    );
+                    ok = false;
+                }
+            }
+            let length = match (r.length, force) {
+                (Some(l), false) => c.positive(rp.k("length"), l),
+                (None, false) => {
+                    c.err(
+                        rp.k("length"),
+                        "required for a front: the column width a [m]".into(),
+                    );
+                    None
+                }
+                (Some(_), true) => {
+                    c.err(rp.k("length"), "only for a front".into());
+                    None
+                }
+                (None, true) => Some(0.0),
+            };
+            let time_range = match r.time_range.as_deref() {
+                None if force => Some((0.0, file.solver.end_time)),
+                None => Some(ProbeReference::DEFAULT_TIME_RANGE),
+                Some(&[t0, t1]) => {
+                    let t0 = c.finite(rp.k("time_range").i(0), t0);
+                    let t1 = c.finite(rp.k("time_range").i(1), t1);
+                    match (t0, t1) {
+                        (Some(t0), Some(t1)) if t0 < t1 => Some((t0, t1)),
+                        (Some(t0), Some(t1)) => {
+                            c.err(
+                                rp.k("time_range"),
+                                format!("must be [T0, T1] with T0 < T1, got [{t0}, {t1}]"),
+                            );
+                            None
+                        }
+                        _ => None,
+                    }
+                }
+                Some(other) => {
+                    c.err(
+                        rp.k("time_range"),
+                        format!("expected 2 entries [T0, T1], found {}", other.len()),
+                    );
+                    None
+                }
+            };
+            match (length, time_range) {
+                (Some(length), Some(time_range)) => Some(Some(ProbeReference {
+                    file: PathBuf::from(&r.file),
+                    location: crate::scene::ReferenceLocation::Unlocated,
+                    series,
+                    length,
+                    time_range,
+                })),
+                _ => None,
+            }
+        }
+    };
+    let probe = Probe {
+        name: pf.name.clone(),
+        kind: pf.kind,
+        axis: axis?,
+        origin: origin?,
+        solid: solid?,
+        reference: reference?,
+    };
+    ok.then_some(probe)
+}
