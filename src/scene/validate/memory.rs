@@ -23,8 +23,8 @@ pub const BASE_BYTES: u64 = 7 << 20;
 pub fn bytes_per_particle(dim: usize, solver: crate::scene::SolverKind) -> u64 {
     use crate::scene::SolverKind;
     match (dim, solver) {
-        (3, SolverKind::Wcsph) => 210,
-        (3, SolverKind::Corrected) => 430,
+        (3, SolverKind::Wcsph) => 205,
+        (3, SolverKind::Corrected) => 432,
         (_, SolverKind::Wcsph) => 170,
         (_, SolverKind::Corrected) => 340,
     }
