@@ -153,6 +153,23 @@ impl<const D: usize> Fields<D> {
         self.position.is_empty()
     }
 
+    /// Empty fields with room for exactly `n` particles in the fields every run holds, so that
+    /// filling them by [`Fields::push`] leaves no growth slack (up to 2× a field's size, held for
+    /// the whole run and uneven between scenes).
+    pub fn with_capacity(n: usize) -> Self {
+        Self {
+            position: Vec::with_capacity(n),
+            velocity: Vec::with_capacity(n),
+            acceleration: Vec::with_capacity(n),
+            density: Vec::with_capacity(n),
+            pressure: Vec::with_capacity(n),
+            mass: Vec::with_capacity(n),
+            kind: Vec::with_capacity(n),
+            id: Vec::with_capacity(n),
+            ..Self::default()
+        }
+    }
+
     /// Appends one particle with zero acceleration, density `rho` and zero pressure.
     pub fn push(&mut self, position: Vector<D>, velocity: Vector<D>, mass: Real, rho: Real, kind: u32) {
         self.id.push(self.position.len() as u32);

@@ -6,6 +6,12 @@ static ALLOCATOR: sph::run::out_of_memory::FailureAware = sph::run::out_of_memor
 
 fn main() {
     sph::cli::quiet_broken_pipe();
+    if let Some(bytes) = std::env::var(sph::run::out_of_memory::FAIL_ALLOCATIONS_ABOVE_VAR)
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
+        sph::run::out_of_memory::fail_allocations_above(bytes);
+    }
     if let Err(e) = sph::cli::run(std::env::args_os()) {
         eprintln!("error: {}", one_line(&e));
         std::process::exit(sph::cli::signals::exit_status(&e));

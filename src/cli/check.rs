@@ -1,8 +1,8 @@
 //! `sph check SCENE`: validate and report.
 
 use crate::scene::{
-    GenerationReport, ParticleCounts, Scene, bytes_per_particle, count_particles, generate::describe,
-    generate_reported, run_bytes, skipped_references,
+    GenerationReport, ParticleCounts, Scene, count_particles, frame_bytes_per_particle, generate::describe,
+    generate_reported, particle_bytes, run_bytes, scene_particle_bytes, skipped_references,
 };
 use anyhow::Context;
 use std::path::Path;
@@ -128,11 +128,27 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
             "  lattice: not generated (more than {GENERATE_CAP} particles): counts before trimming, which `sph run` may do"
         ),
     }
-    let bytes = run_bytes(counts.total, scene.dimension, scene.solver.kind).unwrap_or(u64::MAX);
+    let per = scene_particle_bytes(&scene);
+    let bytes = run_bytes(counts.total, counts.fluid, per).unwrap_or(u64::MAX);
+    let solver = particle_bytes(scene.dimension, scene.solver.kind);
+    let frames = if scene.write_frames {
+        format!(
+            ", {} per particle for {} frames",
+            frame_bytes_per_particle(scene.output_encoding),
+            scene.output_encoding.name()
+        )
+    } else {
+        String::new()
+    };
+    let fluid = if solver.per_fluid > 0 {
+        format!(" and {} more per fluid particle", solver.per_fluid)
+    } else {
+        String::new()
+    };
     println!(
-        "  memory needed    {:>12.1} MiB ({} bytes per particle with {}, and {:.0} MiB for the program)",
+        "  memory needed    {:>12.1} MiB ({} bytes per particle with {}{fluid}{frames}; {:.1} MiB for the program)",
         bytes as f64 / (1024.0 * 1024.0),
-        bytes_per_particle(scene.dimension, scene.solver.kind),
+        solver.per_particle,
         scene.solver.kind.name(),
         crate::scene::BASE_BYTES as f64 / (1024.0 * 1024.0)
     );

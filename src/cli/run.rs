@@ -100,6 +100,7 @@ pub fn run(
         builder = builder.num_threads(n);
     }
     let pool = builder.build().context("starting the worker threads")?;
+    check_address_space(&scene, pool.current_num_threads())?;
     let options = RunOptions {
         out_dir: Some(out.clone()),
         force: checkpoint.force,
@@ -276,5 +277,30 @@ pub fn run(
     for warning in &summary.warnings {
         eprintln!("warning: {warning}");
     }
+    Ok(())
+}
+
+/// Refuses a run whose address space would pass `ulimit -v` with its worker threads' heaps
+/// (`memory::address_space_need`); `sph check`'s estimate counts resident memory only, as it
+/// does not know `--threads`.
+fn check_address_space(scene: &crate::scene::Scene, threads: usize) -> anyhow::Result<()> {
+    let Some(limit) = crate::memory::address_space_limit() else {
+        return Ok(());
+    };
+    let counts = crate::scene::count_particles(scene)?;
+    let resident = crate::scene::run_bytes(
+        counts.total,
+        counts.fluid,
+        crate::scene::scene_particle_bytes(scene),
+    )
+    .unwrap_or(u64::MAX);
+    let need = crate::memory::address_space_need(resident, threads);
+    anyhow::ensure!(
+        need <= limit,
+        "particles.spacing: the run needs about {need} bytes of address space ({resident} resident, \
+         {} per worker thread for its heap and stack, {threads} threads), more than the {limit} \
+         bytes ulimit -v allows; raise ulimit -v, or use fewer --threads",
+        crate::memory::ADDRESS_SPACE_PER_THREAD
+    );
     Ok(())
 }

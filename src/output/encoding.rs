@@ -126,6 +126,18 @@ impl AppendedWriter {
         }
     }
 
+    /// Reserves room for arrays of `sizes` bytes, where their encoded size is known in advance
+    /// (`raw`, `base64`), so that `data` does not grow by doubling.
+    pub fn reserve(&mut self, sizes: &[usize]) {
+        let encoded = |len: usize| match self.encoding {
+            Encoding::Raw => 8 + len,
+            Encoding::Base64 => (8 + len).div_ceil(3) * 4,
+            Encoding::Zlib => 0,
+        };
+        let total: usize = sizes.iter().map(|&len| encoded(len)).sum();
+        self.data.reserve_exact(total);
+    }
+
     /// Appends one array given as its little-endian bytes; returns its `offset` attribute.
     pub fn push(&mut self, bytes: &[u8]) -> u64 {
         let offset = self.data.len() as u64;
@@ -136,11 +148,15 @@ impl AppendedWriter {
                 self.data.extend_from_slice(bytes);
             }
             Encoding::Base64 => {
-                let mut joined = Vec::with_capacity(8 + bytes.len());
-                joined.extend_from_slice(&count);
-                joined.extend_from_slice(bytes);
-                let text = base64::engine::general_purpose::STANDARD.encode(&joined);
-                self.data.extend_from_slice(text.as_bytes());
+                // The count and the array as one base64 stream, encoded straight into `data`.
+                let mut w = base64::write::EncoderWriter::new(
+                    &mut self.data,
+                    &base64::engine::general_purpose::STANDARD,
+                );
+                // Writing into a Vec cannot fail.
+                std::io::Write::write_all(&mut w, &count).expect("writing into memory");
+                std::io::Write::write_all(&mut w, bytes).expect("writing into memory");
+                w.finish().expect("writing into memory");
             }
             Encoding::Zlib => self.push_zlib(bytes),
         }

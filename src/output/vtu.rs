@@ -149,7 +149,7 @@ pub fn write_vtu<const D: usize>(
     let n = frame.checked_len()?;
     let wide = n > i32::MAX as usize;
     let int_type = if wide { VtkType::Int64 } else { VtkType::Int32 };
-    let counting = |first: usize| -> Vec<u8> {
+    let counting = move |first: usize| -> Vec<u8> {
         if wide {
             le_bytes(
                 &(first..first + n).map(|i| i as i64).collect::<Vec<_>>(),
@@ -164,49 +164,87 @@ pub fn write_vtu<const D: usize>(
     };
     let f32s = |v: &[f32]| le_bytes(v, f32::to_le_bytes);
     let u32s = |v: &[u32]| le_bytes(v, u32::to_le_bytes);
-    // (section, name, type, components, little-endian bytes)
-    let blocks: [(VtuSection, &str, VtkType, usize, Vec<u8>); 9] = [
+    type Bytes<'a> = Box<dyn Fn() -> Vec<u8> + 'a>;
+    // (section, name, type, components, little-endian bytes). Each array's bytes are made
+    // when it is encoded and dropped after, so a frame holds one raw array at a time.
+    let blocks: [(VtuSection, &str, VtkType, usize, Bytes<'_>); 9] = [
         (
             VtuSection::PointData,
             "velocity",
             VtkType::Float32,
             3,
-            vec3_bytes(frame.velocity),
+            Box::new(|| vec3_bytes(frame.velocity)),
         ),
         (
             VtuSection::PointData,
             "density",
             VtkType::Float32,
             1,
-            f32s(frame.density),
+            Box::new(|| f32s(frame.density)),
         ),
         (
             VtuSection::PointData,
             "pressure",
             VtkType::Float32,
             1,
-            f32s(frame.pressure),
+            Box::new(|| f32s(frame.pressure)),
         ),
         (
             VtuSection::PointData,
             "kind",
             VtkType::UInt32,
             1,
-            u32s(frame.kind),
+            Box::new(|| u32s(frame.kind)),
         ),
-        (VtuSection::PointData, "id", VtkType::UInt32, 1, u32s(frame.id)),
+        (
+            VtuSection::PointData,
+            "id",
+            VtkType::UInt32,
+            1,
+            Box::new(|| u32s(frame.id)),
+        ),
         (
             VtuSection::Points,
             "Points",
             VtkType::Float32,
             3,
-            vec3_bytes(frame.position),
+            Box::new(|| vec3_bytes(frame.position)),
         ),
-        (VtuSection::Cells, "connectivity", int_type, 1, counting(0)),
-        (VtuSection::Cells, "offsets", int_type, 1, counting(1)),
-        (VtuSection::Cells, "types", VtkType::UInt8, 1, vec![VTK_VERTEX; n]),
+        (
+            VtuSection::Cells,
+            "connectivity",
+            int_type,
+            1,
+            Box::new(move || counting(0)),
+        ),
+        (
+            VtuSection::Cells,
+            "offsets",
+            int_type,
+            1,
+            Box::new(move || counting(1)),
+        ),
+        (
+            VtuSection::Cells,
+            "types",
+            VtkType::UInt8,
+            1,
+            Box::new(move || vec![VTK_VERTEX; n]),
+        ),
     ];
     let mut appended = AppendedWriter::new(encoding);
+    let int_size = int_type.size();
+    appended.reserve(&[
+        12 * n,
+        4 * n,
+        4 * n,
+        4 * n,
+        4 * n,
+        12 * n,
+        int_size * n,
+        int_size * n,
+        n,
+    ]);
 
     let mut header = String::with_capacity(2048);
     header.push_str("<?xml version=\"1.0\"?>\n");
@@ -242,7 +280,7 @@ pub fn write_vtu<const D: usize>(
         } else {
             String::new()
         };
-        let offset = appended.push(bytes);
+        let offset = appended.push(&bytes());
         header.push_str(&format!(
             "        <DataArray type=\"{}\" Name=\"{name}\"{comp_attr} format=\"appended\" offset=\"{offset}\"/>\n",
             ty.name()

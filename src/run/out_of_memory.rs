@@ -12,7 +12,7 @@ use crate::output::Summary;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::ffi::CString;
 use std::path::Path;
-use std::sync::atomic::{AtomicPtr, Ordering};
+use std::sync::atomic::{AtomicPtr, AtomicUsize, Ordering};
 
 /// A summary ready to be written without allocating.
 struct Prepared {
@@ -44,6 +44,27 @@ pub fn prepare(path: &Path, summary: &Summary) {
     };
     let prepared = Box::into_raw(Box::new(Prepared { path, tmp, bytes }));
     PREPARED.store(prepared, Ordering::SeqCst);
+}
+
+/// Requests larger than this many bytes fail while a summary is prepared (fault injection for
+/// the tests; `usize::MAX`, never, unless set by [`fail_allocations_above`]).
+static FAIL_ABOVE: AtomicUsize = AtomicUsize::new(usize::MAX);
+
+/// The environment variable that makes the `sph` program's allocations larger than its value
+/// (in bytes) fail once a run writes into its folder, so that tests reach the out-of-memory
+/// path at will (glibc reuses freed memory, so lowering `RLIMIT_AS` under a running process
+/// does not make it fail at a predictable point).
+pub const FAIL_ALLOCATIONS_ABOVE_VAR: &str = "SPH_TEST_FAIL_ALLOCATIONS_ABOVE";
+
+/// Makes allocations larger than `bytes` fail while a summary is prepared (see
+/// [`FAIL_ALLOCATIONS_ABOVE_VAR`]).
+pub fn fail_allocations_above(bytes: usize) {
+    FAIL_ABOVE.store(bytes, Ordering::SeqCst);
+}
+
+/// Whether a request of `size` bytes is to fail (fault injection; see [`FAIL_ABOVE`]).
+fn injected_failure(size: usize) -> bool {
+    size > FAIL_ABOVE.load(Ordering::Relaxed) && !PREPARED.load(Ordering::Relaxed).is_null()
 }
 
 /// Nothing to write any more (the run has ended and written its own status).
@@ -96,6 +117,10 @@ pub struct FailureAware;
 // allocates nothing.
 unsafe impl GlobalAlloc for FailureAware {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if injected_failure(layout.size()) {
+            write_prepared();
+            return std::ptr::null_mut();
+        }
         // SAFETY: forwarded with the caller's guarantees.
         let p = unsafe { System.alloc(layout) };
         if p.is_null() {
@@ -105,6 +130,10 @@ unsafe impl GlobalAlloc for FailureAware {
     }
 
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        if injected_failure(layout.size()) {
+            write_prepared();
+            return std::ptr::null_mut();
+        }
         // SAFETY: forwarded with the caller's guarantees.
         let p = unsafe { System.alloc_zeroed(layout) };
         if p.is_null() {
@@ -119,6 +148,10 @@ unsafe impl GlobalAlloc for FailureAware {
     }
 
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if injected_failure(new_size) {
+            write_prepared();
+            return std::ptr::null_mut();
+        }
         // SAFETY: forwarded with the caller's guarantees.
         let p = unsafe { System.realloc(ptr, layout, new_size) };
         if p.is_null() {

@@ -41,7 +41,10 @@ pub use references::{
 };
 pub use schema::{Effect, Integrator, ProbeKind, SceneFile, SolidShape, SolverKind};
 pub use trim::{Body, MIN_GAP, Trimmed};
-pub use validate::{BASE_BYTES, bytes_per_particle, run_bytes, validate};
+pub use validate::{
+    BASE_BYTES, ParticleBytes, frame_bytes_per_particle, particle_bytes, run_bytes, scene_particle_bytes,
+    validate,
+};
 
 /// A validated scene with all defaults resolved. Floats are `f64`, SI units.
 ///

@@ -521,7 +521,8 @@ impl<const D: usize> Simulation<D> {
             }
         }
         let rho0 = config.rho0 as Real;
-        let mut fields = Fields::default();
+        let n = fluid_position.len() + solids.iter().map(|(_, xs)| xs.len()).sum::<usize>();
+        let mut fields = Fields::with_capacity(n);
         for (x, u) in fluid_position.iter().zip(fluid_velocity) {
             fields.push(*x, *u, mass, rho0, FLUID);
         }

@@ -1,39 +1,83 @@
 //! The memory a scene needs: an estimate of the run's peak resident set (a base for the
-//! program and a figure per particle by dimension and solver) held against the limits the
-//! process runs under (`crate::memory::limit`), and the particle count against `u32` indices.
+//! program, a figure per particle and one per fluid particle by dimension and solver, and the
+//! frame writer's share) held against the limits the process runs under
+//! (`crate::memory::limit`), and the particle count against `u32` indices.
 
 use super::*;
 
 /// The resident memory of the process before particles \[B\]: the program, its libraries, the
 /// worker threads' stacks and the allocator's arenas. Measured peak resident sets of the
-/// smallest shipped scenes (a few hundred particles, `/usr/bin/time -f %M`): 6.6–8.4 MiB.
-pub const BASE_BYTES: u64 = 7 << 20;
+/// smallest shipped scenes (a few hundred particles, 2 threads, frames written): 7.3–7.6 MiB.
+pub const BASE_BYTES: u64 = 15 << 19;
 
-/// Estimated peak resident memory per particle \[B\] of a run in `dim` dimensions with
-/// `solver`: the particle fields, SSP-RK3's start-of-step copies, the grid's keys, sort pairs
-/// and cell ranges, the reorder scratch, and for `corrected` the correction's increments, the
-/// velocity solve's saved fields, its Anderson window and its neighbour list (4 B per pair,
-/// about 33 pairs per fluid particle in 3D at `h = 2 dx`).
+/// Estimated peak resident memory \[B\] that each particle, and each fluid particle on top,
+/// adds to a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ParticleBytes {
+    /// Bytes per particle, fluid or solid.
+    pub per_particle: u64,
+    /// Further bytes per fluid particle.
+    pub per_fluid: u64,
+}
+
+/// The solver's state in a run in `dim` dimensions with `solver` \[B\]: the particle fields
+/// (allocated to their exact size), the start-of-step copies, the grid's keys, sort pairs and
+/// cell ranges and the reorder scratch per particle; for `corrected` also the correction's
+/// increments, the velocity solve's saved fields and its Anderson window per particle, and per
+/// fluid particle its neighbour list (4 B per pair, about 33 pairs in 3D at `h = 2 dx`, 12 in
+/// 2D). Generation's peak (the lattice and its trim, 32 B per particle) stays below it.
 ///
-/// Calibrated on peak resident sets (`/usr/bin/time -f %M`, Xeon 2-core VM, 3 ms of every
-/// shipped scene, less [`BASE_BYTES`]): 3D `wcsph` 195–222 B (214,125 and 148,041
-/// particles), 3D `corrected` 400–466 B, 2D `wcsph` about 160 B and `corrected` about 330 B
-/// (scenes of 3–4 thousand particles, where the base dominates). The per-particle figure
-/// varies by scene with the growth of the arrays built particle by particle.
-pub fn bytes_per_particle(dim: usize, solver: crate::scene::SolverKind) -> u64 {
+/// Calibrated on peak resident sets (`summary.json`'s `peak_resident_bytes`, 2 threads, Xeon
+/// 2-core VM, no frames, less [`BASE_BYTES`]): 3D `wcsph` 166 B per particle on the column and
+/// Yeh & Petroff (214,125 and 148,041 particles, 52 % and 43 % fluid, equal to 1 B);
+/// `corrected` adds 207 and 204 B per particle there and 75 B on the 3D jet (11,124 particles,
+/// 3 % fluid), which 90 B per particle and 225 B per fluid particle fit within 20 B. 2D `wcsph`
+/// 143 B and `corrected` 162 B more on the 2D dam break at 0.5 mm (259,008 particles, 97 %
+/// fluid), split as in 3D.
+pub fn particle_bytes(dim: usize, solver: crate::scene::SolverKind) -> ParticleBytes {
     use crate::scene::SolverKind;
-    match (dim, solver) {
-        (3, SolverKind::Wcsph) => 205,
-        (3, SolverKind::Corrected) => 432,
-        (_, SolverKind::Wcsph) => 170,
-        (_, SolverKind::Corrected) => 340,
+    let (per_particle, per_fluid) = match (dim, solver) {
+        (3, SolverKind::Wcsph) => (166, 0),
+        (3, SolverKind::Corrected) => (166 + 90, 225),
+        (_, SolverKind::Wcsph) => (143, 0),
+        (_, SolverKind::Corrected) => (143 + 50, 115),
+    };
+    ParticleBytes {
+        per_particle,
+        per_fluid,
     }
 }
 
-/// The estimated peak resident memory \[B\] of a run of `particles` particles.
-pub fn run_bytes(particles: u64, dim: usize, solver: crate::scene::SolverKind) -> Option<u64> {
+/// Estimated peak resident memory per particle \[B\] that writing a frame adds, by the
+/// frame's `encoding`: its arrays encoded in memory (49 B per particle before encoding) while
+/// one raw array at a time is made (`output::vtu::write_vtu`). Measured as for
+/// [`particle_bytes`] on the 3D scenes and the 2D dam break: `zlib` 30–33 B, `raw` 46 B,
+/// `base64` 63 B. Counted on every particle, also when frames hold only the fluid.
+pub fn frame_bytes_per_particle(encoding: crate::output::Encoding) -> u64 {
+    use crate::output::Encoding;
+    match encoding {
+        Encoding::Zlib => 32,
+        Encoding::Raw => 46,
+        Encoding::Base64 => 63,
+    }
+}
+
+/// The estimated peak resident memory per particle \[B\] of `scene`'s run: the solver's
+/// state and, when the scene writes frames, the frame writer's.
+pub fn scene_particle_bytes(scene: &Scene) -> ParticleBytes {
+    let mut bytes = particle_bytes(scene.dimension, scene.solver.kind);
+    if scene.write_frames {
+        bytes.per_particle += frame_bytes_per_particle(scene.output_encoding);
+    }
+    bytes
+}
+
+/// The estimated peak resident memory \[B\] of a run of `particles` particles of which
+/// `fluid` are fluid, needing `bytes` ([`scene_particle_bytes`]); `None` past `u64`.
+pub fn run_bytes(particles: u64, fluid: u64, bytes: ParticleBytes) -> Option<u64> {
     particles
-        .checked_mul(bytes_per_particle(dim, solver))?
+        .checked_mul(bytes.per_particle)?
+        .checked_add(fluid.checked_mul(bytes.per_fluid)?)?
         .checked_add(BASE_BYTES)
 }
 
@@ -41,11 +85,15 @@ pub(super) fn check_counts(c: &mut Checker, scene: &Scene) {
     let dx = scene.spacing;
     let layers = scene.wall_layers();
     let mut total: Option<u64> = Some(0);
+    let mut fluid: Option<u64> = Some(0);
     let mut complete = true;
     for (i, fb) in scene.fluid_boxes.iter().enumerate() {
         let path = KeyPath::key("fluid_box").i(i);
         match generate::fluid_box_count(fb, dx, &path) {
-            Ok(n) => total = total.and_then(|t| t.checked_add(n)),
+            Ok(n) => {
+                total = total.and_then(|t| t.checked_add(n));
+                fluid = fluid.and_then(|t| t.checked_add(n));
+            }
             Err(p) => {
                 c.problems.push(p);
                 complete = false;
@@ -73,8 +121,8 @@ pub(super) fn check_counts(c: &mut Checker, scene: &Scene) {
         );
         return;
     };
-    let per = bytes_per_particle(scene.dimension, scene.solver.kind);
-    let bytes = run_bytes(total, scene.dimension, scene.solver.kind);
+    let per = scene_particle_bytes(scene);
+    let bytes = fluid.and_then(|fluid| run_bytes(total, fluid, per));
     let bytes_txt = bytes.map_or_else(|| "more than 2^64".to_string(), |b| format!("{b}"));
     if total > u64::from(u32::MAX) {
         c.err(
@@ -92,7 +140,8 @@ pub(super) fn check_counts(c: &mut Checker, scene: &Scene) {
         c.err(
             key,
             format!(
-                "spacing {dx} m gives {total} particles needing about {bytes_txt} bytes ({per} per particle and {BASE_BYTES} for the program), more than the {limit} bytes available ({what})"
+                "spacing {dx} m gives {total} particles needing about {bytes_txt} bytes ({} per particle, {} more per fluid particle and {BASE_BYTES} for the program), more than the {limit} bytes available ({what})",
+                per.per_particle, per.per_fluid
             ),
         );
     }

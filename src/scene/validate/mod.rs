@@ -31,7 +31,9 @@ mod step_bounds;
 use geometry::{check_box, check_geometry};
 use keys::{check_motion, check_name, check_solver, rotating_frame};
 use memory::check_counts;
-pub use memory::{BASE_BYTES, bytes_per_particle, run_bytes};
+pub use memory::{
+    BASE_BYTES, ParticleBytes, frame_bytes_per_particle, particle_bytes, run_bytes, scene_particle_bytes,
+};
 use probes::check_probe;
 pub use step_bounds::{CORRECTED_FLOW_FACTOR, CORRECTED_GRAVITY_FACTOR, corrected_step_bound};
 use step_bounds::{check_acoustic_step, check_corrected_step};
