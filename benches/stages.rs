@@ -238,7 +238,7 @@ fn correction_sweep<const D: usize>(group: &mut BenchmarkGroup<WallTime>, p: &mu
         config.spacing,
         config.rho0,
         kappa,
-        f64::from(params.density_spiky_scale),
+        params.density_weight(),
     );
     let relaxation = config.correction.unwrap_or_default().relaxation;
     let tau = p.dt;

@@ -19,7 +19,7 @@ SPH_KERNEL(density)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
             d = pair_offset(d, &r2, i, j, s.h);
-            sum += mass[j] * w_density(s, p.density_spiky_scale, r2);
+            sum += mass[j] * w_density(s, p, r2);
         }
     });
     density[i] = sum;
@@ -47,7 +47,7 @@ SPH_KERNEL(predicted_density)(u32 n, StepParams p, GridGeometry g,
         float r2 = vdot(d, d);
         if (r2 < s.h2 && j != i) {
             d = pair_offset(d, &r2, i, j, s.h);
-            const vec_t grad = grad_w_density(s, p.density_spiky_scale, d, sqrtf(r2));
+            const vec_t grad = grad_w_density(s, p, d, sqrtf(r2));
             rate += mass[j] * vdot(vsub(ui, vload(vel, j)), grad);
         }
     });

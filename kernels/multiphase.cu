@@ -27,7 +27,7 @@ SPH_KERNEL(density_multiphase)(u32 n, StepParams p, GridGeometry g,
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
             d = pair_offset(d, &r2, i, j, s.h);
-            sigma += w_density(s, p.density_spiky_scale, r2);
+            sigma += w_density(s, p, r2);
         }
     });
     density[i] = mass[i] * sigma;
@@ -59,7 +59,7 @@ SPH_KERNEL(predicted_density_multiphase)(u32 n, StepParams p, GridGeometry g,
         float r2 = vdot(d, d);
         if (r2 < s.h2 && j != i) {
             d = pair_offset(d, &r2, i, j, s.h);
-            const vec_t grad = grad_w_density(s, p.density_spiky_scale, d, sqrtf(r2));
+            const vec_t grad = grad_w_density(s, p, d, sqrtf(r2));
             rate += m_i * vdot(vsub(ui, vload(vel, j)), grad);
         }
     });

@@ -78,8 +78,18 @@ struct StepParams {
     float surface_tension_gamma;    // [AAT13] gamma of the surface tension (0 without it)
     float surface_tension_sigma;    // sigma' of the surface stress (0 unless that model)
     float spacing;                  // initial particle spacing dx [m]
-    float density_spiky_scale;      // kernel of eq. (18): 0 poly6, else this times W_spiky
+    float density_spiky_scale;      // c of the scaled spiky density c W_spiky (unused with poly6)
+    u32 density_kernel;             // kernel of eq. (18): SPH_DENSITY_POLY6 or _SCALED_SPIKY
+    u32 surface_tension_model;      // SPH_SURFACE_STRESS or SPH_SURFACE_AKINCI
+    u32 rotating_frame;             // 1 with the rotating_frame effect, else 0
 };
+
+/// `physics::density::DensityKernel`.
+#define SPH_DENSITY_POLY6 0u
+#define SPH_DENSITY_SCALED_SPIKY 1u
+/// `backend::SurfaceTensionModel`.
+#define SPH_SURFACE_STRESS 0u
+#define SPH_SURFACE_AKINCI 1u
 
 /// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of
 /// size h over the domain, padded by one cell on each side.
@@ -186,10 +196,13 @@ __device__ __forceinline__ float w_spiky(const Smoothing& s, float r) {
     return s.spiky * q * q * q;
 }
 
-/// The kernel of eq. (18) at squared distance r2 [1/m^D]: poly6 when `spiky_scale` is 0, else
-/// `spiky_scale * W_spiky(r)` (the corrected solver). Twin of `physics::density::density_kernel`.
-__device__ __forceinline__ float w_density(const Smoothing& s, float spiky_scale, float r2) {
-    return spiky_scale > 0.0f ? spiky_scale * w_spiky(s, sqrtf(r2)) : w_poly6(s, r2);
+/// The kernel of eq. (18) at squared distance r2 [1/m^D]: poly6, or `p.density_spiky_scale *
+/// W_spiky(r)` (the corrected solver), as `p.density_kernel` says. Twin of
+/// `physics::density::density_kernel`.
+__device__ __forceinline__ float w_density(const Smoothing& s, const StepParams& p, float r2) {
+    return p.density_kernel == SPH_DENSITY_SCALED_SPIKY
+               ? p.density_spiky_scale * w_spiky(s, sqrtf(r2))
+               : w_poly6(s, r2);
 }
 
 /// Gradient of the spiky kernel at offset x, |x| = r [1/m^(D+1)]; the magnitude is taken at r no
@@ -210,11 +223,13 @@ __device__ __forceinline__ vec_t grad_w_poly6(const Smoothing& s, vec_t x) {
 }
 
 /// Gradient of the kernel of eq. (18) (`w_density`) at offset x = x_i - x_j, |x| = r
-/// [1/m^(D+1)]: the poly6 gradient when `spiky_scale` is 0, else `spiky_scale` times the spiky
-/// gradient. Twin of `physics::density::density_kernel_gradient`.
-__device__ __forceinline__ vec_t grad_w_density(const Smoothing& s, float spiky_scale, vec_t x,
+/// [1/m^(D+1)]: the poly6 gradient, or `p.density_spiky_scale` times the spiky gradient, as
+/// `p.density_kernel` says. Twin of `physics::density::density_kernel_gradient`.
+__device__ __forceinline__ vec_t grad_w_density(const Smoothing& s, const StepParams& p, vec_t x,
                                                 float r) {
-    return spiky_scale > 0.0f ? vscale(grad_w_spiky(s, x, r), spiky_scale) : grad_w_poly6(s, x);
+    return p.density_kernel == SPH_DENSITY_SCALED_SPIKY
+               ? vscale(grad_w_spiky(s, x, r), p.density_spiky_scale)
+               : grad_w_poly6(s, x);
 }
 
 /// Twin of `physics::density::SURFACE_DENSITY_RATIO`: below this rho/rho0 the velocity solve

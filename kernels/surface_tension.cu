@@ -1,6 +1,6 @@
 // Stages `surface_normals` and `surface_tension`, both surface-tension models: the capillary
 // stress of the surface layers with artificial stress (`physics::surface_stress`, when
-// p.surface_tension_sigma > 0) or [AAT13] Akinci, Akinci & Teschner 2013 cohesion and curvature
+// p.surface_tension_model == SPH_SURFACE_STRESS) or [AAT13] Akinci, Akinci & Teschner 2013 cohesion and curvature
 // forces between fluid particles. Twins of `CpuBackend::surface_normals`,
 // `CpuBackend::surface_tension` and the physics modules (same f32 operations in the same order
 // per pair; only the order of the neighbour sums differs). Launched only in scenes with the
@@ -36,7 +36,7 @@ SPH_KERNEL(surface_normals)(u32 n, StepParams p, GridGeometry g, const u32* __re
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     vec_t sum = vzero();
-    const bool rest_volume = p.surface_tension_sigma > 0.0f;
+    const bool rest_volume = p.surface_tension_model == SPH_SURFACE_STRESS;
     if (kind[i] == SPH_FLUID) {
         const Smoothing s = smoothing(p.h);
         const vec_t xi = vload(pos, i);
@@ -112,7 +112,7 @@ __device__ __forceinline__ void surface_stress(u32 i, const StepParams& p, const
 
 /// [AAT13] eqs. (1)-(5): adds sum_j -gamma K_ij (m_j C(r) x_ij/r + n_i - n_j) over fluid
 /// neighbours to the acceleration of fluid particle i [m/s^2], K_ij = 2 rho0/(rho_i + rho_j).
-/// With p.surface_tension_sigma > 0 the surface stress (above) instead.
+/// With p.surface_tension_model == SPH_SURFACE_STRESS the surface stress (above) instead.
 SPH_KERNEL(surface_tension)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,
                             const u32* __restrict__ cell_key, const float* __restrict__ pos,
                             const float* __restrict__ mass, const float* __restrict__ density,
@@ -121,7 +121,7 @@ SPH_KERNEL(surface_tension)(u32 n, StepParams p, GridGeometry g, const u32* __re
                             float* __restrict__ acc) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] != SPH_FLUID) return;
-    if (p.surface_tension_sigma > 0.0f) {
+    if (p.surface_tension_model == SPH_SURFACE_STRESS) {
         surface_stress(i, p, g, cell_start, cell_key, pos, mass, rest_density, has_rest, kind, normal,
                        acc);
         return;

@@ -40,7 +40,7 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
             d = pair_offset(d, &r2, w, j, s.h);
             float wj = w_poly6(s, r2);
             // Eq. (18)'s own kernel for the summed density (poly6, or the corrected solver's spiky).
-            const float wd = w_density(s, p.density_spiky_scale, r2);
+            const float wd = w_density(s, p, r2);
             if (MULTIPHASE)
                 summed_density += wd;  // [HA06] number density
             else
@@ -59,9 +59,7 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
         vec_t body;
         for (int k = 0; k < D; ++k) body.c[k] = p.gravity[k] - a_w.c[k];
         // In a rotating frame: plus the centrifugal acceleration at the wall ([B67] 3.2).
-        const float* w_ = p.angular_velocity;
-        if (w_[0] != 0.0f || w_[1] != 0.0f || w_[2] != 0.0f)
-            body = vadd(body, rotating_frame_centrifugal(p, xw));
+        if (p.rotating_frame) body = vadd(body, rotating_frame_centrifugal(p, xw));
         pw = fmaxf((pressure_sum + vdot(body, density_offset)) / weight, 0.0f);
     }
     if (extrapolated_or_summed) pw = fmaxf(pw, fmaxf(p.c2 * (summed_density - p.rho0), 0.0f));

@@ -2,11 +2,14 @@
 //! bit-identical states on the CPU backend (the restart also on another thread count), for both
 //! solvers; damaged or foreign checkpoints are refused with an error naming the problem.
 
+mod common;
+
+use common::scratch;
 use sph::run::AnySimulation;
 use sph::scene::load_scene;
 use sph::solver::Simulation;
 use sph::solver::checkpoint::{Checkpoint, CheckpointError};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/dam_break_2d.toml");
 
@@ -17,12 +20,6 @@ fn sim(sets: &[&str]) -> Simulation<2> {
         AnySimulation::D2(s) => s,
         AnySimulation::D3(_) => unreachable!("2D scene"),
     }
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_checkpoint_test_{}_{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
 }
 
 fn steps(sim: &mut Simulation<2>, n: usize) {

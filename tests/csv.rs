@@ -2,6 +2,9 @@
 //! the column, and the files the program writes read back through it with their unit-named
 //! columns (`output::csv`'s convention).
 
+mod common;
+
+use common::scratch;
 use sph::bench::{BENCH_COLUMNS, BenchRow, STAGE_COLUMNS, stages_csv, to_csv};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
@@ -9,22 +12,8 @@ use sph::output::{CsvFile, CsvReadError};
 use sph::probe::ProbeLog;
 use sph::scene::parse_scene;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A fresh empty directory under the system temp dir.
-fn scratch(name: &str) -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "sph_csv_test_{}_{}_{}",
-        std::process::id(),
-        name,
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();

@@ -10,6 +10,7 @@ use sph::backend::{Backend, WallModel};
 use sph::fields::{FLUID, Fields};
 use sph::grid::neighbours_naive;
 use sph::math::{Real, Vector};
+use sph::physics::density::DensityWeight;
 
 /// Parameters with a water-like state, support `h` [m].
 fn params<const D: usize>(h: f32) -> StepParams<D> {
@@ -31,6 +32,9 @@ fn params<const D: usize>(h: f32) -> StepParams<D> {
         surface_tension_sigma: 0.0,
         spacing: 0.0,
         density_spiky_scale: 0.0,
+        density_kernel: sph::physics::density::DensityKernel::Poly6,
+        surface_tension_model: sph::backend::SurfaceTensionModel::SurfaceStress,
+        rotating_frame: 0,
     }
 }
 
@@ -648,14 +652,15 @@ const DENSITY_REL: f32 = 1.0e-5;
 
 fn check_density<const D: usize>(k: &Kernels<D>, seed: u64) {
     // Both kernels of (18): poly6 (wcsph) and the corrected solver's scaled spiky kernel.
-    for spiky_scale in [0.0, 0.82] {
-        check_density_with(k, seed, spiky_scale);
+    for weight in [DensityWeight::POLY6, DensityWeight::spiky(0.82)] {
+        check_density_with(k, seed, weight);
     }
 }
 
-fn check_density_with<const D: usize>(k: &Kernels<D>, seed: u64, spiky_scale: f32) {
+fn check_density_with<const D: usize>(k: &Kernels<D>, seed: u64, weight: DensityWeight) {
     let mut s = setup::<D>(seed);
-    s.params.density_spiky_scale = spiky_scale;
+    s.params.density_kernel = weight.kernel;
+    s.params.density_spiky_scale = weight.spiky_scale;
     let mut cpu_fields = s.fields.clone();
     let mut cpu = CpuBackend::<D>::new();
     cpu.sort_by_cell(&mut cpu_fields, s.params.h)
@@ -674,7 +679,7 @@ fn check_density_with<const D: usize>(k: &Kernels<D>, seed: u64, spiky_scale: f3
         if fluid(id) {
             assert!(
                 close(a[id], b[id], DENSITY_REL, 0.0),
-                "density of {id} (spiky scale {spiky_scale}): cpu {} shim {}",
+                "density of {id} ({weight:?}): cpu {} shim {}",
                 a[id],
                 b[id]
             );
@@ -686,7 +691,7 @@ fn check_density_with<const D: usize>(k: &Kernels<D>, seed: u64, spiky_scale: f3
     let max = a.iter().copied().fold(0.0, f32::max);
     assert!(max > 0.8 * s.params.rho0, "max density {max}");
     eprintln!(
-        "density D={D}, spiky scale {spiky_scale}: max relative difference {:.2e}",
+        "density D={D}, {weight:?}: max relative difference {:.2e}",
         max_rel_diff(&a, &b, fluid)
     );
 }
@@ -812,6 +817,7 @@ fn check_wall_pressure<const D: usize>(k: &Kernels<D>, seed: u64) {
     for model in [WallModel::ExtrapolatedOrSummed, WallModel::Extrapolated] {
         let mut params = s.params;
         params.angular_velocity = [2.0, 3.0, 6.0];
+        params.rotating_frame = 1;
         params.rotation_centre = Vector::repeat(0.5);
         let reach = 49.0 * (D as f32).sqrt() * 0.5; // |Ω|² times the farthest corner
         let p_abs = p_abs + 1.0e-5 * 1.1 * params.rho0 * reach * params.h;
@@ -990,4 +996,46 @@ fn check_neighbours<const D: usize>(k: &Kernels<D>, seed: u64) {
 fn candidate_neighbours_on_the_shim_equal_the_brute_force_set() {
     check_neighbours(&KERNELS_2, 0x2545f4914f6cdd1d);
     check_neighbours(&KERNELS_3, 0x9e3779b97f4a7c15);
+}
+
+/// `StepParams<D>` (`#[repr(C)]`) and its mirror in `kernels/sph.cuh` have the same size and
+/// field offsets, as the host compiler lays the C++ struct out (the kernels read the Rust
+/// struct's bytes).
+fn rust_step_params_layout<const D: usize>() -> Vec<u64> {
+    use std::mem::offset_of;
+    let offsets = [
+        std::mem::size_of::<StepParams<D>>(),
+        offset_of!(StepParams<D>, h),
+        offset_of!(StepParams<D>, rho0),
+        offset_of!(StepParams<D>, c2),
+        offset_of!(StepParams<D>, mu),
+        offset_of!(StepParams<D>, alpha),
+        offset_of!(StepParams<D>, c),
+        offset_of!(StepParams<D>, pressure_gradient_scale),
+        offset_of!(StepParams<D>, gravity),
+        offset_of!(StepParams<D>, domain_min),
+        offset_of!(StepParams<D>, domain_max),
+        offset_of!(StepParams<D>, angular_velocity),
+        offset_of!(StepParams<D>, rotation_centre),
+        offset_of!(StepParams<D>, viscosity_scale),
+        offset_of!(StepParams<D>, surface_tension_gamma),
+        offset_of!(StepParams<D>, surface_tension_sigma),
+        offset_of!(StepParams<D>, spacing),
+        offset_of!(StepParams<D>, density_spiky_scale),
+        offset_of!(StepParams<D>, density_kernel),
+        offset_of!(StepParams<D>, surface_tension_model),
+        offset_of!(StepParams<D>, rotating_frame),
+    ];
+    offsets.iter().map(|&o| o as u64).collect()
+}
+
+#[test]
+fn step_params_has_the_same_layout_in_rust_and_in_the_kernels() {
+    let mut cpp = vec![0u64; shim::STEP_PARAMS_FIELDS + 1];
+    // SAFETY: the launcher writes STEP_PARAMS_FIELDS + 1 values.
+    unsafe { shim::sph_shim_step_params_layout_2(cpp.as_mut_ptr()) };
+    assert_eq!(cpp, rust_step_params_layout::<2>(), "2D: size, then offsets");
+    // SAFETY: as above.
+    unsafe { shim::sph_shim_step_params_layout_3(cpp.as_mut_ptr()) };
+    assert_eq!(cpp, rust_step_params_layout::<3>(), "3D: size, then offsets");
 }

@@ -137,6 +137,9 @@ fn scene<const D: usize>(seed: u64, two_phases: bool) -> (Fields<D>, StepParams<
         surface_tension_sigma: 0.0,
         spacing: DX,
         density_spiky_scale: 0.0,
+        density_kernel: sph::physics::density::DensityKernel::ScaledSpiky,
+        surface_tension_model: sph::backend::SurfaceTensionModel::SurfaceStress,
+        rotating_frame: 0,
     };
     p.density_spiky_scale = lattice_spiky_scale(&p.smoothing(), f64::from(DX)) as Real;
     (f, p)
@@ -150,7 +153,7 @@ fn stiffness<const D: usize>(p: &StepParams<D>) -> f32 {
         f64::from(DX),
         f64::from(RHO0),
         kappa,
-        f64::from(p.density_spiky_scale),
+        p.density_weight(),
     );
     (0.5 * k / f64::from(TAU * TAU)) as f32
 }

@@ -27,7 +27,9 @@ use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::physics::artificial_viscosity::artificial_viscous_acceleration;
 use sph::physics::correction::MOMENTUM;
-use sph::physics::density::{SURFACE_DENSITY_RATIO, density_kernel_gradient, velocity_solve_base};
+use sph::physics::density::{
+    DensityWeight, SURFACE_DENSITY_RATIO, density_kernel_gradient, velocity_solve_base,
+};
 use sph::physics::pressure::pressure_acceleration;
 use sph::physics::rotating_frame::rotating_frame_acceleration;
 use sph::physics::viscosity::viscous_acceleration;
@@ -145,6 +147,9 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         surface_tension_sigma: 0.0,
         spacing: 0.0,
         density_spiky_scale: 0.0,
+        density_kernel: sph::physics::density::DensityKernel::Poly6,
+        surface_tension_model: sph::backend::SurfaceTensionModel::SurfaceStress,
+        rotating_frame: 1,
     };
     (f, p)
 }
@@ -731,9 +736,10 @@ fn correct_positions_matches_the_cpu_stage_with_scaling_3d() {
 /// terms are in the sums; masses vary by ±20 % so that `m_j` cannot pass for `m_i`. The starting
 /// densities spread over `(0.98 ± 0.03) ρ0`, so that both sides of the base rule
 /// (`velocity_solve_base`: ρ0 inside, the own density at the free surface) are taken.
-fn check_predicted_density<const D: usize>(seed: u64, spiky_scale: f32) {
+fn check_predicted_density<const D: usize>(seed: u64, weight: DensityWeight) {
     let (mut f, mut p) = scene::<D>(seed);
-    p.density_spiky_scale = spiky_scale;
+    p.density_kernel = weight.kernel;
+    p.density_spiky_scale = weight.spiky_scale;
     let mut rng = Rng(seed ^ 0x600d);
     for m in f.mass.iter_mut() {
         *m *= 1.0 + rng.sym(0.2);
@@ -793,7 +799,7 @@ fn check_predicted_density<const D: usize>(seed: u64, spiky_scale: f32) {
         }
         let mut terms = 0.0f64;
         for (j, d, r) in neighbours(&f, p.h, id) {
-            let grad = density_kernel_gradient(&kernel, spiky_scale, &d, r);
+            let grad = density_kernel_gradient(&kernel, weight, &d, r);
             terms += f64::from(f.mass[j] * (f.velocity[id] - f.velocity[j]).dot(&grad)).abs();
         }
         let scale = f64::from(tau) * terms;
@@ -806,13 +812,13 @@ fn check_predicted_density<const D: usize>(seed: u64, spiky_scale: f32) {
         let diff = f64::from(shim - cpu_rho).abs();
         assert!(
             diff <= SUM_ORDER * scale + eps * f64::from(cpu_rho).abs(),
-            "{D}D, spiky scale {spiky_scale}: fluid {id}: shim {shim} cpu {cpu_rho} (scale {scale})"
+            "{D}D, {weight:?}: fluid {id}: shim {shim} cpu {cpu_rho} (scale {scale})"
         );
         worst = worst.max(diff);
         largest_change = largest_change.max(f64::from(cpu_rho - p.rho0).abs());
     }
     eprintln!(
-        "{D}D predicted_density, spiky scale {spiky_scale}: largest |shim - cpu| = {worst:.2e} kg/m³ \
+        "{D}D predicted_density, {weight:?}: largest |shim - cpu| = {worst:.2e} kg/m³ \
          (f32 spacing at ρ0: {:.1e}), largest |ρ* − ρ0| = {largest_change:.3} kg/m³",
         f32::from_bits(p.rho0.to_bits() + 1) - p.rho0
     );
@@ -825,15 +831,15 @@ fn check_predicted_density<const D: usize>(seed: u64, spiky_scale: f32) {
 
 #[test]
 fn predicted_density_matches_the_cpu_stage_for_both_density_kernels_2d() {
-    for spiky_scale in [0.0, 0.82] {
-        check_predicted_density::<2>(0x2468_ace0_1357_9bdf, spiky_scale);
+    for weight in [DensityWeight::POLY6, DensityWeight::spiky(0.82)] {
+        check_predicted_density::<2>(0x2468_ace0_1357_9bdf, weight);
     }
 }
 
 #[test]
 fn predicted_density_matches_the_cpu_stage_for_both_density_kernels_3d() {
-    for spiky_scale in [0.0, 0.82] {
-        check_predicted_density::<3>(0x1357_9bdf_2468_ace0, spiky_scale);
+    for weight in [DensityWeight::POLY6, DensityWeight::spiky(0.82)] {
+        check_predicted_density::<3>(0x1357_9bdf_2468_ace0, weight);
     }
 }
 

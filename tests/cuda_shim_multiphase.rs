@@ -415,9 +415,13 @@ fn multiphase_predicted_density_on_the_shim_matches_the_cpu_stage() {
     let (input, params) = state();
     let kind = by_id(&input, &input.kind);
     let fluid = |id: usize| kind[id] == FLUID;
-    for spiky_scale in [0.0, 0.82] {
+    for weight in [
+        sph::physics::density::DensityWeight::POLY6,
+        sph::physics::density::DensityWeight::spiky(0.82),
+    ] {
         let mut p = params;
-        p.density_spiky_scale = spiky_scale;
+        p.density_kernel = weight.kernel;
+        p.density_spiky_scale = weight.spiky_scale;
         let mut cpu_f = input.clone();
         let mut cpu = CpuBackend::<2>::new();
         cpu.sort_by_cell(&mut cpu_f, p.h).expect("finite");
@@ -455,9 +459,7 @@ fn multiphase_predicted_density_on_the_shim_matches_the_cpu_stage() {
             .filter(|&id| fluid(id))
             .map(|id| (a[id] - rest[id]).abs())
             .fold(0.0f32, f32::max);
-        eprintln!(
-            "predicted density, spiky scale {spiky_scale}: worst {d:.3e} of {m:.1}, largest |ρ* − ρ0_i| {change:.3}"
-        );
+        eprintln!("predicted density, {weight:?}: worst {d:.3e} of {m:.1}, largest |ρ* − ρ0_i| {change:.3}");
         assert!(m > 700.0 && d <= 1e-5 * m, "predicted density differs by {d}");
         assert!(change > 1.0, "the velocities change the density: {change}");
         for id in (0..a.len()).filter(|&id| !fluid(id)) {

@@ -10,11 +10,11 @@
 //! most 2 (N − 1) u Σ|t_j| (u = 2^-24); [`SUM_ORDER`] = 1e-5 of Σ|t_j| covers N up to ~80.
 #![cfg(feature = "cuda")]
 
-use sph::backend::Backend;
 use sph::backend::cpu::CpuBackend;
 use sph::backend::cuda::grid::GridGeometry;
 use sph::backend::cuda::shim;
 use sph::backend::params::StepParams;
+use sph::backend::{Backend, SurfaceTensionModel};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::physics::surface_stress::{surface_stress_acceleration, tensile_factor};
@@ -113,6 +113,13 @@ fn droplet<const D: usize>(seed: u64, model: Model) -> (Fields<D>, StepParams<D>
         surface_tension_sigma: if model == Model::Akinci { 0.0 } else { 5.0 },
         spacing: DX,
         density_spiky_scale: 0.0,
+        density_kernel: sph::physics::density::DensityKernel::Poly6,
+        surface_tension_model: if model == Model::Akinci {
+            SurfaceTensionModel::Akinci
+        } else {
+            SurfaceTensionModel::SurfaceStress
+        },
+        rotating_frame: 0,
     };
     (f, p)
 }
@@ -154,7 +161,7 @@ fn term_scales<const D: usize>(
     i: usize,
 ) -> (f64, f64) {
     let kernel = Smoothing::<D>::new(p.h).expect("2D or 3D");
-    let stress = p.surface_tension_sigma > 0.0;
+    let stress = p.surface_tension_model == SurfaceTensionModel::SurfaceStress;
     let w_dx = kernel.w(p.spacing * p.spacing);
     let (mut sn, mut sa) = (0.0f64, f64::from(f.acceleration[i].norm()));
     for j in 0..f.len() {

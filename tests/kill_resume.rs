@@ -6,6 +6,9 @@
 //! resident set). Both solvers, 10 kill points
 //! each (proptest; CI fixes the seed).
 
+mod common;
+
+use common::fresh_path as scratch;
 use proptest::prelude::*;
 use sph::output::{PvdSeries, Summary, read_summary};
 use std::path::{Path, PathBuf};
@@ -16,12 +19,6 @@ use std::time::{Duration, Instant};
 const BIN: &str = env!("CARGO_BIN_EXE_sph");
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/dam_break_2d.toml");
 const END: &str = "0.15";
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_kill_resume_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
 
 fn command(solver: &str, out: &Path, every: u64) -> Command {
     let mut c = Command::new(BIN);

@@ -1,5 +1,8 @@
 //! Integration tests for the output module.
 
+mod common;
+
+use common::{assert_no_tmp_left, scratch};
 use sph::output::{
     CsvFile, Encoding, ForceLog, Frame, OutputError, PvdSeries, Summary, VtkType, VtuSection, read_summary,
     read_vtu, read_vtu_header, read_vtu_points, write_summary, write_vtu,
@@ -7,23 +10,9 @@ use sph::output::{
 
 use nalgebra::SVector;
 use proptest::prelude::*;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
 /// A fresh empty scratch directory under the system temp dir.
-fn scratch(name: &str) -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "sph_output_test_{}_{}_{}",
-        std::process::id(),
-        name,
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// Owned particle data for building a [`Frame`].
 #[derive(Debug, Clone)]
 struct Particles<const D: usize> {
@@ -768,17 +757,5 @@ proptest! {
             check_prop(&path, t, &p)?;
         }
         std::fs::remove_dir_all(&dir).unwrap();
-    }
-}
-
-/// No temporary file of an atomic write is left in `dir`.
-fn assert_no_tmp_left(dir: &std::path::Path) {
-    for entry in std::fs::read_dir(dir).expect("folder") {
-        let name = entry.expect("entry").file_name().to_string_lossy().into_owned();
-        assert!(
-            !sph::output::safe_file::is_tmp_name(&name),
-            "{name} left in {}",
-            dir.display()
-        );
     }
 }

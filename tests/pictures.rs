@@ -5,6 +5,9 @@
 //! scratch folders. The golden tests draw synthetic frames built in code and compare them with
 //! `tests/golden/*.png`; `SPH_BLESS=1` writes those files (commit them, and say why).
 
+mod common;
+
+use common::scratch_dir as scratch;
 use sph::bench::{BenchRow, timing_figure};
 use sph::output::plot::{write_png, write_rgb_png};
 use sph::render::colormap::ColorRange;
@@ -16,22 +19,6 @@ use std::process::{Command, Output};
 
 const BIN: &str = env!("CARGO_BIN_EXE_sph");
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
-
-/// A fresh scratch folder, removed when dropped.
-struct Scratch(PathBuf);
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn scratch(name: &str) -> Scratch {
-    let dir = std::env::temp_dir().join(format!("sph_pictures_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    Scratch(dir)
-}
 
 fn sph(args: &[&str]) -> Output {
     Command::new(BIN)
@@ -179,8 +166,8 @@ fn png_files(dir: &Path) -> Vec<PathBuf> {
 #[test]
 fn render_draws_every_frame_of_a_2d_run_on_one_colour_scale() {
     let dir = scratch("render2d");
-    let run = tiny_2d_run(&dir.0);
-    let out = dir.0.join("pictures");
+    let run = tiny_2d_run(&dir);
+    let out = dir.join("pictures");
     let stdout = sph_ok(&["render", run.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert!(stdout.contains("wrote 4 pictures"), "{stdout}");
     let files = png_files(&out);
@@ -223,7 +210,7 @@ fn render_draws_every_frame_of_a_2d_run_on_one_colour_scale() {
     assert_ne!(first.rgb, last.rgb);
 
     // --every 2 draws frames 0 and 2; other options reach the pictures.
-    let every = dir.0.join("every");
+    let every = dir.join("every");
     sph_ok(&[
         "render",
         run.to_str().unwrap(),
@@ -250,10 +237,10 @@ fn render_draws_every_frame_of_a_2d_run_on_one_colour_scale() {
 #[test]
 fn render_draws_a_3d_run_in_each_view() {
     let dir = scratch("render3d");
-    let run = tiny_3d_run(&dir.0);
+    let run = tiny_3d_run(&dir);
     let mut pictures = Vec::new();
     for view in ["side", "top", "iso"] {
-        let out = dir.0.join(view);
+        let out = dir.join(view);
         sph_ok(&[
             "render",
             run.to_str().unwrap(),
@@ -285,12 +272,12 @@ fn render_draws_a_3d_run_in_each_view() {
 #[test]
 fn plot_charts_forces_probes_and_steps_with_reference_data() {
     let dir = scratch("plot");
-    let run = tiny_2d_run(&dir.0);
-    let out = dir.0.join("charts");
+    let run = tiny_2d_run(&dir);
+    let out = dir.join("charts");
     let scene = format!("{ROOT}/scenes/dam_break_2d.toml");
     // A made-up front record in the format of the scene's reference file (the chart is tested,
     // not the data).
-    let refs = dir.0.join("reference");
+    let refs = dir.join("reference");
     std::fs::create_dir_all(&refs).unwrap();
     std::fs::write(
         refs.join("martin_moyce_1952_surge_front.csv"),
@@ -350,7 +337,7 @@ fn plot_charts_forces_probes_and_steps_with_reference_data() {
     );
     summary["scene_file"] = "/no/such/scene.toml".into();
     std::fs::write(&summary_path, serde_json::to_vec(&summary).unwrap()).unwrap();
-    let plain_dir = dir.0.join("plain");
+    let plain_dir = dir.join("plain");
     sph_ok(&[
         "plot",
         run.to_str().unwrap(),
@@ -374,8 +361,8 @@ fn fails_with(args: &[&str], needle: &str) {
 #[test]
 fn bad_run_directories_fail_with_one_line() {
     let dir = scratch("errors");
-    let missing = dir.0.join("no_such_run");
-    let empty = dir.0.join("empty");
+    let missing = dir.join("no_such_run");
+    let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let (missing, empty) = (missing.to_str().unwrap(), empty.to_str().unwrap());
     fails_with(&["render", missing], "does not exist");
@@ -384,7 +371,7 @@ fn bad_run_directories_fail_with_one_line() {
     fails_with(&["plot", empty], "has no forces.csv, probes.csv or steps.csv");
     fails_with(&["render", empty, "--every", "0"], "--every must be at least 1");
     // An empty series and a frame that is not a VTK file.
-    let run = dir.0.join("broken");
+    let run = dir.join("broken");
     std::fs::create_dir_all(run.join("frames")).unwrap();
     let pvd = run.join("particles.pvd");
     std::fs::write(
@@ -586,7 +573,7 @@ fn bench_chart_is_log_log_with_one_line_per_backend() {
     assert_eq!(figure.series[0].points, vec![(1e4, 0.05), (1e5, 0.5)]);
     assert_eq!(figure.series[1].points, vec![(1e4, 0.004), (1e5, 0.01)]);
     let dir = scratch("bench");
-    let path = dir.0.join("bench.png");
+    let path = dir.join("bench.png");
     write_png(&figure, &path, (900, 600)).unwrap();
     let image = Image::read(&path);
     assert_eq!((image.width, image.height), (900, 600));

@@ -1,40 +1,13 @@
 //! Integration tests for the PNG figure writer (`output::plot`).
 
+mod common;
+
+use common::{assert_no_tmp_left, scratch_dir as scratch};
 use sph::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
 /// The 8-byte signature every PNG file starts with.
 const PNG_SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
-
-/// A fresh empty scratch directory under the system temp dir, removed when dropped.
-struct Scratch(PathBuf);
-
-impl std::ops::Deref for Scratch {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn scratch(name: &str) -> Scratch {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "sph_plot_test_{}_{}_{}",
-        std::process::id(),
-        name,
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    Scratch(dir)
-}
 
 /// Width and height from the IHDR chunk, after checking the signature and
 /// that IHDR is the first chunk (PNG spec, sections 5.2 and 11.2.2).
@@ -212,16 +185,4 @@ fn unwritable_path_gives_an_error_naming_the_path() {
     assert!(matches!(err, PlotError::Io { .. }), "{err}");
     let message = err.to_string();
     assert!(message.contains(&path.display().to_string()), "{message}");
-}
-
-/// No temporary file of an atomic write is left in `dir`.
-fn assert_no_tmp_left(dir: &std::path::Path) {
-    for entry in std::fs::read_dir(dir).expect("folder") {
-        let name = entry.expect("entry").file_name().to_string_lossy().into_owned();
-        assert!(
-            !sph::output::safe_file::is_tmp_name(&name),
-            "{name} left in {}",
-            dir.display()
-        );
-    }
 }

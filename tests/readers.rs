@@ -9,6 +9,9 @@
 //! most `2 Δt max(|u|max, |g| Δt)`, while the storage order changes), the `TimeValue` of each
 //! file equals its time in the `.pvd`, and 2D surfaces are line cells, 3D surfaces triangles.
 
+mod common;
+
+use common::scratch;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -24,13 +27,6 @@ const BIN: &str = env!("CARGO_BIN_EXE_sph");
 
 /// |g| of the scenes below [m/s²].
 const GRAVITY: f64 = 9.81;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_readers_test_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
 
 /// One `.vtu` or `.vtp` file as vtkio reads it.
 #[derive(Debug, Default)]

@@ -4,20 +4,17 @@
 //! And the state guards: a run that loses a particle or meets a non-finite value stops naming the
 //! step, the time, the particle and the quantity, and keeps its last good frame and checkpoint.
 
+mod common;
+
+use common::fresh_path as scratch;
 use sph::output::{PvdSeries, read_summary, read_vtu};
 use sph::solver::checkpoint::Checkpoint;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 const BIN: &str = env!("CARGO_BIN_EXE_sph");
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/dam_break_2d.toml");
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_restart_test_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
 
 fn command(out: &Path) -> Command {
     let mut c = Command::new(BIN);

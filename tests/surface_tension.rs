@@ -145,7 +145,7 @@ fn core_pressure(sim: &Simulation<2>, radius: f64) -> (f64, f64, f64) {
         neighbours(i, Box::new(|j, _, r2| *r += f.mass[j] * kernel.w(r2)));
     }
     let pressure: Vec<Real> = rho.iter().map(|&r| eos::pressure(r, p.rho0, p.c2)).collect();
-    let stress = p.surface_tension_sigma > 0.0;
+    let stress = p.surface_tension_model == sph::backend::SurfaceTensionModel::SurfaceStress;
     let mut normal = vec![Vector::<2>::zeros(); n];
     for (i, nrm) in normal.iter_mut().enumerate() {
         neighbours(

@@ -49,6 +49,10 @@ pub enum WallModel {
 
 /// The surface-tension model (`fluid.surface_tension_model`), evaluated by the `surface_tension`
 /// stage.
+///
+/// `#[repr(u32)]` as a field of `StepParams`; `kernels/sph.cuh` names the same values
+/// `SPH_SURFACE_*`.
+#[repr(u32)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SurfaceTensionModel {
@@ -56,11 +60,11 @@ pub enum SurfaceTensionModel {
     /// continuum surface force (`physics::surface_stress`); the default: the bulk carries no
     /// stress of its own, so the core of a drop holds the Laplace pressure in its EOS pressure.
     #[default]
-    SurfaceStress,
+    SurfaceStress = 0,
     /// [AAT13] pair cohesion and curvature between all fluid particles within `h`
     /// (`physics::surface_tension`): momentum-conserving pair by pair, but its bulk pressure
     /// (≈ 5σ/h) jams small drops (tests/surface_tension.rs).
-    Akinci,
+    Akinci = 1,
 }
 
 impl SurfaceTensionModel {
@@ -217,14 +221,14 @@ pub trait Backend<const D: usize> {
     /// [AAT13] eq. (3): the surface normal `n_i = h Σ_j (m_j/ρ_j) ∇W(x_ij)` of fluid particles
     /// over fluid neighbours (`physics::surface_tension`), into `Fields::normal` (allocated here
     /// on first use: only scenes with the `surface_tension` effect run this stage); zero for
-    /// solids. With the surface stress (`params.surface_tension_sigma > 0`) each neighbour's rest
+    /// solids. With the surface stress (`params.surface_tension_model`) each neighbour's rest
     /// volume `m_j/ρ0_j` replaces `m_j/ρ_j`: the colour gradient `h ∇c`
     /// (`physics::surface_stress`).
     fn surface_normals(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Adds the surface tension of the fluid neighbours to the acceleration of fluid particles,
-    /// from the normals of the `surface_normals` stage. Runs after `forces`. With
-    /// `params.surface_tension_sigma > 0` the pair force of the capillary stresses
-    /// (`physics::surface_stress`), otherwise [AAT13] eqs. (1)–(5), the cohesion and curvature
+    /// from the normals of the `surface_normals` stage. Runs after `forces`. The model is
+    /// `params.surface_tension_model`: the surface stress, the pair force of the capillary
+    /// stresses (`physics::surface_stress`), or [AAT13] eqs. (1)–(5), the cohesion and curvature
     /// forces with `γ = params.surface_tension_gamma`.
     fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Fig. 4: total force [N] (per unit depth in 2D) of the fluid on each of `solids` solids.

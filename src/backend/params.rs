@@ -2,7 +2,9 @@
 //! instead of loose arguments. `#[repr(C)]` so the CUDA backend can mirror it: `StepParams` in
 //! `kernels/sph.cuh`.
 
+use crate::backend::SurfaceTensionModel;
 use crate::math::{Real, Vector};
+use crate::physics::density::{DensityKernel, DensityWeight};
 use crate::smoothing::Smoothing;
 
 /// Physical constants of a step, in SI units.
@@ -45,19 +47,39 @@ pub struct StepParams<const D: usize> {
     pub surface_tension_gamma: Real,
     /// `σ'` [N/m] (2D: [N]) of the surface stress (`physics::surface_stress`), calibrated so that
     /// the model's surface tension is the scene's `σ`; 0 unless the scene's surface-tension model
-    /// is `surface_stress`. The `surface_tension` stage runs that model when this is positive and
-    /// [AAT13]'s otherwise.
+    /// is `surface_stress`.
     pub surface_tension_sigma: Real,
     /// The initial particle spacing `dx` [m] (the reference distance of the surface stress's
     /// artificial stress, `physics::surface_stress::tensile_factor`).
     pub spacing: Real,
-    /// The kernel of eq. (18) (`physics::density::density_kernel`): 0 for poly6 (20) (`wcsph`),
-    /// else the factor `c` of the spiky density `c W_spiky` (`corrected`,
-    /// `physics::lattice::lattice_spiky_scale`).
+    /// The factor `c` of the spiky density `c W_spiky` (`corrected`,
+    /// `physics::lattice::lattice_spiky_scale`); unused with poly6.
     pub density_spiky_scale: Real,
+    /// The kernel of eq. (18) (`physics::density::density_kernel`): poly6 (20) for `wcsph`, the
+    /// scaled spiky kernel for `corrected`.
+    pub density_kernel: DensityKernel,
+    /// The model the `surface_normals` and `surface_tension` stages evaluate (the scene's
+    /// `fluid.surface_tension_model`; unused without the `surface_tension` effect).
+    pub surface_tension_model: SurfaceTensionModel,
+    /// 1 with the `rotating_frame` effect (the wall pressure adds the centrifugal acceleration,
+    /// [B67] §3.2), 0 without it: `u32` as in `kernels/sph.cuh`.
+    pub rotating_frame: u32,
 }
 
 impl<const D: usize> StepParams<D> {
+    /// The kernel of eq. (18) with its factor.
+    pub fn density_weight(&self) -> DensityWeight {
+        DensityWeight {
+            kernel: self.density_kernel,
+            spiky_scale: self.density_spiky_scale,
+        }
+    }
+
+    /// Whether the scene has the `rotating_frame` effect.
+    pub fn rotating(&self) -> bool {
+        self.rotating_frame != 0
+    }
+
     /// The kernels for this `h`.
     ///
     /// `h` was validated at construction (`Simulation::new`), so the dimension is supported.

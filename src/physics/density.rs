@@ -1,6 +1,6 @@
 //! Eq. (18): density by summation, `ρ_i = Σ_j m_j W_ρ(|x_i − x_j|, h)`.
 //!
-//! Which kernel `W_ρ` is summed depends on the solver (`StepParams::density_spiky_scale`):
+//! Which kernel `W_ρ` is summed depends on the solver ([`DensityKernel`], `StepParams::density_kernel`):
 //! - `wcsph`: the poly6 kernel (20), as the paper prints it.
 //! - `corrected`: the spiky kernel (21) times the lattice factor `c = Σ W_poly6 / Σ W_spiky`
 //!   ([`crate::physics::lattice::lattice_spiky_scale`]), so a particle of the initial lattice
@@ -20,14 +20,51 @@
 use crate::math::{Real, Vector};
 use crate::smoothing::Smoothing;
 
-/// The kernel of eq. (18) [1/m^D] at squared distance `r2` [m²]: poly6 (20) when `spiky_scale`
-/// is 0, else `spiky_scale · W_spiky(r)` (21) (module doc).
+/// The kernel `W_ρ` of the density sum (18), chosen by the solver (module doc). `#[repr(u32)]`
+/// as a field of `StepParams`; `kernels/sph.cuh` names the same values `SPH_DENSITY_*`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DensityKernel {
+    /// Poly6 (20): `wcsph`.
+    Poly6 = 0,
+    /// The spiky kernel (21) times the lattice factor `c` of [`DensityWeight::spiky_scale`]:
+    /// `corrected`.
+    ScaledSpiky = 1,
+}
+
+/// The kernel of eq. (18) with its factor: what [`density_kernel`] evaluates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DensityWeight {
+    /// Which kernel.
+    pub kernel: DensityKernel,
+    /// The factor `c` of `c W_spiky` (`physics::lattice::lattice_spiky_scale`), dimensionless;
+    /// unused with poly6.
+    pub spiky_scale: Real,
+}
+
+impl DensityWeight {
+    /// Poly6 (20).
+    pub const POLY6: Self = Self {
+        kernel: DensityKernel::Poly6,
+        spiky_scale: 1.0,
+    };
+
+    /// `scale · W_spiky` (21).
+    pub fn spiky(scale: Real) -> Self {
+        Self {
+            kernel: DensityKernel::ScaledSpiky,
+            spiky_scale: scale,
+        }
+    }
+}
+
+/// The kernel of eq. (18) [1/m^D] at squared distance `r2` [m²]: poly6 (20) or
+/// `c · W_spiky(r)` (21), as `weight` says (module doc).
 #[inline(always)]
-pub fn density_kernel<const D: usize>(kernel: &Smoothing<D>, spiky_scale: Real, r2: Real) -> Real {
-    if spiky_scale > 0.0 {
-        spiky_scale * kernel.w_spiky(r2.sqrt())
-    } else {
-        kernel.w(r2)
+pub fn density_kernel<const D: usize>(kernel: &Smoothing<D>, weight: DensityWeight, r2: Real) -> Real {
+    match weight.kernel {
+        DensityKernel::ScaledSpiky => weight.spiky_scale * kernel.w_spiky(r2.sqrt()),
+        DensityKernel::Poly6 => kernel.w(r2),
     }
 }
 
@@ -37,14 +74,13 @@ pub fn density_kernel<const D: usize>(kernel: &Smoothing<D>, spiky_scale: Real, 
 #[inline(always)]
 pub fn density_kernel_gradient<const D: usize>(
     kernel: &Smoothing<D>,
-    spiky_scale: Real,
+    weight: DensityWeight,
     x: &Vector<D>,
     r: Real,
 ) -> Vector<D> {
-    if spiky_scale > 0.0 {
-        kernel.grad_w_spiky(x, r) * spiky_scale
-    } else {
-        kernel.grad_w(x)
+    match weight.kernel {
+        DensityKernel::ScaledSpiky => kernel.grad_w_spiky(x, r) * weight.spiky_scale,
+        DensityKernel::Poly6 => kernel.grad_w(x),
     }
 }
 
@@ -77,6 +113,11 @@ pub fn velocity_solve_base(rho: Real, rho0: Real) -> Real {
 /// the density of particle `i` [kg/m³], with the kernel [`density_kernel`]. The sum includes
 /// `j = i` (`r = 0`).
 #[inline(always)]
-pub fn density_term<const D: usize>(kernel: &Smoothing<D>, spiky_scale: Real, m_j: Real, r2: Real) -> Real {
-    m_j * density_kernel(kernel, spiky_scale, r2)
+pub fn density_term<const D: usize>(
+    kernel: &Smoothing<D>,
+    weight: DensityWeight,
+    m_j: Real,
+    r2: Real,
+) -> Real {
+    m_j * density_kernel(kernel, weight, r2)
 }

@@ -99,8 +99,7 @@ pub fn lattice_spiky_scale<const D: usize>(kernel: &Smoothing<D>, dx: f64) -> f6
 /// The step scale of the position correction (PAPER.md note 5), `K = ρ0² / (2 m² S)` with
 /// `S = Σ_j ∇W_ρ(x_ij) · ∇W^press(x_ij)/κ` over a full lattice neighbourhood (the gradient of
 /// the density kernel of (18) dotted with the scaled spiky gradient of the force (16)).
-/// `spiky_scale` is the density kernel's (`physics::density::density_kernel`): 0 for poly6,
-/// else the factor of the spiky density.
+/// `weight` is the density kernel's (`physics::density::density_kernel`).
 ///
 /// Derivation (the PCISPH argument of Solenthaler & Pajarola 2009): give particle `i` the
 /// correction pressure `δp_i` and move it and its neighbours by eq. (23),
@@ -116,7 +115,7 @@ pub fn correction_stiffness<const D: usize>(
     dx: f64,
     rho0: f64,
     kappa: f64,
-    spiky_scale: f64,
+    weight: crate::physics::density::DensityWeight,
 ) -> f64 {
     let mass = lattice_mass(kernel, dx, rho0);
     let h = f64::from(kernel.h);
@@ -127,11 +126,7 @@ pub fn correction_stiffness<const D: usize>(
             let mut x = crate::math::Vector::<D>::zeros();
             x[0] = r as Real;
             let gs = kernel.grad_w_spiky(&x, r as Real);
-            let g_rho = if spiky_scale > 0.0 {
-                gs * spiky_scale as Real
-            } else {
-                kernel.grad_w(&x)
-            };
+            let g_rho = crate::physics::density::density_kernel_gradient(kernel, weight, &x, r as Real);
             s += f64::from(g_rho.dot(&gs)) / kappa;
         }
     });

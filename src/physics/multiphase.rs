@@ -39,10 +39,14 @@ use crate::smoothing::Smoothing;
 
 /// [HA06] number density: contribution of a neighbour at squared distance `r2` [m²] to
 /// `σ_i = Σ_j W_ij` [1/m^D] (the sum includes `j = i`), with the density kernel of (18)
-/// (`physics::density::density_kernel`, `spiky_scale` 0 for poly6).
+/// (`physics::density::density_kernel` with `weight`).
 #[inline(always)]
-pub fn number_density_term<const D: usize>(kernel: &Smoothing<D>, spiky_scale: Real, r2: Real) -> Real {
-    crate::physics::density::density_kernel(kernel, spiky_scale, r2)
+pub fn number_density_term<const D: usize>(
+    kernel: &Smoothing<D>,
+    weight: crate::physics::density::DensityWeight,
+    r2: Real,
+) -> Real {
+    crate::physics::density::density_kernel(kernel, weight, r2)
 }
 
 /// [HA06] density from the number density: `ρ_i = m_i σ_i` [kg/m³], mass `m_i` [kg] (per unit
@@ -144,12 +148,15 @@ mod tests {
             let kernel = Smoothing::<2>::new((ratio * dx) as Real).expect("2D");
             let n = (ratio).ceil() as i32 + 1;
             // Both density kernels: poly6 (wcsph) and the scaled spiky one (corrected).
-            for spiky_scale in [0.0, lattice_spiky_scale(&kernel, dx) as Real] {
+            for weight in [
+                crate::physics::density::DensityWeight::POLY6,
+                crate::physics::density::DensityWeight::spiky(lattice_spiky_scale(&kernel, dx) as Real),
+            ] {
                 let mut sigma = 0.0 as Real;
                 for i in -n..=n {
                     for j in -n..=n {
                         let r2 = ((i * i + j * j) as f64 * dx * dx) as Real;
-                        sigma += number_density_term(&kernel, spiky_scale, r2);
+                        sigma += number_density_term(&kernel, weight, r2);
                     }
                 }
                 for rho0 in [500.0, 800.0, 1000.0, 2000.0] {
@@ -157,7 +164,7 @@ mod tests {
                     let rho = density(m, sigma);
                     assert!(
                         ((f64::from(rho) - rho0) / rho0).abs() < 1e-5,
-                        "dx {dx}, rho0 {rho0}, spiky scale {spiky_scale}: {rho}"
+                        "dx {dx}, rho0 {rho0}, {weight:?}: {rho}"
                     );
                 }
             }

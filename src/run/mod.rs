@@ -156,10 +156,7 @@ pub fn plan_inputs(scene: &Scene) -> crate::solver::plan::PlanInputs {
 
 /// The scene's integrator.
 pub fn integrator(scene: &Scene) -> Integrator {
-    match scene.solver.integrator {
-        crate::scene::Integrator::SymplecticEuler => Integrator::SymplecticEuler,
-        crate::scene::Integrator::Rk3 => Integrator::Rk3,
-    }
+    scene.solver.integrator
 }
 
 /// The scene's position-correction settings; `None` for `wcsph`.

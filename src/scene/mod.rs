@@ -154,12 +154,12 @@ pub struct SolverSettings {
 }
 
 impl SolverSettings {
-    /// Default `delta`.
-    pub const DEFAULT_DELTA: f64 = 1e-4;
+    /// Default `delta` (the solver's, `solver::Correction`).
+    pub const DEFAULT_DELTA: f64 = crate::solver::Correction::DEFAULT_DELTA;
     /// Default `max_iterations`.
-    pub const DEFAULT_MAX_ITERATIONS: u32 = 200;
+    pub const DEFAULT_MAX_ITERATIONS: u32 = crate::solver::Correction::DEFAULT_MAX_ITERATIONS;
     /// Default `relaxation`.
-    pub const DEFAULT_RELAXATION: f64 = 0.5;
+    pub const DEFAULT_RELAXATION: f64 = crate::solver::Correction::DEFAULT_RELAXATION;
 
     /// The default integrator of `kind`: symplectic Euler for `wcsph`, RK3 for `corrected`.
     pub fn default_integrator(kind: SolverKind) -> Integrator {

@@ -77,25 +77,8 @@ impl SolverKind {
     }
 }
 
-/// The time integrator (`solver.integrator`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Integrator {
-    /// First-order symplectic Euler (velocity, then position); the default for `wcsph`.
-    SymplecticEuler,
-    /// Third-order Runge–Kutta; the default for `corrected`.
-    Rk3,
-}
-
-impl Integrator {
-    /// The name used in scene files (`"symplectic_euler"`, `"rk3"`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Integrator::SymplecticEuler => "symplectic_euler",
-            Integrator::Rk3 => "rk3",
-        }
-    }
-}
+/// The time integrator (`solver.integrator`): the solver's own type.
+pub use crate::solver::Integrator;
 
 /// What a `[[probe]]` measures (`probe.kind`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]

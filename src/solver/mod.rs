@@ -18,6 +18,7 @@ use crate::boundary::keep_out::KeepOutBox;
 use crate::boundary::motion::{SolidKinematics, SolidReference, Sway};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
+use crate::physics::density::DensityWeight;
 use crate::physics::gravity::gravity_at;
 use crate::physics::lattice::{
     correction_stiffness, lattice_gradient_moment, lattice_laplacian_moment, lattice_mass,
@@ -29,8 +30,9 @@ use crate::smoothing::{Smoothing, UnsupportedDimension};
 use stage::Stage;
 use timestep::TimeStepLimit;
 
-/// The time integrator (scene `solver.integrator`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+/// The time integrator (scene `solver.integrator`, in `snake_case`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Integrator {
     /// Semi-implicit (symplectic) Euler, one force evaluation per step.
     #[default]
@@ -41,6 +43,14 @@ pub enum Integrator {
 }
 
 impl Integrator {
+    /// The name used in scene files (`"symplectic_euler"`, `"rk3"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::SymplecticEuler => "symplectic_euler",
+            Integrator::Rk3 => "rk3",
+        }
+    }
+
     /// Shu–Osher stage coefficients `(a, b, τ/dt, t/dt)`: the stage state is
     /// `a y^n + b (y + dt L(y))`, it lies at time `t^n + τ` and the stage starts at `t^n + t·dt`.
     pub fn stages(self) -> &'static [(f32, f32, f64, f64)] {
@@ -87,13 +97,22 @@ pub struct Correction {
     pub relaxation: f64,
 }
 
+impl Correction {
+    /// Default `delta`.
+    pub const DEFAULT_DELTA: f64 = 1e-4;
+    /// Default `max_iterations`.
+    pub const DEFAULT_MAX_ITERATIONS: u32 = 200;
+    /// Default `relaxation`.
+    pub const DEFAULT_RELAXATION: f64 = 0.5;
+}
+
 impl Default for Correction {
     fn default() -> Self {
         Self {
-            delta: 1e-4,
-            max_iterations: 200,
+            delta: Self::DEFAULT_DELTA,
+            max_iterations: Self::DEFAULT_MAX_ITERATIONS,
             strict: false,
-            relaxation: 0.5,
+            relaxation: Self::DEFAULT_RELAXATION,
         }
     }
 }
@@ -393,9 +412,9 @@ pub struct Simulation<const D: usize> {
     solid_names: Vec<String>,
     /// `1/κ` of the pressure gradient (see `physics::lattice`).
     pressure_gradient_scale: Real,
-    /// The kernel of eq. (18): 0 for poly6 (`wcsph`), else the lattice factor of the spiky
-    /// density (`corrected`; `physics::density`).
-    density_spiky_scale: Real,
+    /// The kernel of eq. (18): poly6 for `wcsph`, the spiky kernel times its lattice factor for
+    /// `corrected` (`physics::density`).
+    density_weight: DensityWeight,
     /// `1/λ` of the viscous force (17) (`physics::lattice::lattice_laplacian_moment`); 1 when
     /// the scene has no viscosity.
     viscosity_scale: Real,
@@ -480,13 +499,12 @@ impl<const D: usize> Simulation<D> {
         let kappa = lattice_gradient_moment(&kernel, config.spacing, config.rho0);
         // The corrected solver sums the kernel whose gradient its correction moves particles
         // along (`physics::density`); wcsph keeps the paper's poly6.
-        let density_spiky_scale = if config.correction.is_some() {
-            lattice_spiky_scale(&kernel, config.spacing)
+        let density_weight = if config.correction.is_some() {
+            DensityWeight::spiky(lattice_spiky_scale(&kernel, config.spacing) as Real)
         } else {
-            0.0
+            DensityWeight::POLY6
         };
-        let stiffness =
-            correction_stiffness(&kernel, config.spacing, config.rho0, kappa, density_spiky_scale);
+        let stiffness = correction_stiffness(&kernel, config.spacing, config.rho0, kappa, density_weight);
         let viscosity_scale = if config.viscosity.is_some() {
             (1.0 / lattice_laplacian_moment(&kernel, config.spacing, config.rho0)) as Real
         } else {
@@ -545,7 +563,7 @@ impl<const D: usize> Simulation<D> {
             plan,
             solid_names: solids.iter().map(|(n, _)| n.clone()).collect(),
             pressure_gradient_scale: (1.0 / kappa) as Real,
-            density_spiky_scale: density_spiky_scale as Real,
+            density_weight,
             viscosity_scale,
             surface_tension_gamma,
             surface_tension_sigma,
@@ -971,7 +989,13 @@ impl<const D: usize> Simulation<D> {
             surface_tension_gamma: self.surface_tension_gamma,
             surface_tension_sigma: self.surface_tension_sigma,
             spacing: c.spacing as Real,
-            density_spiky_scale: self.density_spiky_scale,
+            density_spiky_scale: self.density_weight.spiky_scale,
+            density_kernel: self.density_weight.kernel,
+            surface_tension_model: c
+                .surface_tension
+                .as_ref()
+                .map_or(SurfaceTensionModel::default(), |t| t.model),
+            rotating_frame: u32::from(c.angular_velocity.is_some()),
         }
     }
 

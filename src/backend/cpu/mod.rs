@@ -4,7 +4,10 @@
 //! through `math::sum_in_order`, so results are bitwise identical for any thread count.
 
 use super::params::StepParams;
-use super::{Backend, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel};
+use super::{
+    Backend, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, SurfaceTensionModel, Sweep,
+    WallModel,
+};
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::boundary::{
@@ -359,7 +362,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
         let kernel = params.smoothing();
-        let spiky = params.density_spiky_scale;
+        let weight = params.density_weight();
         let grid = &self.grid;
         let (position, mass, kind) = (&fields.position, &fields.mass, &fields.kind);
         if !fields.rest_density.is_empty() {
@@ -370,7 +373,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                 }
                 let mut sigma = 0.0;
                 grid.for_each_neighbour(position, i, |_, _, r2| {
-                    sigma += multiphase::number_density_term(&kernel, spiky, r2)
+                    sigma += multiphase::number_density_term(&kernel, weight, r2)
                 });
                 *rho = multiphase::density(mass[i], sigma);
             });
@@ -382,7 +385,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             }
             let mut sum = 0.0;
             grid.for_each_neighbour(position, i, |j, _, r2| {
-                sum += density_term(&kernel, spiky, mass[j], r2)
+                sum += density_term(&kernel, weight, mass[j], r2)
             });
             *rho = sum;
         });
@@ -432,7 +435,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let kernel = params.smoothing();
         let grid = &self.grid;
         let f = &*fields;
-        let rotating = params.angular_velocity != [0.0; 3];
+        let rotating = params.rotating();
         let multiphase = !f.rest_density.is_empty();
         self.wall.clear();
         let dry = &self.dry;
@@ -450,10 +453,9 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             grid.for_each_neighbour(&f.position, w, |j, d, r2| {
                 let weight = kernel.w(r2);
                 if multiphase {
-                    summed_density +=
-                        multiphase::number_density_term(&kernel, params.density_spiky_scale, r2);
+                    summed_density += multiphase::number_density_term(&kernel, params.density_weight(), r2);
                 } else {
-                    summed_density += density_term(&kernel, params.density_spiky_scale, f.mass[j], r2);
+                    summed_density += density_term(&kernel, params.density_weight(), f.mass[j], r2);
                 }
                 if f.kind[j] == FLUID {
                     // [A12] (27) with each fluid neighbour's own density (its phase's, [HA06]).
@@ -554,7 +556,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         // [AAT13] (3) weighs each neighbour by m_j/ρ_j; the surface stress by its rest volume
         // m_j/ρ0_j (`physics::surface_stress`: a colour field without the surface layer's
         // overshoot).
-        let rest_volume = params.surface_tension_sigma > 0.0;
+        let rest_volume = params.surface_tension_model == SurfaceTensionModel::SurfaceStress;
         let rest = |j: usize| rest_density_of(&f.rest_density, j, params.rho0);
         normal.par_iter_mut().enumerate().for_each(|(i, n)| {
             let mut sum = Vector::zeros();
@@ -572,7 +574,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     }
 
     fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        if params.surface_tension_sigma > 0.0 {
+        if params.surface_tension_model == SurfaceTensionModel::SurfaceStress {
             self.surface_stress(fields, params);
             return;
         }
@@ -893,7 +895,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
         let kernel = params.smoothing();
-        let spiky = params.density_spiky_scale;
+        let weight = params.density_weight();
         let list = &self.velocity_neighbours;
         let (position, velocity, mass, kind) =
             (&fields.position, &fields.velocity, &fields.mass, &fields.kind);
@@ -912,7 +914,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             let mut rate = 0.0;
             list.for_each_neighbour(position, i, |j, d, r2| {
                 if j != i {
-                    let grad = density_kernel_gradient(&kernel, spiky, &d, r2.sqrt());
+                    let grad = density_kernel_gradient(&kernel, weight, &d, r2.sqrt());
                     let m = if multiphase { mass[i] } else { mass[j] };
                     rate += m * (velocity[i] - velocity[j]).dot(&grad);
                 }

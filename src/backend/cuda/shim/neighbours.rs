@@ -8,8 +8,15 @@
 use crate::backend::cuda::grid::GridGeometry;
 use crate::backend::params::StepParams;
 
+/// The fields of `StepParams` in declaration order, as `sph_shim_step_params_layout_D` reports
+/// their offsets.
+pub const STEP_PARAMS_FIELDS: usize = 20;
+
 #[link(name = "sph_kernel_shim_2", kind = "static")]
 unsafe extern "C" {
+    /// `StepParams`'s size and its fields' offsets in declaration order, as the kernels lay it
+    /// out ([`STEP_PARAMS_FIELDS`] + 1 values).
+    pub fn sph_shim_step_params_layout_2(out: *mut u64);
     pub fn sph_shim_cell_hash_2(
         n: u32,
         g: *const GridGeometry<2>,
@@ -105,6 +112,9 @@ unsafe extern "C" {
 
 #[link(name = "sph_kernel_shim_3", kind = "static")]
 unsafe extern "C" {
+    /// `StepParams`'s size and its fields' offsets in declaration order, as the kernels lay it
+    /// out ([`STEP_PARAMS_FIELDS`] + 1 values).
+    pub fn sph_shim_step_params_layout_3(out: *mut u64);
     pub fn sph_shim_cell_hash_3(
         n: u32,
         g: *const GridGeometry<3>,
