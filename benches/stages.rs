@@ -255,7 +255,7 @@ fn correction_sweep<const D: usize>(group: &mut BenchmarkGroup<WallTime>, p: &mu
                 backend.begin_correction(&mut f);
                 let start = Instant::now();
                 backend.density(&mut f, &params);
-                black_box(backend.correction_error(&f, params.rho0));
+                black_box(backend.correction_error(&f, &params));
                 backend.correction_pressure(&mut f, &params, stiffness);
                 if solids > 0 {
                     black_box(backend.solid_forces(&f, &params, solids, SolidForceSource::Correction));

@@ -7,8 +7,12 @@
 //   (= `correction_pressure`), then correction_displacement -> host scale -> apply_displacement
 //   (= `correct_positions`). Maxima are float bits in ints (see `extremes.cuh`); the host zeroes
 //   them before the launch.
+// The `_multiphase` entries (`Phases::Multi`, [HA06] Hu & Adams, J. Comput. Phys. 213 (2006)
+// 844) measure each particle against its own rest density `rest` [kg/m^3] and move it by the
+// volume-form pressure force (`physics::multiphase`).
 #include "sph.cuh"
 #include "extremes.cuh"
+#include "multiphase.cuh"
 #include "pair_forces.cuh"
 
 /// The density error `(rho - rho0)/rho0` in f64, as `correction::compression` and `residual`.
@@ -18,13 +22,18 @@ __device__ __forceinline__ double correction_density_error(float rho, float rho0
 
 /// Eq. (24) with note 6: out[0] = bits of the largest fluid compression `max(rho - rho0, 0)/rho0`
 /// (`correction::compression`), out[1] = of the largest `correction::residual` (|e| where p > 0,
-/// else max(e, 0)). Computed in f64 as the CPU, rounded to f32 for the atomic.
-SPH_KERNEL(correction_error)(u32 n, float rho0, const float* __restrict__ density,
-                             const float* __restrict__ pressure, const u32* __restrict__ kind,
-                             int* __restrict__ out) {
+/// else max(e, 0)). Computed in f64 as the CPU, rounded to f32 for the atomic. `rho0_i` is `rho0`,
+/// or `rest[i]` with `MULTIPHASE`.
+template <bool MULTIPHASE>
+__device__ __forceinline__ void correction_error_body(u32 n, float rho0,
+                                                      const float* __restrict__ rest,
+                                                      const float* __restrict__ density,
+                                                      const float* __restrict__ pressure,
+                                                      const u32* __restrict__ kind,
+                                                      int* __restrict__ out) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] != SPH_FLUID) return;
-    const double e = correction_density_error(density[i], rho0);
+    const double e = correction_density_error(density[i], MULTIPHASE ? rest[i] : rho0);
     const double compression = e > 0.0 ? e : 0.0;  // f64::max(e, 0): NaN gives 0
     const double residual = pressure[i] > 0.0f ? fabs(e) : compression;
     // Read before the atomic: the maxima settle within a few blocks, after which almost every
@@ -34,15 +43,29 @@ SPH_KERNEL(correction_error)(u32 n, float rho0, const float* __restrict__ densit
     if (br > out[1]) atomicMax(&out[1], br);
 }
 
+SPH_KERNEL(correction_error)(u32 n, float rho0, const float* __restrict__ density,
+                             const float* __restrict__ pressure, const u32* __restrict__ kind,
+                             int* __restrict__ out) {
+    correction_error_body<false>(n, rho0, nullptr, density, pressure, kind, out);
+}
+
+SPH_KERNEL(correction_error_multiphase)(u32 n, const float* __restrict__ rest,
+                                        const float* __restrict__ density,
+                                        const float* __restrict__ pressure,
+                                        const u32* __restrict__ kind, int* __restrict__ out) {
+    correction_error_body<true>(n, 0.0f, rest, density, pressure, kind, out);
+}
+
 /// Eq. (19) inside the correction, fluid only: `delta_p = pressure_increment(rho, rho0, p + m, k) + m`
 /// with the heavy-ball momentum `m = beta delta_p_prev` (`has_prev` != 0; `correction::MOMENTUM`),
-/// `pressure_increment(rho, rho0, p, k) = max(p + k (rho - rho0), 0) - p`. Solids get 0.
-SPH_KERNEL(correction_pressure_fluid)(u32 n, float rho0, float k, float beta, int has_prev,
-                                      const float* __restrict__ density,
-                                      const float* __restrict__ pressure,
-                                      const u32* __restrict__ kind,
-                                      const float* __restrict__ delta_p_prev,
-                                      float* __restrict__ delta_p) {
+/// `pressure_increment(rho, rho0, p, k) = max(p + k (rho - rho0), 0) - p`. Solids get 0. `rho0_i`
+/// is `rho0`, or `rest[i]` with `MULTIPHASE`.
+template <bool MULTIPHASE>
+__device__ __forceinline__ void correction_pressure_fluid_body(
+    u32 n, float rho0, const float* __restrict__ rest, float k, float beta, int has_prev,
+    const float* __restrict__ density, const float* __restrict__ pressure,
+    const u32* __restrict__ kind, const float* __restrict__ delta_p_prev,
+    float* __restrict__ delta_p) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     if (kind[i] != SPH_FLUID) {
@@ -51,7 +74,29 @@ SPH_KERNEL(correction_pressure_fluid)(u32 n, float rho0, float k, float beta, in
     }
     const float m = has_prev ? beta * delta_p_prev[i] : 0.0f;
     const float p_m = pressure[i] + m;
-    delta_p[i] = (fmaxf(p_m + k * (density[i] - rho0), 0.0f) - p_m) + m;
+    const float rho0_i = MULTIPHASE ? rest[i] : rho0;
+    delta_p[i] = (fmaxf(p_m + k * (density[i] - rho0_i), 0.0f) - p_m) + m;
+}
+
+SPH_KERNEL(correction_pressure_fluid)(u32 n, float rho0, float k, float beta, int has_prev,
+                                      const float* __restrict__ density,
+                                      const float* __restrict__ pressure,
+                                      const u32* __restrict__ kind,
+                                      const float* __restrict__ delta_p_prev,
+                                      float* __restrict__ delta_p) {
+    correction_pressure_fluid_body<false>(n, rho0, nullptr, k, beta, has_prev, density, pressure,
+                                          kind, delta_p_prev, delta_p);
+}
+
+SPH_KERNEL(correction_pressure_fluid_multiphase)(u32 n, const float* __restrict__ rest, float k,
+                                                 float beta, int has_prev,
+                                                 const float* __restrict__ density,
+                                                 const float* __restrict__ pressure,
+                                                 const u32* __restrict__ kind,
+                                                 const float* __restrict__ delta_p_prev,
+                                                 float* __restrict__ delta_p) {
+    correction_pressure_fluid_body<true>(n, 0.0f, rest, k, beta, has_prev, density, pressure,
+                                         kind, delta_p_prev, delta_p);
 }
 
 /// [A12] eq. (27) without gravity for solid particles, of either sign: `r = sum_f delta_p_f W_wf /
@@ -104,14 +149,15 @@ SPH_KERNEL(correction_pressure_apply)(u32 n, const float* __restrict__ delta_p,
 }
 
 /// Eq. (23): `dx_i = tau^2 a_i^press(delta_p)` for fluid (zero for solids), the pressure force (16)
-/// of the increments over every neighbour j != i; atomicMax of |dx| bits into `*largest`.
-SPH_KERNEL(correction_displacement)(u32 n, StepParams p, GridGeometry g,
-                                    const u32* __restrict__ cell_start,
-                                    const u32* __restrict__ cell_key, const float* __restrict__ pos,
-                                    const float* __restrict__ mass, const float* __restrict__ density,
-                                    const float* __restrict__ delta_p, const u32* __restrict__ kind,
-                                    float tau2, float* __restrict__ displacement,
-                                    int* __restrict__ largest) {
+/// of the increments over every neighbour j != i, or with `MULTIPHASE` its [HA06] volume form
+/// `-(dp_i V_i^2 + dp_j V_j^2) grad W / m_i`; atomicMax of |dx| bits into `*largest`.
+template <bool MULTIPHASE>
+__device__ __forceinline__ void correction_displacement_body(
+    u32 n, const StepParams& p, const GridGeometry& g, const u32* __restrict__ cell_start,
+    const u32* __restrict__ cell_key, const float* __restrict__ pos, const float* __restrict__ mass,
+    const float* __restrict__ density, const float* __restrict__ delta_p,
+    const u32* __restrict__ kind, float tau2, float* __restrict__ displacement,
+    int* __restrict__ largest) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     if (kind[i] != SPH_FLUID) {
@@ -122,6 +168,8 @@ SPH_KERNEL(correction_displacement)(u32 n, StepParams p, GridGeometry g,
     const vec_t x_i = vload(pos, i);
     const float dp_i = delta_p[i];
     const float rho_i = density[i];
+    const float m_i = mass[i];
+    const float q_i = MULTIPHASE ? multiphase_pressure_term(dp_i, m_i, rho_i) : 0.0f;
     vec_t a = vzero();
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         if (j == i) continue;
@@ -130,13 +178,32 @@ SPH_KERNEL(correction_displacement)(u32 n, StepParams p, GridGeometry g,
         if (!(r2 < s.h2)) continue;
         d = pair_offset(d, &r2, i, j, s.h);
         const vec_t grad = vscale(grad_w_spiky(s, d, sqrtf(r2)), p.pressure_gradient_scale);
-        a = vadd(a, pressure_acceleration(dp_i, rho_i, delta_p[j], density[j], mass[j], grad));
+        if (MULTIPHASE) {
+            const float q_j = multiphase_pressure_term(delta_p[j], mass[j], density[j]);
+            a = vadd(a, multiphase_pressure_acceleration(q_i, q_j, m_i, grad));
+        } else {
+            a = vadd(a, pressure_acceleration(dp_i, rho_i, delta_p[j], density[j], mass[j], grad));
+        }
     });
     const vec_t dx = vscale(a, tau2);  // eq. (23)
     vstore(displacement, i, dx);
     const int b = max_bits(sqrtf(vdot(dx, dx)));
     if (b > *largest) atomicMax(largest, b);  // read first: see correction_error
 }
+
+#define SPH_CORRECTION_DISPLACEMENT_ENTRY(name, MULTIPHASE)                                        \
+    SPH_KERNEL(name)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,      \
+                     const u32* __restrict__ cell_key, const float* __restrict__ pos,              \
+                     const float* __restrict__ mass, const float* __restrict__ density,            \
+                     const float* __restrict__ delta_p, const u32* __restrict__ kind, float tau2,  \
+                     float* __restrict__ displacement, int* __restrict__ largest) {                \
+        correction_displacement_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass,         \
+                                                 density, delta_p, kind, tau2, displacement,       \
+                                                 largest);                                         \
+    }
+
+SPH_CORRECTION_DISPLACEMENT_ENTRY(correction_displacement, false)
+SPH_CORRECTION_DISPLACEMENT_ENTRY(correction_displacement_multiphase, true)
 
 /// Eq. (23) applied, fluid only: `dx = displacement * scale`, `x += dx`, `u += dx / tau`
 /// (PAPER.md note 7; `tau` is the CPU's `kick_tau`, infinite for the start-up settle, which adds

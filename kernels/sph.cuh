@@ -82,6 +82,7 @@ struct StepParams {
     u32 density_kernel;             // kernel of eq. (18): SPH_DENSITY_POLY6 or _SCALED_SPIKY
     u32 surface_tension_model;      // SPH_SURFACE_STRESS or SPH_SURFACE_AKINCI
     u32 rotating_frame;             // 1 with the rotating_frame effect, else 0
+    u32 phases;                     // SPH_PHASES_SINGLE or SPH_PHASES_MULTI ([HA06])
 };
 
 /// `physics::density::DensityKernel`.
@@ -90,6 +91,10 @@ struct StepParams {
 /// `backend::SurfaceTensionModel`.
 #define SPH_SURFACE_STRESS 0u
 #define SPH_SURFACE_AKINCI 1u
+/// `physics::multiphase::Phases`: the host picks each stage's entry (`name` or
+/// `name_multiphase`) by it; the surface-tension kernels read it.
+#define SPH_PHASES_SINGLE 0u
+#define SPH_PHASES_MULTI 1u
 
 /// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of
 /// size h over the domain, padded by one cell on each side.

@@ -45,8 +45,8 @@ pub struct Fields<const D: usize> {
     /// `surface_normals` stage, so empty unless the scene has the `surface_tension` effect.
     pub normal: Vec<Vector<D>>,
     /// Rest density `ρ0` of the particle's phase [kg/m³] (the `multiphase` effect only; empty
-    /// otherwise). Solids carry the scene's `fluid.rho0`. Its presence selects the multiphase
-    /// variants of the stages (`physics::multiphase`).
+    /// otherwise). Solids carry the scene's `fluid.rho0`. Read by the multiphase variants of the
+    /// stages, which the run's `Phases` selects (`physics::multiphase`).
     pub rest_density: Vec<Real>,
 }
 
@@ -133,13 +133,6 @@ fn gather<T: Copy + Send + Sync>(field: &mut Vec<T>, perm: &[u32], scratch: &mut
     scratch.clear();
     scratch.par_extend(perm.par_iter().map(|&p| field[p as usize]));
     std::mem::swap(field, scratch);
-}
-
-/// Rest density `ρ0` [kg/m³] of particle `i`: its phase's from `rest_density`
-/// (`Fields::rest_density`, allocated only with the `multiphase` effect), else the scene's `rho0`.
-#[inline(always)]
-pub fn rest_density_of(rest_density: &[Real], i: usize, rho0: Real) -> Real {
-    rest_density.get(i).copied().unwrap_or(rho0)
 }
 
 impl<const D: usize> Fields<D> {

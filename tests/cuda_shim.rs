@@ -35,6 +35,7 @@ fn params<const D: usize>(h: f32) -> StepParams<D> {
         density_kernel: sph::physics::density::DensityKernel::Poly6,
         surface_tension_model: sph::backend::SurfaceTensionModel::SurfaceStress,
         rotating_frame: 0,
+        phases: sph::physics::multiphase::Phases::Single,
     }
 }
 
@@ -1025,6 +1026,7 @@ fn rust_step_params_layout<const D: usize>() -> Vec<u64> {
         offset_of!(StepParams<D>, density_kernel),
         offset_of!(StepParams<D>, surface_tension_model),
         offset_of!(StepParams<D>, rotating_frame),
+        offset_of!(StepParams<D>, phases),
     ];
     offsets.iter().map(|&o| o as u64).collect()
 }

@@ -140,6 +140,11 @@ fn scene<const D: usize>(seed: u64, two_phases: bool) -> (Fields<D>, StepParams<
         density_kernel: sph::physics::density::DensityKernel::ScaledSpiky,
         surface_tension_model: sph::backend::SurfaceTensionModel::SurfaceStress,
         rotating_frame: 0,
+        phases: if two_phases {
+            sph::physics::multiphase::Phases::Multi
+        } else {
+            sph::physics::multiphase::Phases::Single
+        },
     };
     p.density_spiky_scale = lattice_spiky_scale(&p.smoothing(), f64::from(DX)) as Real;
     (f, p)
@@ -224,7 +229,7 @@ struct ShimSolve<const D: usize> {
     mass: Vec<f32>,
     kind: Vec<u32>,
     id: Vec<u32>,
-    /// `Fields::rest_density` in sorted order; empty with one phase.
+    /// `Fields::rest_density` in sorted order (read with `Phases::Multi`); empty with one phase.
     rest: Vec<f32>,
     velocity_start: Vec<f32>,
     pressure_start: Vec<f32>,
@@ -298,7 +303,7 @@ impl<const D: usize> ShimSolve<D> {
     /// `predicted_density` (or its multiphase variant) from the start's densities.
     fn predicted_density(&mut self, p: &StepParams<D>) {
         let n = self.n();
-        if self.rest.is_empty() {
+        if p.phases == sph::physics::multiphase::Phases::Single {
             launch!(
                 D,
                 sph_shim_predicted_density_2,
@@ -357,7 +362,7 @@ impl<const D: usize> ShimSolve<D> {
     fn mix(&mut self, p: &StepParams<D>, k: f32) {
         let n = self.n();
         let unused = vec![f32::NAN; n as usize];
-        if self.rest.is_empty() {
+        if p.phases == sph::physics::multiphase::Phases::Single {
             launch!(
                 D,
                 sph_shim_correction_pressure_fluid_2,
@@ -476,7 +481,7 @@ impl<const D: usize> ShimSolve<D> {
         let tau2 = TAU * TAU;
         // Its largest-|Δx| output is not read: the velocity solve does not scale.
         let mut largest = 0i32;
-        if self.rest.is_empty() {
+        if p.phases == sph::physics::multiphase::Phases::Single {
             launch!(
                 D,
                 sph_shim_correction_displacement_2,
@@ -593,7 +598,7 @@ fn check_iterations<const D: usize>(seed: u64, two_phases: bool) {
     let mut control_worst = 0.0f64;
     for iteration in 0..ITERATIONS {
         cpu.predicted_density(&mut cf, &p, TAU);
-        let residual = cpu.correction_error(&cf, p.rho0).residual;
+        let residual = cpu.correction_error(&cf, &p).residual;
         first_residual.get_or_insert(residual);
         last_residual = residual;
         cpu.mix_velocity_pressure(&mut cf, &p, k);

@@ -150,6 +150,7 @@ fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         density_kernel: sph::physics::density::DensityKernel::Poly6,
         surface_tension_model: sph::backend::SurfaceTensionModel::SurfaceStress,
         rotating_frame: 1,
+        phases: sph::physics::multiphase::Phases::Single,
     };
     (f, p)
 }
@@ -1243,7 +1244,7 @@ fn check_correction_error<const D: usize>(seed: u64) {
             f.kind.as_ptr(),
             out.as_mut_ptr(),
         );
-        let cpu = CpuBackend::<D>::new().correction_error(&f, p.rho0);
+        let cpu = CpuBackend::<D>::new().correction_error(&f, &p);
         let (compression, residual) = (extremes::max_from_bits(out[0]), extremes::max_from_bits(out[1]));
         assert_eq!(compression, f64::from(cpu.compression as f32), "case {case}");
         assert_eq!(residual, f64::from(cpu.residual as f32), "case {case}");

@@ -1,4 +1,4 @@
-//! The `multiphase` effect's kernels (`kernels/multiphase.cu`, `forces_*_mp`,
+//! The `multiphase` effect's kernels (the `_multiphase` entries of the stage files, `forces_*_mp`,
 //! `wall_pressure_multiphase`, the velocity solve's `predicted_density_multiphase`), run on the
 //! CPU through the host shim, against the multiphase branches of the rayon stages, on a jittered
 //! two-phase state (2D).
@@ -312,7 +312,7 @@ fn multiphase_kernels_on_the_shim_match_the_cpu_stages() {
     }
 
     // The correction: error, increments, displacement.
-    let cpu_error = cpu.correction_error(&cpu_f, p.rho0);
+    let cpu_error = cpu.correction_error(&cpu_f, &p);
     let mut out = [0i32; 2];
     unsafe {
         shim::sph_shim_correction_error_multiphase_2(

@@ -120,6 +120,11 @@ fn droplet<const D: usize>(seed: u64, model: Model) -> (Fields<D>, StepParams<D>
             SurfaceTensionModel::SurfaceStress
         },
         rotating_frame: 0,
+        phases: if model == Model::StressTwoPhases {
+            sph::physics::multiphase::Phases::Multi
+        } else {
+            sph::physics::multiphase::Phases::Single
+        },
     };
     (f, p)
 }
@@ -149,7 +154,7 @@ fn flat<const D: usize>(v: &[Vector<D>], order: &[usize]) -> Vec<f32> {
 
 /// The rest density of particle `j` as the stages read it.
 fn rest<const D: usize>(f: &Fields<D>, p: &StepParams<D>, j: usize) -> f32 {
-    f.rest_density.get(j).copied().unwrap_or(p.rho0)
+    p.phases.rest_density(&f.rest_density, j, p.rho0)
 }
 
 /// Σ_j |term| of the normal (times h) and of the acceleration of particle `i` (input order),
@@ -242,7 +247,7 @@ fn check<const D: usize>(seed: u64, model: Model) {
     let mass: Vec<f32> = order.iter().map(|&i| f.mass[i]).collect();
     let density: Vec<f32> = order.iter().map(|&i| f.density[i]).collect();
     let kind: Vec<u32> = order.iter().map(|&i| f.kind[i]).collect();
-    let has_rest = u32::from(!f.rest_density.is_empty());
+    let has_rest = u32::from(p.phases == sph::physics::multiphase::Phases::Multi);
     let rest: Vec<f32> = order
         .iter()
         .map(|&i| f.rest_density.get(i).copied().unwrap_or(f32::NAN))

@@ -249,8 +249,9 @@ pub trait Backend<const D: usize> {
     /// with the acceleration of the force stage; `dt` [s].
     fn rk_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32);
     /// Eq. (24) with note 6: the largest compression `max(ρ − ρ0, 0)/ρ0` over fluid particles,
-    /// and the loop's residual (`physics::correction::residual`).
-    fn correction_error(&mut self, fields: &Fields<D>, rho0: f32) -> CorrectionError;
+    /// and the loop's residual (`physics::correction::residual`); `ρ0` is each particle's own
+    /// with [`Phases::Multi`](crate::physics::multiphase::Phases).
+    fn correction_error(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> CorrectionError;
     /// Starts a stage's position correction (forgets the previous sweep's increments).
     fn begin_correction(&mut self, fields: &mut Fields<D>);
     /// Eq. (19) inside the correction: pressure increments `δp` from the density for fluid

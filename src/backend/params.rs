@@ -5,6 +5,7 @@
 use crate::backend::SurfaceTensionModel;
 use crate::math::{Real, Vector};
 use crate::physics::density::{DensityKernel, DensityWeight};
+use crate::physics::multiphase::Phases;
 use crate::smoothing::Smoothing;
 
 /// Physical constants of a step, in SI units.
@@ -64,6 +65,9 @@ pub struct StepParams<const D: usize> {
     /// 1 with the `rotating_frame` effect (the wall pressure adds the centrifugal acceleration,
     /// [B67] §3.2), 0 without it: `u32` as in `kernels/sph.cuh`.
     pub rotating_frame: u32,
+    /// One fluid phase or several (the `multiphase` effect, [HA06]): which variant of the
+    /// density, equation-of-state, pressure-force and correction stages both backends run.
+    pub phases: Phases,
 }
 
 impl<const D: usize> StepParams<D> {

@@ -37,6 +37,33 @@
 use crate::math::{Real, Vector};
 use crate::smoothing::Smoothing;
 
+/// How many fluid phases a run has: the plan's choice between the single-phase stages and their
+/// [HA06] variants (`StepParams::phases`, `kernels/sph.cuh`'s `SPH_PHASES_*`). `u32` values as in
+/// the kernels.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Phases {
+    /// One fluid of the scene's rest density `ρ0`: eqs. (16), (18), (19) as written.
+    #[default]
+    Single = 0,
+    /// The `multiphase` effect: each particle's own rest density `Fields::rest_density`, the
+    /// number density and the volume-form pressure force of [HA06].
+    Multi = 1,
+}
+
+impl Phases {
+    /// Rest density `ρ0_i` [kg/m³] of particle `i`: the scene's `rho0` for one phase, else the
+    /// particle's own from `rest_density` (`Fields::rest_density`, which `Simulation::with_phases`
+    /// fills for every particle).
+    #[inline(always)]
+    pub fn rest_density(self, rest_density: &[Real], i: usize, rho0: Real) -> Real {
+        match self {
+            Phases::Single => rho0,
+            Phases::Multi => rest_density[i],
+        }
+    }
+}
+
 /// [HA06] number density: contribution of a neighbour at squared distance `r2` [m²] to
 /// `σ_i = Σ_j W_ij` [1/m^D] (the sum includes `j = i`), with the density kernel of (18)
 /// (`physics::density::density_kernel` with `weight`).

@@ -24,6 +24,7 @@ use crate::physics::lattice::{
     correction_stiffness, lattice_gradient_moment, lattice_laplacian_moment, lattice_mass,
     lattice_spiky_scale,
 };
+use crate::physics::multiphase::Phases;
 use crate::physics::surface_stress::calibrated_stress;
 use crate::physics::surface_tension::gamma_for_surface_tension;
 use crate::smoothing::{Smoothing, UnsupportedDimension};
@@ -459,6 +460,8 @@ pub struct Simulation<const D: usize> {
     /// [`Simulation::with_phases`] gave a lighter one): the viscous time-step limit uses the
     /// largest kinematic viscosity `μ/ρ0`.
     lightest_rho0: f64,
+    /// One fluid phase, or several from [`Simulation::with_phases`] (`StepParams::phases`).
+    phases: Phases,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -584,6 +587,7 @@ impl<const D: usize> Simulation<D> {
             solids_placed_at: None,
             wall_speed: 0.0,
             lightest_rho0: config.rho0,
+            phases: Phases::Single,
             config,
         })
     }
@@ -652,13 +656,14 @@ impl<const D: usize> Simulation<D> {
     /// `rest_density[k]` [kg/m³] of its phase: the `multiphase` effect (`physics::multiphase`).
     /// Each phase gets the lattice mass of its own `ρ0` (`physics::lattice::lattice_mass`), so it
     /// starts at its rest density; solids keep the scene's `ρ0` and mass. Allocates
-    /// `Fields::rest_density`, whose presence makes the backends run the multiphase variants of
-    /// density, equation of state, forces, wall pressure, correction and state extremes. Call
+    /// `Fields::rest_density` and sets the run's [`Phases::Multi`], on which the backends run the
+    /// multiphase variants of density, equation of state, forces, wall pressure, correction and
+    /// state extremes. Call
     /// before the first step. All phases share the sound speed `C` (see `physics::multiphase`).
     ///
     /// # Errors
     /// [`SetupError::Invalid`] when the count differs from the fluid particles', a density is not
-    /// finite and positive, or steps were taken.
+    /// finite and positive, steps were taken, or a device backend already holds the fields.
     pub fn with_phases(mut self, rest_density: &[f64]) -> Result<Self, SetupError> {
         let invalid = |reason: String| SetupError::Invalid {
             key: "fluid_box.rho0",
@@ -673,6 +678,10 @@ impl<const D: usize> Simulation<D> {
         }
         if self.clock.step != 0 || self.settled {
             return Err(invalid("phases must be given before the first step".into()));
+        }
+        if self.backend.holds_state() {
+            // A device backend took its copy of the fields without the rest densities.
+            return Err(invalid("phases must be given before `use_backend`".into()));
         }
         if let Some(bad) = rest_density.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
             return Err(invalid(format!("must be positive and finite, got {bad}")));
@@ -700,6 +709,7 @@ impl<const D: usize> Simulation<D> {
             f.rest_density[i] = rho0 as Real;
         }
         self.lightest_rho0 = rest_density.iter().fold(self.config.rho0, |a, &b| a.min(b));
+        self.phases = Phases::Multi;
         self.fields_stale = false;
         self.grid_fresh = false;
         self.density_fresh = false;
@@ -708,7 +718,7 @@ impl<const D: usize> Simulation<D> {
 
     /// Whether the fluid has phases of their own rest densities (`Simulation::with_phases`).
     pub fn multiphase(&self) -> bool {
-        !self.fields.rest_density.is_empty()
+        self.phases == Phases::Multi
     }
 
     /// The prescribed motion of each solid (`None`: fixed), in scene order.
@@ -996,6 +1006,7 @@ impl<const D: usize> Simulation<D> {
                 .as_ref()
                 .map_or(SurfaceTensionModel::default(), |t| t.model),
             rotating_frame: u32::from(c.angular_velocity.is_some()),
+            phases: self.phases,
         }
     }
 

@@ -379,7 +379,7 @@ impl<const D: usize> Simulation<D> {
         let mut iterations = 0u32;
         let keep = loop {
             bk.predicted_density(f, params, tau as f32);
-            let residual = bk.correction_error(f, params.rho0).residual;
+            let residual = bk.correction_error(f, params).residual;
             let start = *first.get_or_insert(residual);
             if residual < VELOCITY_TOLERANCE * delta {
                 break true;
@@ -450,7 +450,7 @@ impl<const D: usize> Simulation<D> {
                 drift = 0.0;
             }
             bk.density(f, params); // eq. (18)
-            let error = bk.correction_error(f, params.rho0); // eq. (24), note 6
+            let error = bk.correction_error(f, params); // eq. (24), note 6
             if error.residual < delta || iterations >= max_iterations || !error.residual.is_finite() {
                 break error;
             }

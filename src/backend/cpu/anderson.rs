@@ -2,9 +2,10 @@
 //! window's difference vectors, the previous iterate, and the mixing step
 //! (`Backend::mix_velocity_pressure`). Twin of `backend::cuda::anderson`.
 
-use crate::fields::{FLUID, Fields, rest_density_of};
+use crate::fields::{FLUID, Fields};
 use crate::math::{Real, sum_in_order};
 use crate::physics::correction;
+use crate::physics::multiphase::Phases;
 use crate::solver::anderson::{AndersonState, WINDOW};
 use rayon::prelude::*;
 
@@ -37,14 +38,20 @@ impl AndersonBuffers {
     /// `fields.density`: `g(P) = max(P + k (ρ* − ρ0), 0)` (`physics::correction::pressure_increment`,
     /// stiffness `k` [m²/s²], `rho0` [kg/m³] or each particle's own with the multiphase effect),
     /// mixed with the window's iterates, `P ≥ 0` (note 6).
-    pub(super) fn mix<const D: usize>(&mut self, fields: &mut Fields<D>, rho0: Real, k: Real) {
+    pub(super) fn mix<const D: usize>(
+        &mut self,
+        fields: &mut Fields<D>,
+        phases: Phases,
+        rho0: Real,
+        k: Real,
+    ) {
         let n = fields.len();
         let (kind, density, rest) = (&fields.kind, &fields.density, &fields.rest_density);
         // f = g(P) − P for fluid, 0 for solids.
         self.f.resize(n, 0.0);
         self.f.par_iter_mut().enumerate().for_each(|(i, out)| {
             *out = if kind[i] == FLUID {
-                let rho0 = rest_density_of(rest, i, rho0);
+                let rho0 = phases.rest_density(rest, i, rho0);
                 correction::pressure_increment(density[i], rho0, fields.pressure[i], k)
             } else {
                 0.0

@@ -13,7 +13,7 @@ use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::boundary::{
     solid_force::force_on_solid, wall_pressure::WallPressureSums, wall_velocity::WallVelocitySums,
 };
-use crate::fields::{FLUID, Fields, PermuteScratch, rest_density_of};
+use crate::fields::{FLUID, Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector, max_each_in_order, max_or_nan, sum_by_group, sum_in_order, to_xyz};
 use crate::neighbour_list::{NeighbourList, Neighbours};
@@ -21,7 +21,8 @@ use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration,
     correction,
     density::{density_kernel_gradient, density_term, velocity_solve_base},
-    eos, multiphase,
+    eos,
+    multiphase::{self, Phases},
     pressure::{pressure_acceleration_from_terms, pressure_term},
     rotating_frame::{centrifugal_acceleration, rotating_frame_acceleration},
     surface_stress::{surface_stress_acceleration, surface_weight, tensile_factor},
@@ -85,7 +86,7 @@ impl<const D: usize> CpuBackend<D> {
         let f = &*fields;
         let (sigma, h) = (params.surface_tension_sigma, params.h);
         let w_dx = kernel.w(params.spacing * params.spacing);
-        let rest = |j: usize| rest_density_of(&f.rest_density, j, params.rho0);
+        let rest = |j: usize| params.phases.rest_density(&f.rest_density, j, params.rho0);
         acceleration.par_iter_mut().enumerate().for_each(|(i, a)| {
             if f.kind[i] != FLUID {
                 return;
@@ -169,7 +170,7 @@ impl<const D: usize> CpuBackend<D> {
         let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
         let n = fields.len();
         let f = fields;
-        let multiphase = !f.rest_density.is_empty();
+        let multiphase = params.phases == Phases::Multi;
         if multiphase {
             fill_volume_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.mass, density);
         } else {
@@ -365,7 +366,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let weight = params.density_weight();
         let grid = &self.grid;
         let (position, mass, kind) = (&fields.position, &fields.mass, &fields.kind);
-        if !fields.rest_density.is_empty() {
+        if params.phases == Phases::Multi {
             // [HA06]: ρ_i = m_i Σ_j W_ij, blind to the neighbours' phases.
             fields.density.par_iter_mut().enumerate().for_each(|(i, rho)| {
                 if kind[i] != FLUID {
@@ -398,7 +399,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
             if kind[i] == FLUID {
                 // With the multiphase effect, each particle's own rest density ([HA06]).
-                let rho0 = rest_density_of(rest, i, params.rho0);
+                let rho0 = params.phases.rest_density(rest, i, params.rho0);
                 *p = eos::pressure(density[i], rho0, params.c2);
             }
         });
@@ -436,7 +437,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let grid = &self.grid;
         let f = &*fields;
         let rotating = params.rotating();
-        let multiphase = !f.rest_density.is_empty();
+        let multiphase = params.phases == Phases::Multi;
         self.wall.clear();
         let dry = &self.dry;
         self.wall.par_extend((0..f.len()).into_par_iter().map(|w| {
@@ -521,7 +522,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     }
 
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
-        let multiphase = !fields.rest_density.is_empty();
+        let multiphase = params.phases == Phases::Multi;
         if multiphase {
             fill_volume_pressure_terms(
                 &mut self.pressure_terms,
@@ -557,7 +558,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         // m_j/ρ0_j (`physics::surface_stress`: a colour field without the surface layer's
         // overshoot).
         let rest_volume = params.surface_tension_model == SurfaceTensionModel::SurfaceStress;
-        let rest = |j: usize| rest_density_of(&f.rest_density, j, params.rho0);
+        let rest = |j: usize| params.phases.rest_density(&f.rest_density, j, params.rho0);
         normal.par_iter_mut().enumerate().for_each(|(i, n)| {
             let mut sum = Vector::zeros();
             if f.kind[i] == FLUID {
@@ -632,7 +633,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         }
         // [HA06] (`multiphase`): the pressure pair term in the volume form, as the fluid feels it;
         // the viscous terms as without it.
-        let multiphase = !f.rest_density.is_empty();
+        let multiphase = params.phases == Phases::Multi;
         if multiphase {
             fill_volume_pressure_terms(&mut self.pressure_terms, pressure, &f.mass, &f.density);
         }
@@ -679,7 +680,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         // Each particle's own rest density with the multiphase effect ([HA06]).
         let rest = &f.rest_density;
         let error = |i: usize| {
-            let rho0 = f64::from(rest_density_of(rest, i, params.rho0));
+            let rho0 = f64::from(params.phases.rest_density(rest, i, params.rho0));
             (f64::from(f.density[i]) - rho0) / rho0
         };
         let fluid = |i: usize| f.kind[i] == FLUID;
@@ -774,13 +775,13 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
             });
     }
 
-    fn correction_error(&mut self, fields: &Fields<D>, rho0: f32) -> CorrectionError {
+    fn correction_error(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> CorrectionError {
         let f = fields;
-        let rest = &f.rest_density;
+        let (rest, rho0) = (&f.rest_density, params.rho0);
         let [compression, residual] = max_each_in_order(f.len(), |i| {
             if f.kind[i] == FLUID {
                 // (24) against the particle's own phase with the multiphase effect ([HA06]).
-                let rho0 = rest_density_of(rest, i, rho0);
+                let rho0 = params.phases.rest_density(rest, i, rho0);
                 [
                     correction::compression(f.density[i], rho0),
                     correction::residual(f.density[i], rho0, f.pressure[i]),
@@ -826,7 +827,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     // Heavy-ball momentum on the increments (see `physics::correction::MOMENTUM`).
                     let m = if has_prev { beta * prev[i] } else { 0.0 };
                     // The particle's own phase with the multiphase effect ([HA06]).
-                    let rho0 = rest_density_of(rest, i, rho0);
+                    let rho0 = params.phases.rest_density(rest, i, rho0);
                     correction::pressure_increment(density[i], rho0, *p + m, k) + m
                 } else {
                     0.0
@@ -900,7 +901,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         let (position, velocity, mass, kind) =
             (&fields.position, &fields.velocity, &fields.mass, &fields.kind);
         let rest = &fields.rest_density;
-        let multiphase = !rest.is_empty();
+        let multiphase = params.phases == Phases::Multi;
         let start = &self.density_solve_start;
         assert_eq!(
             start.len(),
@@ -919,12 +920,13 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
                     rate += m * (velocity[i] - velocity[j]).dot(&grad);
                 }
             });
-            *rho = velocity_solve_base(start[i], rest_density_of(rest, i, params.rho0)) + tau * rate;
+            *rho =
+                velocity_solve_base(start[i], params.phases.rest_density(rest, i, params.rho0)) + tau * rate;
         });
     }
 
     fn mix_velocity_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
-        self.anderson.mix(fields, params.rho0, k);
+        self.anderson.mix(fields, params.phases, params.rho0, k);
     }
 
     fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {

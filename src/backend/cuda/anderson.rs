@@ -9,6 +9,7 @@
 use super::{CudaBackend, launch_config, record};
 use crate::backend::params::StepParams;
 use crate::math::Real;
+use crate::physics::multiphase::Phases;
 use crate::solver::anderson::WINDOW;
 use cudarc::driver::{CudaSlice, DriverError, PushKernelArg};
 
@@ -121,7 +122,10 @@ impl<const D: usize> CudaBackend<D> {
         };
         // No momentum: the kernels then read no previous increments (any n floats will do).
         let (beta, no_previous) = (0.0f32, 0i32);
-        if let Some(rest) = self.f.rest_density.as_ref() {
+        if params.phases == Phases::Multi {
+            let Some(rest) = super::multiphase_rest(&self.f.rest_density, &mut self.error) else {
+                return;
+            };
             launch!(self, "computing the fixed-point residual", "correction_pressure_fluid_multiphase", self.n;
                 &n, rest, &k, &beta, &no_previous, &self.f.density, &self.f.pressure,
                 &self.f.kind, &self.delta_p_previous, &mut b.f);

@@ -17,6 +17,7 @@ use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
 use crate::physics::correction;
+use crate::physics::multiphase::Phases;
 use crate::solver::anderson::AndersonState;
 use cudarc::driver::{
     CudaContext, CudaFunction, CudaSlice, CudaStream, DeviceRepr, DriverError, LaunchConfig, PushKernelArg,
@@ -92,8 +93,9 @@ struct DeviceFields {
     /// `Fields::wall_velocity` ([A12] no-slip walls): only where the host allocated it (viscosity
     /// with solids), or once the `wall_velocity` stage runs.
     wall_velocity: Option<CudaSlice<f32>>,
-    /// `Fields::rest_density` (the `multiphase` effect); `None` without it, which selects the
-    /// single-phase kernels.
+    /// `Fields::rest_density` where the fields carry it (the `multiphase` effect); the stages
+    /// run on `StepParams::phases` and [`multiphase_rest`] reports a plan of several phases
+    /// on a backend built without it.
     rest_density: Option<CudaSlice<f32>>,
 }
 
@@ -182,6 +184,22 @@ fn record<T>(error: &mut Option<BackendError>, during: &str, r: Result<T, Driver
             None
         }
     }
+}
+
+/// The rest densities the [`Phases::Multi`] variants read; `None`, with the error recorded,
+/// where the backend holds none (its fields were uploaded before `Simulation::with_phases`).
+fn multiphase_rest<'a>(
+    rest_density: &'a Option<CudaSlice<f32>>,
+    error: &mut Option<BackendError>,
+) -> Option<&'a CudaSlice<f32>> {
+    if rest_density.is_none() && error.is_none() {
+        *error = Some(BackendError::Device {
+            backend: "cuda",
+            during: "running a multiphase stage".into(),
+            reason: "the fields were uploaded without rest densities".into(),
+        });
+    }
+    rest_density.as_ref()
 }
 
 fn device_error(during: &str, e: impl std::fmt::Debug) -> BackendError {
@@ -524,10 +542,9 @@ impl<const D: usize> CudaBackend<D> {
         }
         let n = self.n as u32;
         let tau2 = tau * tau;
-        let name = if self.f.rest_density.is_some() {
-            "correction_displacement_multiphase"
-        } else {
-            "correction_displacement"
+        let name = match params.phases {
+            Phases::Single => "correction_displacement",
+            Phases::Multi => "correction_displacement_multiphase",
         };
         let density = if solve_start {
             &self.density_solve_start
@@ -842,8 +859,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
     fn density(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
-        if self.f.rest_density.is_some() {
-            // [HA06] number density (kernels/multiphase.cu).
+        if params.phases == Phases::Multi {
+            // [HA06] number density (kernels/density.cu).
             launch!(self, "computing the density", "density_multiphase", self.n;
                 &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
                 &self.f.kind, &mut self.f.density);
@@ -856,7 +873,10 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
 
     fn equation_of_state(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
         let n = self.n as u32;
-        if let Some(rest) = self.f.rest_density.as_ref() {
+        if params.phases == Phases::Multi {
+            let Some(rest) = multiphase_rest(&self.f.rest_density, &mut self.error) else {
+                return;
+            };
             launch!(self, "applying the equation of state", "equation_of_state_multiphase", self.n;
                 &n, params, &self.f.density, rest, &self.f.kind, &mut self.f.pressure);
             return;
@@ -926,7 +946,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
         let summed = i32::from(model == WallModel::ExtrapolatedOrSummed);
-        if self.f.rest_density.is_some() {
+        if params.phases == Phases::Multi {
             launch!(self, "extrapolating the wall pressure", "wall_pressure_multiphase", self.n;
                 &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
                 &self.f.kind, &self.wall_acc, &summed, &mut self.f.pressure, &mut self.f.density);
@@ -968,10 +988,9 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
     fn forces(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
-        let names = if self.f.rest_density.is_some() {
-            FORCES_MULTIPHASE
-        } else {
-            FORCES
+        let names = match params.phases {
+            Phases::Single => FORCES,
+            Phases::Multi => FORCES_MULTIPHASE,
         };
         let name = names[terms.index()];
         let cfg = launch_config(self.n);
@@ -1011,10 +1030,15 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let Some(normal) = self.normal.as_mut() else {
             return;
         };
-        // The multiphase rest densities where the scene has them (the kernel reads them only
-        // then; otherwise any f32 buffer stands in).
-        let has_rest = u32::from(self.f.rest_density.is_some());
-        let rest = self.f.rest_density.as_ref().unwrap_or(&self.f.density);
+        let has_rest = u32::from(params.phases == Phases::Multi);
+        let rest = match params.phases {
+            // The kernel reads no rest density then; any f32 buffer stands in.
+            Phases::Single => &self.f.density,
+            Phases::Multi => match multiphase_rest(&self.f.rest_density, &mut self.error) {
+                Some(rest) => rest,
+                None => return,
+            },
+        };
         launch!(self, "computing the surface normals", "surface_normals", self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
             &self.f.density, rest, &has_rest, &self.f.kind, normal);
@@ -1028,8 +1052,15 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return;
         };
         let n = self.n as u32;
-        let has_rest = u32::from(self.f.rest_density.is_some());
-        let rest = self.f.rest_density.as_ref().unwrap_or(&self.f.density);
+        let has_rest = u32::from(params.phases == Phases::Multi);
+        let rest = match params.phases {
+            // The kernel reads no rest density then; any f32 buffer stands in.
+            Phases::Single => &self.f.density,
+            Phases::Multi => match multiphase_rest(&self.f.rest_density, &mut self.error) {
+                Some(rest) => rest,
+                None => return,
+            },
+        };
         launch!(self, "computing the surface tension", "surface_tension", self.n;
             &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
             &self.f.density, rest, &has_rest, &self.f.kind, normal, &mut self.f.acceleration);
@@ -1066,10 +1097,9 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let n = self.n as u32;
         // About 8 particles per thread (grid-stride loop in kernels/solid_forces.cu).
         let cfg = launch_config(self.n.div_ceil(8));
-        let name = if self.f.rest_density.is_some() {
-            "solid_forces_multiphase"
-        } else {
-            "solid_forces"
+        let name = match params.phases {
+            Phases::Single => "solid_forces",
+            Phases::Multi => "solid_forces_multiphase",
         };
         let mut b = self.stream.launch_builder(&self.kernels[name]);
         b.arg(&n)
@@ -1112,7 +1142,10 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         }
         let n = self.n as u32;
         // About 64 particles per thread (grid-stride loop), so one set of atomics per 64.
-        if let Some(rest) = self.f.rest_density.as_ref() {
+        if params.phases == Phases::Multi {
+            let Some(rest) = multiphase_rest(&self.f.rest_density, &mut self.error) else {
+                return fallback;
+            };
             launch!(self, "reducing the extremes", "state_extremes_multiphase", self.n.div_ceil(64);
                 &n, params, &self.f.position, &self.f.velocity, &self.f.acceleration, &self.f.density,
                 &self.f.pressure, &self.f.kind, rest, &mut self.extremes);
@@ -1152,7 +1185,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             &self.f.velocity_start, &mut self.f.position, &mut self.f.velocity);
     }
 
-    fn correction_error(&mut self, _fields: &Fields<D>, rho0: f32) -> CorrectionError {
+    fn correction_error(&mut self, _fields: &Fields<D>, params: &StepParams<D>) -> CorrectionError {
         let failed = CorrectionError {
             compression: f64::NAN,
             residual: f64::NAN,
@@ -1165,12 +1198,16 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return failed;
         }
         let n = self.n as u32;
-        if let Some(rest) = self.f.rest_density.as_ref() {
+        if params.phases == Phases::Multi {
+            let Some(rest) = multiphase_rest(&self.f.rest_density, &mut self.error) else {
+                return failed;
+            };
             launch!(self, "reducing the density error", "correction_error_multiphase", self.n;
                 &n, rest, &self.f.density, &self.f.pressure, &self.f.kind, &mut self.reduce_i32);
         } else {
             launch!(self, "reducing the density error", "correction_error", self.n;
-                &n, &rho0, &self.f.density, &self.f.pressure, &self.f.kind, &mut self.reduce_i32);
+                &n, &params.rho0, &self.f.density, &self.f.pressure, &self.f.kind,
+                &mut self.reduce_i32);
         }
         let out = self.stream.clone_dtoh(&self.reduce_i32);
         match record(&mut self.error, "copying the residual", out) {
@@ -1192,7 +1229,10 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let n = self.n as u32;
         let beta = correction::MOMENTUM;
         let has_previous = i32::from(self.has_previous);
-        if let Some(rest) = self.f.rest_density.as_ref() {
+        if params.phases == Phases::Multi {
+            let Some(rest) = multiphase_rest(&self.f.rest_density, &mut self.error) else {
+                return;
+            };
             launch!(self, "computing pressure increments", "correction_pressure_fluid_multiphase", self.n;
                 &n, rest, &k, &beta, &has_previous, &self.f.density, &self.f.pressure,
                 &self.f.kind, &self.delta_p_previous, &mut self.delta_p);
@@ -1256,8 +1296,11 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
     fn predicted_density(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
-        if let Some(rest) = self.f.rest_density.as_ref() {
-            // [HA06] each particle's own mass and rest density (kernels/multiphase.cu).
+        if params.phases == Phases::Multi {
+            let Some(rest) = multiphase_rest(&self.f.rest_density, &mut self.error) else {
+                return;
+            };
+            // [HA06] each particle's own mass and rest density (kernels/density.cu).
             launch!(self, "predicting the density", "predicted_density_multiphase", self.n;
                 &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position,
                 &self.f.velocity, &self.f.mass, rest, &self.f.kind, &self.density_solve_start, &tau,

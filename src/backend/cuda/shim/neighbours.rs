@@ -10,7 +10,7 @@ use crate::backend::params::StepParams;
 
 /// The fields of `StepParams` in declaration order, as `sph_shim_step_params_layout_D` reports
 /// their offsets.
-pub const STEP_PARAMS_FIELDS: usize = 20;
+pub const STEP_PARAMS_FIELDS: usize = 21;
 
 #[link(name = "sph_kernel_shim_2", kind = "static")]
 unsafe extern "C" {
