@@ -6,8 +6,14 @@
 //! - With `--features cuda`, compiles the same kernels as C++ with the host shim of
 //!   `kernels/shim/` (once per dimension) into a static library, so tests can run every kernel on
 //!   the CPU and compare it with the rayon stage it mirrors (`tests/cuda_shim.rs`).
+//! - Generates from `kernels/launch.table` the CUDA backend's launchers (cudarc and host shim,
+//!   `$OUT_DIR/launch.rs`) and the shim's C++ launchers (`$OUT_DIR/shim_exports.inc`):
+//!   `build/kernel_table.rs`.
 use std::fs;
 use std::path::{Path, PathBuf};
+
+#[path = "build/kernel_table.rs"]
+mod kernel_table;
 
 /// `source` with every `#include "name"` of a file beside it replaced by that file's text
 /// (recursively, each header once, as `#pragma once` would).
@@ -61,17 +67,31 @@ fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets it"));
     fs::write(out.join("kernels.rs"), generated).expect("writable OUT_DIR");
 
+    println!("cargo::rerun-if-changed=build");
+    let table = fs::read_to_string(kernels.join("launch.table")).expect("kernels/launch.table");
+    let entries = kernel_table::parse(&table);
+    let (launch, externs) = kernel_table::rust(&entries);
+    fs::write(out.join("launch.rs"), launch).expect("writable OUT_DIR");
+    fs::write(out.join("shim_externs.rs"), externs).expect("writable OUT_DIR");
+    let mut exports = String::new();
+    for path in &names {
+        exports.push_str(&format!("#include {:?}\n", path.display().to_string()));
+    }
+    exports.push_str(&kernel_table::cpp(&entries));
+    fs::write(out.join("shim_exports.inc"), exports).expect("writable OUT_DIR");
+
     #[cfg(feature = "cuda")]
-    compile_shim(&kernels);
+    compile_shim(&kernels, &out);
 }
 
 /// The kernels as C++ for the CPU, one static library per dimension.
 #[cfg(feature = "cuda")]
-fn compile_shim(kernels: &Path) {
+fn compile_shim(kernels: &Path, out: &Path) {
     for dim in ["2", "3"] {
         cc::Build::new()
             .cpp(true)
             .file(kernels.join("shim/shim.cpp"))
+            .include(out)
             .define("SPH_DIM", dim)
             .flag_if_supported("-std=c++17")
             .flag_if_supported("-Wno-unused-function")

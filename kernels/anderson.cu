@@ -29,19 +29,19 @@ SPH_KERNEL(anderson_difference)(u32 n, u32 slot, const float* __restrict__ press
 }
 
 /// Dot products with the first `count` (<= ANDERSON_WINDOW) slots:
-/// `out[l] += sum_i a_i slots[l n + i]` [Pa^2], products and sums in f64 as the CPU's `math::sum_in_order` (whose fixed order this does not
+/// `out[l] += sum_i a[a_offset + i] slots[l n + i]` [Pa^2] (`a` is a slot when `a` is `slots`), products and sums in f64 as the CPU's `math::sum_in_order` (whose fixed order this does not
 /// reproduce: parity is to a relative tolerance). Grid-stride loop: the backend launches about
 /// n/64 threads, each summing its items in registers and adding once per slot; the host zeroes
 /// `out`.
-SPH_KERNEL(anderson_dots)(u32 n, u32 count, const float* __restrict__ a,
-                          const float* __restrict__ slots, double* __restrict__ out) {
+SPH_KERNEL(anderson_dots)(u32 n, u32 count, const float* a, u32 a_offset, const float* slots,
+                          double* __restrict__ out) {
     const u32 stride = gridDim.x * blockDim.x;
     const u32 first = blockIdx.x * blockDim.x + threadIdx.x;
     if (first >= n) return;
     double sum[ANDERSON_WINDOW];
     for (u32 l = 0; l < ANDERSON_WINDOW; ++l) sum[l] = 0.0;
     for (u32 i = first; i < n; i += stride) {
-        const double a_i = (double)a[i];
+        const double a_i = (double)a[a_offset + i];
         for (u32 l = 0; l < count && l < ANDERSON_WINDOW; ++l) {
             sum[l] += a_i * (double)slots[(size_t)l * n + i];
         }

@@ -1,11 +1,13 @@
 //! Every kernel of `kernels/` compiles with NVRTC through the same cudarc path the CUDA backend
-//! uses (`backend::cuda::compile::compile_all`), for both dimensions and the oldest and newest
+//! uses (`backend::cuda::compile::compile_all`), and every entry of `kernels/launch.table` is
+//! among the compiled entry points, for both dimensions and the oldest and newest
 //! architectures the backend names (sm_75: CUDA 13 dropped sm_70). Needs `libnvrtc` but no GPU. Where the library is missing
 //! the test says SKIPPED on stderr, unless `SPH_REQUIRE_NVRTC=1` (CI sets it), which makes a
 //! missing library a failure.
 #![cfg(feature = "cuda")]
 
 use sph::backend::cuda::compile::compile_all;
+use sph::backend::cuda::launch::KERNEL_NAMES;
 use sph::backend::cuda::library::check_nvrtc;
 use sph::backend::cuda::sources::KERNEL_SOURCES;
 
@@ -22,11 +24,25 @@ fn every_kernel_compiles_with_nvrtc() {
         for arch in ["sm_75", "sm_90"] {
             let modules = compile_all(dim, arch).unwrap_or_else(|e| panic!("{e}"));
             assert_eq!(modules.len(), KERNEL_SOURCES.len());
+            let mut entries = Vec::new();
             for (file, ptx) in &modules {
                 let text = ptx.to_src();
                 assert!(
                     text.contains(".entry"),
                     "kernels/{file}.cu for {arch}, D = {dim} has no kernel entry point"
+                );
+                // `.entry name(` for each `extern "C" __global__` kernel.
+                entries.extend(
+                    text.split(".entry ")
+                        .skip(1)
+                        .filter_map(|rest| rest.split('(').next().map(|n| n.trim().to_string())),
+                );
+            }
+            // Every entry of kernels/launch.table is a kernel the GPU can load by name.
+            for name in KERNEL_NAMES {
+                assert!(
+                    entries.iter().any(|e| e == name),
+                    "kernels/launch.table names `{name}`, which no kernel file defines ({arch}, D = {dim})"
                 );
             }
         }

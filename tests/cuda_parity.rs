@@ -1,8 +1,11 @@
 //! Parity of the CUDA backend with the CPU reference: every shipped scene, and the 3D column
 //! scene with the `corrected` solver, run for a fixed number of steps on both backends from the
 //! same initial state; positions, densities (per particle id) and the force on each solid are
-//! compared after every step. Needs a GPU: without one the test says SKIPPED on stderr, unless
-//! `SPH_REQUIRE_GPU=1`, which makes a missing GPU a failure.
+//! compared after every step. Each test runs the CUDA backend on every device available: the
+//! host shim (`Shim`: the same kernels, launch shapes and stage sequence as C++ on the CPU, so
+//! these tests check the CUDA backend's orchestration in CI without a GPU) and a GPU. Without a
+//! GPU its half says SKIPPED on stderr, unless `SPH_REQUIRE_GPU=1`, which makes a missing GPU a
+//! failure.
 //!
 //! Tolerances, and why: both backends evaluate the same f32 terms but sum them in different
 //! orders (GPU cells are ordered by id, CPU cells by the previous order; reductions use atomics),
@@ -18,11 +21,18 @@
 //!   of sums over its fluid neighbours that amplifies the summation-order differences where a
 //!   wall particle has few fluid neighbours (measured: up to 1.0e-4 ρ0 where the
 //!   fluid stayed within 3.4e-6 ρ0);
-//! - force on each solid within 2 % of the largest force magnitude seen in the run plus 1e-3 N.
+//! - force on each solid within 2 % of the largest force magnitude seen in the run plus 1e-3 N
+//!   ([`FORCE`]); 5 % ([`FORCE_AFTER_VELOCITY_SOLVE`]) for the corrected 2D scenes, whose
+//!   velocity solves stop at their tolerance after different iteration counts on the two
+//!   backends, so the force of the solve's increments differs by more (measured on the rotating
+//!   tank: 94 against 87 iterations in the first step, forces 748 and 742 N, worst 3.4 % over 5
+//!   steps, with positions within 3.3e-5 dx).
 
 #![cfg(feature = "cuda")]
 
 use sph::backend::BackendKind;
+use sph::backend::cuda::launch::Launch;
+use sph::backend::cuda::shim::Shim;
 use sph::fields::Fields;
 use sph::run::AnySimulation;
 use sph::scene::{Scene, load_scene};
@@ -31,6 +41,41 @@ use std::path::Path;
 
 /// Steps per shipped scene.
 const STEPS: usize = 10;
+/// Solid force tolerance, relative to the largest force of the run (module doc).
+const FORCE: f64 = 0.02;
+/// The same where velocity solves end each stage (module doc).
+const FORCE_AFTER_VELOCITY_SOLVE: f64 = 0.05;
+
+/// Where the CUDA backend runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Device {
+    /// The host shim.
+    Shim,
+    /// The first GPU.
+    Gpu,
+}
+
+impl Device {
+    fn attach<const D: usize>(self, sim: &mut Simulation<D>)
+    where
+        Shim: Launch<D>,
+    {
+        match self {
+            Device::Shim => sim.use_backend_from(Shim::backend),
+            Device::Gpu => sim.use_backend(BackendKind::Cuda),
+        }
+        .expect("CUDA backend starts");
+    }
+}
+
+/// The shim, and the GPU where there is one.
+fn devices() -> Vec<Device> {
+    let mut devices = vec![Device::Shim];
+    if gpu_available() {
+        devices.push(Device::Gpu);
+    }
+    devices
+}
 
 fn gpu_available() -> bool {
     match sph::backend::cuda::probe() {
@@ -62,10 +107,14 @@ struct Worst {
 fn compare<const D: usize>(
     scene: &Scene,
     steps: usize,
+    device: Device,
     mut cpu: Simulation<D>,
     mut gpu: Simulation<D>,
-) -> Worst {
-    gpu.use_backend(BackendKind::Cuda).expect("CUDA backend starts");
+) -> Worst
+where
+    Shim: Launch<D>,
+{
+    device.attach(&mut gpu);
     let mut worst = Worst {
         position: 0.0,
         density: 0.0,
@@ -78,7 +127,7 @@ fn compare<const D: usize>(
         let b = gpu.step(f64::INFINITY).expect("GPU step");
         assert!(
             (a.dt - b.dt).abs() <= 1e-3 * a.dt,
-            "{}: step {step}: dt {} on the CPU, {} on the GPU",
+            "{} ({device:?}): step {step}: dt {} on the CPU, {} on the device",
             scene.name.as_deref().unwrap_or("?"),
             a.dt,
             b.dt
@@ -105,7 +154,7 @@ fn compare<const D: usize>(
             worst.force = worst.force.max(mag(&[x[0] - y[0], x[1] - y[1], x[2] - y[2]]));
         }
         eprintln!(
-            "{} step {step}: dt {:.3e} s, worst |dx|/dx {:.2e}, |drho|/rho0 fluid {:.2e} solid {:.2e}, |dF| {:.2e} N (largest {:.2e} N)",
+            "{} ({device:?}) step {step}: dt {:.3e} s, worst |dx|/dx {:.2e}, |drho|/rho0 fluid {:.2e} solid {:.2e}, |dF| {:.2e} N (largest {:.2e} N)",
             scene.name.as_deref().unwrap_or("?"),
             a.dt,
             worst.position,
@@ -118,15 +167,15 @@ fn compare<const D: usize>(
     worst
 }
 
-fn check(path: &str, sets: &[String], steps: usize) {
+fn check(device: Device, path: &str, sets: &[String], steps: usize, force_tol: f64) {
     let scene = load_scene(Path::new(path), sets).expect("shipped scene loads");
     let corrected = scene.solver.kind.name() == "corrected";
     let worst = match (
         AnySimulation::from_scene(&scene).expect("builds"),
         AnySimulation::from_scene(&scene).expect("builds"),
     ) {
-        (AnySimulation::D2(a), AnySimulation::D2(b)) => compare(&scene, steps, a, b),
-        (AnySimulation::D3(a), AnySimulation::D3(b)) => compare(&scene, steps, a, b),
+        (AnySimulation::D2(a), AnySimulation::D2(b)) => compare(&scene, steps, device, a, b),
+        (AnySimulation::D3(a), AnySimulation::D3(b)) => compare(&scene, steps, device, a, b),
         _ => unreachable!("same scene, same dimension"),
     };
     let (position_tol, density_tol) = if corrected {
@@ -137,7 +186,7 @@ fn check(path: &str, sets: &[String], steps: usize) {
     } else {
         (1e-3, 1e-4)
     };
-    let name = scene.name.as_deref().unwrap_or(path);
+    let name = format!("{} ({device:?})", scene.name.as_deref().unwrap_or(path));
     assert!(
         worst.position <= position_tol,
         "{name}: positions differ by {:.3e} dx",
@@ -154,7 +203,7 @@ fn check(path: &str, sets: &[String], steps: usize) {
         worst.solid_density
     );
     assert!(
-        worst.force <= 0.02 * worst.largest_force + 1e-3,
+        worst.force <= force_tol * worst.largest_force + 1e-3,
         "{name}: solid forces differ by {:.3e} N (largest {:.3e} N)",
         worst.force,
         worst.largest_force
@@ -163,38 +212,61 @@ fn check(path: &str, sets: &[String], steps: usize) {
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
-#[test]
-fn every_shipped_scene_matches_the_cpu() {
-    if !gpu_available() {
-        return;
-    }
+fn shipped_scenes() -> Vec<String> {
     let mut scenes: Vec<_> = std::fs::read_dir(format!("{ROOT}/scenes"))
         .expect("scenes/")
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .map(|p| p.to_str().expect("utf-8 path").to_string())
         .collect();
     scenes.sort();
     assert!(scenes.len() >= 4);
-    for path in scenes {
-        check(path.to_str().expect("utf-8 path"), &[], STEPS);
+    scenes
+}
+
+#[test]
+fn every_shipped_scene_matches_the_cpu() {
+    for device in devices() {
+        for path in shipped_scenes() {
+            check(device, &path, &[], STEPS, FORCE);
+        }
+    }
+}
+
+/// The `corrected` solver (the correction's sweeps, the velocity solve with its Anderson
+/// window, the walls' increments) on the 2D scenes: one fluid with walls, two phases, surface
+/// tension, a rotating frame.
+#[test]
+fn corrected_2d_scenes_match_the_cpu() {
+    for device in devices() {
+        for file in ["dam_break_2d", "two_layer_2d", "droplet_2d", "rotating_tank_2d"] {
+            check(
+                device,
+                &format!("{ROOT}/scenes/{file}.toml"),
+                &["solver.kind=corrected".to_string()],
+                5,
+                FORCE_AFTER_VELOCITY_SOLVE,
+            );
+        }
     }
 }
 
 #[test]
 fn corrected_column_scene_matches_the_cpu() {
-    if !gpu_available() {
-        return;
+    for device in devices() {
+        check(
+            device,
+            &format!("{ROOT}/scenes/dam_break_column_3d.toml"),
+            // At twice the shipped spacing (26,000 particles): its first steps take about a
+            // hundred sweeps per stage, which the CPU side must also run.
+            &[
+                "solver.kind=corrected".to_string(),
+                "particles.spacing=0.0216".to_string(),
+            ],
+            5,
+            FORCE,
+        );
     }
-    check(
-        &format!("{ROOT}/scenes/dam_break_column_3d.toml"),
-        // At twice the shipped spacing (26,000 particles): its first steps take about a hundred
-        // sweeps per stage, which the CPU side must also run.
-        &[
-            "solver.kind=corrected".to_string(),
-            "particles.spacing=0.0216".to_string(),
-        ],
-        5,
-    );
 }
 
 /// Moving walls (`move_solids`, the wall pressure with `g − a_w`, the force on moving solids):
@@ -202,20 +274,21 @@ fn corrected_column_scene_matches_the_cpu() {
 /// full speed from the first step, with both solvers.
 #[test]
 fn sloshing_tanks_match_the_cpu() {
-    if !gpu_available() {
-        return;
-    }
-    for file in ["sloshing_2d.toml", "sloshing_3d.toml"] {
-        for solver in ["wcsph", "corrected"] {
-            let steps = if solver == "corrected" { 5 } else { STEPS };
-            check(
-                &format!("{ROOT}/scenes/hard/{file}"),
-                &[
-                    format!("solver.kind={solver}"),
-                    "solid.0.motion.ramp=0".to_string(),
-                ],
-                steps,
-            );
+    for device in devices() {
+        for file in ["sloshing_2d.toml", "sloshing_3d.toml"] {
+            for solver in ["wcsph", "corrected"] {
+                let steps = if solver == "corrected" { 5 } else { STEPS };
+                check(
+                    device,
+                    &format!("{ROOT}/scenes/hard/{file}"),
+                    &[
+                        format!("solver.kind={solver}"),
+                        "solid.0.motion.ramp=0".to_string(),
+                    ],
+                    steps,
+                    FORCE,
+                );
+            }
         }
     }
 }

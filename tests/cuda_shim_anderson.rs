@@ -342,8 +342,8 @@ impl<const D: usize> ShimSolve<D> {
         }
     }
 
-    /// `anderson_dots` of `a` (n floats) with the first `count` slots of `Δf`.
-    fn dots(&self, a: *const f32, count: usize) -> [f64; WINDOW] {
+    /// `anderson_dots` of `a[offset..offset + n]` with the first `count` slots of `Δf`.
+    fn dots(&self, a: *const f32, offset: usize, count: usize) -> [f64; WINDOW] {
         let mut out = [0.0f64; WINDOW];
         launch!(
             D,
@@ -352,6 +352,7 @@ impl<const D: usize> ShimSolve<D> {
             self.n(),
             count as u32,
             a,
+            offset as u32,
             self.df.as_ptr(),
             out.as_mut_ptr(),
         );
@@ -410,12 +411,12 @@ impl<const D: usize> ShimSolve<D> {
                 self.df.as_mut_ptr(),
             );
             let valid = (self.state.held + 1).min(WINDOW);
-            let row = self.dots(self.df[s * n as usize..].as_ptr(), valid);
+            let row = self.dots(self.df.as_ptr(), s * n as usize, valid);
             self.state.push(&row);
         }
         let held = self.state.held;
         let rhs = if held > 0 {
-            self.dots(self.f.as_ptr(), held)
+            self.dots(self.f.as_ptr(), 0, held)
         } else {
             [0.0; WINDOW]
         };

@@ -870,11 +870,25 @@ impl<const D: usize> Simulation<D> {
     /// [`BackendError`] when the backend cannot run here (no `--features cuda`, no driver, no
     /// NVRTC, no GPU) or the upload fails.
     pub fn use_backend(&mut self, kind: BackendKind) -> Result<(), BackendError> {
+        self.use_backend_from(|fields, params| match kind {
+            BackendKind::Cpu => Ok(Box::new(CpuBackend::new())),
+            BackendKind::Cuda => crate::backend::cuda::create(fields, params),
+        })
+    }
+
+    /// Runs the stages from now on on the backend `make` builds from the current fields and
+    /// parameters: [`Simulation::use_backend`] for a backend outside [`BackendKind`], such as
+    /// the CUDA backend on the host shim (`backend::cuda::shim::Shim::backend`).
+    ///
+    /// # Errors
+    /// What `make` returns, or [`BackendError::Device`] when the old backend's fields cannot be
+    /// copied back first.
+    pub fn use_backend_from(
+        &mut self,
+        make: impl FnOnce(&Fields<D>, &StepParams<D>) -> Result<Box<dyn Backend<D> + Send>, BackendError>,
+    ) -> Result<(), BackendError> {
         self.sync_fields()?;
-        self.backend = match kind {
-            BackendKind::Cpu => Box::new(CpuBackend::new()),
-            BackendKind::Cuda => crate::backend::cuda::create(&self.fields, &self.step_params())?,
-        };
+        self.backend = make(&self.fields, &self.step_params())?;
         self.grid_fresh = false;
         self.density_fresh = false;
         Ok(())

@@ -6,33 +6,28 @@
 //! `u = u_start + τ a^press(P − P_start)` at the solve's fixed positions. A child module of
 //! `device` (it reads the backend's private buffers); `CudaBackend`'s `Backend` methods call it.
 
-use super::{CudaBackend, launch_config, record};
+use super::{CudaBackend, record};
+use crate::backend::cuda::launch::{Buffer, DeviceFault, Launch, Memory};
 use crate::backend::params::StepParams;
 use crate::math::Real;
 use crate::physics::multiphase::Phases;
 use crate::solver::anderson::WINDOW;
-use cudarc::driver::{CudaSlice, DriverError, PushKernelArg};
-
-/// Particles each thread of `anderson_dots` sums (grid-stride), so one set of `WINDOW` f64
-/// atomics per 64 particles; the shim's launcher (`kernels/shim/exports_anderson.inc`) uses the
-/// same shape.
-const ITEMS_PER_THREAD: usize = 64;
 
 /// The acceleration's device buffers, allocated at the first `mix_velocity_pressure` (a `wcsph`
 /// run and a `corrected` run without velocity solve hold none): `WINDOW n` floats each for the
 /// differences (slot-major, `slot l` at `[l n, (l + 1) n)`), `n` each for the previous iterate,
 /// its `f` and the current `f = g(P) − P` [Pa], and `WINDOW` for `γ` and for the dot products.
-pub(super) struct AndersonBuffers {
-    dp: CudaSlice<f32>,
-    df: CudaSlice<f32>,
-    previous: CudaSlice<f32>,
-    previous_f: CudaSlice<f32>,
-    f: CudaSlice<f32>,
-    gamma: CudaSlice<f32>,
-    dots: CudaSlice<f64>,
+pub(super) struct AndersonBuffers<K: Memory> {
+    dp: K::Buf<f32>,
+    df: K::Buf<f32>,
+    previous: K::Buf<f32>,
+    previous_f: K::Buf<f32>,
+    f: K::Buf<f32>,
+    gamma: K::Buf<f32>,
+    dots: K::Buf<f64>,
 }
 
-impl AndersonBuffers {
+impl<K: Memory> AndersonBuffers<K> {
     /// Device bytes held (for `Backend::heap_bytes`).
     pub(super) fn num_bytes(&self) -> usize {
         [
@@ -59,7 +54,7 @@ enum DotsWith {
     F,
 }
 
-impl<const D: usize> CudaBackend<D> {
+impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
     /// Allocates [`AndersonBuffers`] once; `false` after a failure (recorded) or an earlier one.
     fn ensure_anderson_buffers(&mut self) -> bool {
         if self.error.is_some() {
@@ -69,8 +64,8 @@ impl<const D: usize> CudaBackend<D> {
             return true;
         }
         let n = self.n.max(1);
-        let s = self.stream.clone();
-        let r = (|| -> Result<AndersonBuffers, DriverError> {
+        let s = &self.dev;
+        let r = (|| -> Result<AndersonBuffers<K>, DeviceFault> {
             Ok(AndersonBuffers {
                 dp: s.alloc_zeros::<f32>(WINDOW * n)?,
                 df: s.alloc_zeros::<f32>(WINDOW * n)?,
@@ -91,17 +86,20 @@ impl<const D: usize> CudaBackend<D> {
     fn anderson_dots(&mut self, with: DotsWith, count: usize) -> Option<[f64; WINDOW]> {
         debug_assert!(count <= WINDOW);
         let b = self.anderson_buffers.as_mut()?;
-        let r = self.stream.memset_zeros(&mut b.dots);
+        let r = self.dev.zero(&mut b.dots);
         record(&mut self.error, "clearing the dot products", r)?;
         let (n, count32) = (self.n as u32, count as u32);
-        let a = match with {
-            DotsWith::Slot(s) => b.df.slice(s * self.n..(s + 1) * self.n),
-            DotsWith::F => b.f.slice(..self.n),
+        // About 64 particles per thread (grid-stride), one set of `WINDOW` f64 atomics per 64.
+        let (a, offset) = match with {
+            DotsWith::Slot(s) => (&b.df, (s * self.n) as u32),
+            DotsWith::F => (&b.f, 0),
         };
-        launch!(self, "reducing the window's dot products", "anderson_dots",
-            self.n.div_ceil(ITEMS_PER_THREAD);
-            &n, &count32, &a, &b.df, &mut b.dots);
-        let out = self.stream.clone_dtoh(&b.dots);
+        launch!(
+            self,
+            "reducing the window's dot products",
+            anderson_dots(n, count32, a, offset, &b.df, &mut b.dots)
+        );
+        let out = self.dev.download(&b.dots);
         let out = record(&mut self.error, "copying the dot products", out)?;
         let mut dots = [0.0; WINDOW];
         dots.copy_from_slice(&out[..WINDOW]);
@@ -126,20 +124,57 @@ impl<const D: usize> CudaBackend<D> {
             let Some(rest) = super::multiphase_rest(&self.f.rest_density, &mut self.error) else {
                 return;
             };
-            launch!(self, "computing the fixed-point residual", "correction_pressure_fluid_multiphase", self.n;
-                &n, rest, &k, &beta, &no_previous, &self.f.density, &self.f.pressure,
-                &self.f.kind, &self.delta_p_previous, &mut b.f);
+            launch!(
+                self,
+                "computing the fixed-point residual",
+                correction_pressure_fluid_multiphase(
+                    n,
+                    rest,
+                    k,
+                    beta,
+                    no_previous,
+                    &self.f.density,
+                    &self.f.pressure,
+                    &self.f.kind,
+                    &self.delta_p_previous,
+                    &mut b.f
+                )
+            );
         } else {
-            launch!(self, "computing the fixed-point residual", "correction_pressure_fluid", self.n;
-                &n, &params.rho0, &k, &beta, &no_previous, &self.f.density, &self.f.pressure,
-                &self.f.kind, &self.delta_p_previous, &mut b.f);
+            launch!(
+                self,
+                "computing the fixed-point residual",
+                correction_pressure_fluid(
+                    n,
+                    params.rho0,
+                    k,
+                    beta,
+                    no_previous,
+                    &self.f.density,
+                    &self.f.pressure,
+                    &self.f.kind,
+                    &self.delta_p_previous,
+                    &mut b.f
+                )
+            );
         }
         if self.anderson.has_previous {
             let s = self.anderson.next;
             let slot = s as u32;
-            launch!(self, "storing the newest differences", "anderson_difference", self.n;
-                &n, &slot, &self.f.pressure, &b.previous, &b.f, &b.previous_f, &mut b.dp,
-                &mut b.df);
+            launch!(
+                self,
+                "storing the newest differences",
+                anderson_difference(
+                    n,
+                    slot,
+                    &self.f.pressure,
+                    &b.previous,
+                    &b.f,
+                    &b.previous_f,
+                    &mut b.dp,
+                    &mut b.df
+                )
+            );
             // The new slot against every slot holding a difference, itself included.
             let valid = (self.anderson.held + 1).min(WINDOW);
             let Some(row) = self.anderson_dots(DotsWith::Slot(s), valid) else {
@@ -160,14 +195,27 @@ impl<const D: usize> CudaBackend<D> {
         let Some(b) = self.anderson_buffers.as_mut() else {
             return;
         };
-        let r = self.stream.memcpy_htod(&gamma, &mut b.gamma);
+        let r = self.dev.write(&gamma, &mut b.gamma);
         if record(&mut self.error, "uploading the mixing coefficients", r).is_none() {
             return;
         }
         let held32 = held as u32;
-        launch!(self, "mixing the pressure", "anderson_mix", self.n;
-            &n, &held32, &b.gamma, &self.f.kind, &b.f, &b.dp, &b.df, &mut b.previous,
-            &mut b.previous_f, &mut self.f.pressure);
+        launch!(
+            self,
+            "mixing the pressure",
+            anderson_mix(
+                n,
+                held32,
+                &b.gamma,
+                &self.f.kind,
+                &b.f,
+                &b.dp,
+                &b.df,
+                &mut b.previous,
+                &mut b.previous_f,
+                &mut self.f.pressure
+            )
+        );
         self.anderson.has_previous = true;
     }
 
@@ -185,18 +233,58 @@ impl<const D: usize> CudaBackend<D> {
         }
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
-        launch!(self, "computing the solve's increments", "velocity_solve_increments", self.n;
-            &n, &self.f.kind, &self.f.pressure, &self.pressure_solve_start, &mut self.delta_p);
-        launch!(self, "extrapolating the solve's increments to walls", "correction_pressure_wall", self.n;
-            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position,
-            &self.density_solve_start, &self.pressure_solve_start, &self.f.kind, &mut self.delta_p);
-        launch!(self, "setting the walls' pressure", "velocity_solve_solid_pressure", self.n;
-            &n, &self.f.kind, &self.pressure_solve_start, &self.delta_p, &mut self.f.pressure);
+        launch!(
+            self,
+            "computing the solve's increments",
+            velocity_solve_increments(
+                n,
+                &self.f.kind,
+                &self.f.pressure,
+                &self.pressure_solve_start,
+                &mut self.delta_p
+            )
+        );
+        launch!(
+            self,
+            "extrapolating the solve's increments to walls",
+            correction_pressure_wall(
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.density_solve_start,
+                &self.pressure_solve_start,
+                &self.f.kind,
+                &mut self.delta_p
+            )
+        );
+        launch!(
+            self,
+            "setting the walls' pressure",
+            velocity_solve_solid_pressure(
+                n,
+                &self.f.kind,
+                &self.pressure_solve_start,
+                &self.delta_p,
+                &mut self.f.pressure
+            )
+        );
         if self.launch_displacements(params, tau, true).is_none() {
             return;
         }
-        launch!(self, "setting velocities", "velocity_from_displacement", self.n;
-            &n, &tau, &self.f.kind, &self.velocity_solve_start, &self.displacement,
-            &mut self.f.velocity);
+        launch!(
+            self,
+            "setting velocities",
+            velocity_from_displacement(
+                n,
+                tau,
+                &self.f.kind,
+                &self.velocity_solve_start,
+                &self.displacement,
+                &mut self.f.velocity
+            )
+        );
     }
 }

@@ -7,6 +7,7 @@
 use super::compile::{arch_for, compile_all};
 use super::extremes::{DeviceExtremes, max_from_bits, sweep};
 use super::grid::GridGeometry;
+use super::launch::{Buffer, DeviceFault, FORCES, Gpu, KERNEL_NAMES, Launch, Memory};
 use crate::backend::params::StepParams;
 use crate::backend::{
     Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel,
@@ -19,18 +20,7 @@ use crate::math::{Real, Vector};
 use crate::physics::correction;
 use crate::physics::multiphase::Phases;
 use crate::solver::anderson::AndersonState;
-use cudarc::driver::{
-    CudaContext, CudaFunction, CudaSlice, CudaStream, DeviceRepr, DriverError, LaunchConfig, PushKernelArg,
-};
-use std::collections::HashMap;
-use std::sync::Arc;
-
-// SAFETY: both are `#[repr(C)]` plain-old-data mirrors of the structs of `kernels/sph.cuh`,
-// passed to kernels by value.
-unsafe impl<const D: usize> DeviceRepr for StepParams<D> {}
-unsafe impl<const D: usize> DeviceRepr for GridGeometry<D> {}
-// SAFETY: `#[repr(C)]` mirror of `Extremes` in `kernels/extremes.cuh`.
-unsafe impl DeviceRepr for DeviceExtremes {}
+use cudarc::driver::CudaContext;
 
 /// What a sweep reports when nothing ran (no grid yet, or an earlier failure).
 const NO_SWEEP: Sweep = Sweep {
@@ -38,8 +28,6 @@ const NO_SWEEP: Sweep = Sweep {
     scale: 1.0,
 };
 
-/// Threads per block of every launch (the host shim uses the same shape).
-const THREADS: u32 = 256;
 /// Items per thread at each level of the cell-count scan: a level of `m` items leaves `m/64`
 /// chunk sums, scanned the same way, until at most `SCAN_TOP` remain for one thread.
 const SCAN_CHUNK: u32 = 64;
@@ -54,14 +42,6 @@ fn scan_levels(m: u32) -> Vec<u32> {
         sizes.push(next);
     }
     sizes
-}
-
-fn launch_config(n: usize) -> LaunchConfig {
-    LaunchConfig {
-        grid_dim: ((n as u32).div_ceil(THREADS).max(1), 1, 1),
-        block_dim: (THREADS, 1, 1),
-        shared_mem_bytes: 0,
-    }
 }
 
 /// Views a slice of `D`-vectors as its `n·D` floats (the layout the kernels use).
@@ -79,102 +59,101 @@ fn floats_mut<const D: usize>(v: &mut [Vector<D>]) -> &mut [Real] {
 
 /// The particle fields in device memory (mirror of `Fields`, struct of arrays, `D` floats per
 /// vector).
-struct DeviceFields {
-    position: CudaSlice<f32>,
-    velocity: CudaSlice<f32>,
-    acceleration: CudaSlice<f32>,
-    position_start: CudaSlice<f32>,
-    velocity_start: CudaSlice<f32>,
-    density: CudaSlice<f32>,
-    pressure: CudaSlice<f32>,
-    mass: CudaSlice<f32>,
-    kind: CudaSlice<u32>,
-    id: CudaSlice<u32>,
+struct DeviceFields<K: Memory> {
+    position: K::Buf<f32>,
+    velocity: K::Buf<f32>,
+    acceleration: K::Buf<f32>,
+    position_start: K::Buf<f32>,
+    velocity_start: K::Buf<f32>,
+    density: K::Buf<f32>,
+    pressure: K::Buf<f32>,
+    mass: K::Buf<f32>,
+    kind: K::Buf<u32>,
+    id: K::Buf<u32>,
     /// `Fields::wall_velocity` ([A12] no-slip walls): only where the host allocated it (viscosity
     /// with solids), or once the `wall_velocity` stage runs.
-    wall_velocity: Option<CudaSlice<f32>>,
+    wall_velocity: Option<K::Buf<f32>>,
     /// `Fields::rest_density` where the fields carry it (the `multiphase` effect); the stages
     /// run on `StepParams::phases` and [`multiphase_rest`] reports a plan of several phases
     /// on a backend built without it.
-    rest_density: Option<CudaSlice<f32>>,
+    rest_density: Option<K::Buf<f32>>,
 }
 
 /// The dense cell grid and the sort's buffers.
-struct DeviceGrid<const D: usize> {
+struct DeviceGrid<const D: usize, K: Memory> {
     geometry: GridGeometry<D>,
     cell_size: Real,
     /// Per particle: key at hashing time (unsorted order).
-    key: CudaSlice<u32>,
+    key: K::Buf<u32>,
     /// Per particle: key of its cell at the last sort (sorted order).
-    cell_key: CudaSlice<u32>,
+    cell_key: K::Buf<u32>,
     /// Per cell (+1): particle count, then the scan's output.
-    cell_count: CudaSlice<u32>,
-    cell_start: CudaSlice<u32>,
-    cell_fill: CudaSlice<u32>,
+    cell_count: K::Buf<u32>,
+    cell_start: K::Buf<u32>,
+    cell_fill: K::Buf<u32>,
     /// Per scan level: the chunk sums of the level below, and their exclusive scan.
-    chunk_sums: Vec<(CudaSlice<u32>, CudaSlice<u32>)>,
-    perm: CudaSlice<u32>,
+    chunk_sums: Vec<(K::Buf<u32>, K::Buf<u32>)>,
+    perm: K::Buf<u32>,
 }
 
-/// The CUDA backend of dimension `D`.
-pub struct CudaBackend<const D: usize> {
-    stream: Arc<CudaStream>,
-    kernels: HashMap<&'static str, CudaFunction>,
+/// The CUDA backend of dimension `D` on the device `K`: a GPU ([`Gpu`]), or the host shim
+/// (`shim::Shim`), which runs the same kernels in the same sequence on the CPU.
+pub struct CudaBackend<const D: usize, K: Launch<D> = Gpu> {
+    dev: K,
     n: usize,
     domain: (Vector<D>, Vector<D>),
-    f: DeviceFields,
-    grid: Option<DeviceGrid<D>>,
-    scratch_vec: CudaSlice<f32>,
-    scratch_u32: CudaSlice<u32>,
+    f: DeviceFields<K>,
+    grid: Option<DeviceGrid<D, K>>,
+    scratch_vec: K::Buf<f32>,
+    scratch_u32: K::Buf<u32>,
     /// The correction's pressure `Δp` (eq. 19) and the sweep's displacements (`D` floats per
     /// particle). These and the three `*_solve_start` buffers below serve the `corrected`
     /// solver alone: they hold one element until its first stage
     /// (`ensure_correction_buffers`), so a `wcsph` run holds none of them.
-    delta_p: CudaSlice<f32>,
+    delta_p: K::Buf<f32>,
     /// The previous sweep's `Δp` (the momentum term), and the scratch of `sort_by_cell`'s
     /// gathers for every solver (so always `n` floats).
-    delta_p_previous: CudaSlice<f32>,
+    delta_p_previous: K::Buf<f32>,
     has_previous: bool,
-    displacement: CudaSlice<f32>,
+    displacement: K::Buf<f32>,
     /// Velocities (`D` floats per particle) and pressures at `begin_velocity_solve`, for
     /// `end_velocity_solve`. They live within one velocity solve, which no sort interrupts, so
     /// `sort_by_cell` does not gather them.
-    velocity_solve_start: CudaSlice<f32>,
-    pressure_solve_start: CudaSlice<f32>,
+    velocity_solve_start: K::Buf<f32>,
+    pressure_solve_start: K::Buf<f32>,
     /// Densities (18) at `begin_velocity_solve`, for the solve's base density
     /// (`velocity_solve_base`, kernels/sph.cuh).
-    density_solve_start: CudaSlice<f32>,
+    density_solve_start: K::Buf<f32>,
     /// The velocity solve's Anderson acceleration (`solver::anderson`): the host state, reset by
     /// `begin_velocity_solve`, and the window on the device (`anderson`), allocated at the first
     /// `mix_velocity_pressure`.
     anderson: AndersonState,
-    anderson_buffers: Option<anderson::AndersonBuffers>,
-    reduce_i32: CudaSlice<i32>,
-    extremes: CudaSlice<DeviceExtremes>,
-    solid_out: CudaSlice<f64>,
+    anderson_buffers: Option<anderson::AndersonBuffers<K>>,
+    reduce_i32: K::Buf<i32>,
+    extremes: K::Buf<DeviceExtremes>,
+    solid_out: K::Buf<f64>,
     /// The guard's boxes as last uploaded (`kernels/keep_out.cu` layout) and on the device.
     keep_out_host: Vec<f32>,
-    keep_out_boxes: CudaSlice<f32>,
+    keep_out_boxes: K::Buf<f32>,
     /// The guard's per-solid counts and momentum changes, 4 doubles per solid.
-    keep_out_out: CudaSlice<f64>,
+    keep_out_out: K::Buf<f64>,
     /// Moving solids: `x0` by id (`D` floats per solid particle), uploaded at the first
     /// `move_solids`; `None` until then (and in scenes where nothing moves).
-    solid_reference: Option<CudaSlice<f32>>,
+    solid_reference: Option<K::Buf<f32>>,
     /// Per solid `[d, d']` (`2 D` floats) of the last `move_solids`.
-    solid_motion: CudaSlice<f32>,
+    solid_motion: K::Buf<f32>,
     /// Per solid acceleration `d''` (`D` floats), uploaded by `wall_pressure`; zeros while
     /// nothing moves.
-    wall_acc: CudaSlice<f32>,
+    wall_acc: K::Buf<f32>,
     /// Surface normals [AAT13] (`D` floats per particle), allocated by the first
     /// `surface_normals` (only scenes with the `surface_tension` effect run it). Recomputed after
     /// every sort before use, so the sort does not gather it.
-    normal: Option<CudaSlice<f32>>,
+    normal: Option<K::Buf<f32>>,
     error: Option<BackendError>,
-    device_name: String,
 }
 
 /// Keeps the first failure in `error`; later stages are skipped until the driver takes it.
-fn record<T>(error: &mut Option<BackendError>, during: &str, r: Result<T, DriverError>) -> Option<T> {
+fn record<T>(error: &mut Option<BackendError>, during: &str, r: Result<T, DeviceFault>) -> Option<T> {
     match r {
         Ok(v) => Some(v),
         Err(e) => {
@@ -188,10 +167,7 @@ fn record<T>(error: &mut Option<BackendError>, during: &str, r: Result<T, Driver
 
 /// The rest densities the [`Phases::Multi`] variants read; `None`, with the error recorded,
 /// where the backend holds none (its fields were uploaded before `Simulation::with_phases`).
-fn multiphase_rest<'a>(
-    rest_density: &'a Option<CudaSlice<f32>>,
-    error: &mut Option<BackendError>,
-) -> Option<&'a CudaSlice<f32>> {
+fn multiphase_rest<'a, B>(rest_density: &'a Option<B>, error: &mut Option<BackendError>) -> Option<&'a B> {
     if rest_density.is_none() && error.is_none() {
         *error = Some(BackendError::Device {
             backend: "cuda",
@@ -202,15 +178,15 @@ fn multiphase_rest<'a>(
     rest_density.as_ref()
 }
 
-fn device_error(during: &str, e: impl std::fmt::Debug) -> BackendError {
+fn device_error(during: &str, e: impl Into<DeviceFault>) -> BackendError {
     BackendError::Device {
         backend: "cuda",
         during: during.into(),
-        reason: format!("{e:?}"),
+        reason: e.into().0,
     }
 }
 
-impl<const D: usize> CudaBackend<D> {
+impl<const D: usize> CudaBackend<D, Gpu> {
     /// Compiles the kernels for the first GPU and uploads `fields`; `params` gives the domain of
     /// the dense grid. Call `cuda::probe` first (cudarc panics when a library is missing).
     ///
@@ -228,71 +204,67 @@ impl<const D: usize> CudaBackend<D> {
             backend: "cuda",
             reason: e.to_string(),
         })?;
-        let mut kernels = HashMap::new();
+        let mut functions = vec![None; KERNEL_NAMES.len()];
         for (file, ptx) in modules {
             let module = ctx
                 .load_module(ptx)
                 .map_err(|e| device_error(&format!("loading kernels/{file}.cu"), e))?;
-            for &name in KERNEL_NAMES {
+            for (slot, &name) in functions.iter_mut().zip(&KERNEL_NAMES) {
                 if let Ok(function) = module.load_function(name) {
-                    kernels.insert(name, function);
+                    *slot = Some(function);
                 }
             }
         }
-        if let Some(missing) = KERNEL_NAMES.iter().find(|k| !kernels.contains_key(*k)) {
-            return Err(BackendError::Unavailable {
-                backend: "cuda",
-                reason: format!("no kernel named {missing} in kernels/"),
-            });
-        }
-        let stream = ctx.default_stream();
+        let functions = functions
+            .into_iter()
+            .zip(&KERNEL_NAMES)
+            .map(|(f, name)| {
+                f.ok_or_else(|| BackendError::Unavailable {
+                    backend: "cuda",
+                    reason: format!("no kernel named {name} in kernels/"),
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Self::on_device(Gpu::new(&ctx, functions, device_name), fields, params)
+    }
+}
+
+impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
+    /// Uploads `fields` to `dev`; `params` gives the domain of the dense grid.
+    ///
+    /// # Errors
+    /// [`BackendError::Device`] when an allocation or the upload fails.
+    pub fn on_device(dev: K, fields: &Fields<D>, params: &StepParams<D>) -> Result<Self, BackendError> {
         let n = fields.len();
-        let up = |during: &str, e: DriverError| device_error(during, e);
+        let up = |during: &str, e: DeviceFault| device_error(during, e);
         let dn = (n * D).max(1);
-        let vec_zeros = |s: &Arc<CudaStream>| s.alloc_zeros::<f32>(dn).map_err(|e| up("allocating", e));
+        let vec_zeros = |d: &K| d.alloc_zeros::<f32>(dn).map_err(|e| up("allocating", e));
+        let upload = |d: &K, v: &[f32]| d.upload(v).map_err(|e| up("uploading", e));
+        let upload_u32 = |d: &K, v: &[u32]| d.upload(v).map_err(|e| up("uploading", e));
         let f = DeviceFields {
-            position: stream
-                .clone_htod(floats(&fields.position))
-                .map_err(|e| up("uploading", e))?,
-            velocity: stream
-                .clone_htod(floats(&fields.velocity))
-                .map_err(|e| up("uploading", e))?,
-            acceleration: stream
-                .clone_htod(floats(&fields.acceleration))
-                .map_err(|e| up("uploading", e))?,
-            position_start: vec_zeros(&stream)?,
-            velocity_start: vec_zeros(&stream)?,
-            density: stream
-                .clone_htod(&fields.density)
-                .map_err(|e| up("uploading", e))?,
-            pressure: stream
-                .clone_htod(&fields.pressure)
-                .map_err(|e| up("uploading", e))?,
-            mass: stream.clone_htod(&fields.mass).map_err(|e| up("uploading", e))?,
-            kind: stream.clone_htod(&fields.kind).map_err(|e| up("uploading", e))?,
-            id: stream.clone_htod(&fields.id).map_err(|e| up("uploading", e))?,
+            position: upload(&dev, floats(&fields.position))?,
+            velocity: upload(&dev, floats(&fields.velocity))?,
+            acceleration: upload(&dev, floats(&fields.acceleration))?,
+            position_start: vec_zeros(&dev)?,
+            velocity_start: vec_zeros(&dev)?,
+            density: upload(&dev, &fields.density)?,
+            pressure: upload(&dev, &fields.pressure)?,
+            mass: upload(&dev, &fields.mass)?,
+            kind: upload_u32(&dev, &fields.kind)?,
+            id: upload_u32(&dev, &fields.id)?,
             wall_velocity: if fields.wall_velocity.len() == n {
-                Some(
-                    stream
-                        .clone_htod(floats(&fields.wall_velocity))
-                        .map_err(|e| up("uploading", e))?,
-                )
+                Some(upload(&dev, floats(&fields.wall_velocity))?)
             } else {
                 None
             },
             rest_density: if fields.rest_density.is_empty() {
                 None
             } else {
-                Some(
-                    stream
-                        .clone_htod(&fields.rest_density)
-                        .map_err(|e| up("uploading", e))?,
-                )
+                Some(upload(&dev, &fields.rest_density)?)
             },
         };
         let zeros_f32 = |len: usize| {
-            stream
-                .alloc_zeros::<f32>(len.max(1))
+            dev.alloc_zeros::<f32>(len.max(1))
                 .map_err(|e| up("allocating", e))
         };
         // Solid k has kind k + 1; the per-solid buffers hold one entry per kind above fluid.
@@ -301,13 +273,12 @@ impl<const D: usize> CudaBackend<D> {
             solid_reference: None,
             solid_motion: zeros_f32(2 * D * solids)?,
             wall_acc: zeros_f32(D * solids)?,
-            kernels,
             n,
             domain: (params.domain_min, params.domain_max),
             f,
             grid: None,
             scratch_vec: zeros_f32(n * D)?,
-            scratch_u32: stream
+            scratch_u32: dev
                 .alloc_zeros::<u32>(n.max(1))
                 .map_err(|e| up("allocating", e))?,
             delta_p: zeros_f32(1)?,
@@ -319,18 +290,17 @@ impl<const D: usize> CudaBackend<D> {
             density_solve_start: zeros_f32(1)?,
             anderson: AndersonState::default(),
             anderson_buffers: None,
-            reduce_i32: stream.alloc_zeros::<i32>(2).map_err(|e| up("allocating", e))?,
-            extremes: stream
-                .clone_htod(&[DeviceExtremes::initial()])
+            reduce_i32: dev.alloc_zeros::<i32>(2).map_err(|e| up("allocating", e))?,
+            extremes: dev
+                .upload(&[DeviceExtremes::initial()])
                 .map_err(|e| up("allocating", e))?,
-            solid_out: stream.alloc_zeros::<f64>(3).map_err(|e| up("allocating", e))?,
+            solid_out: dev.alloc_zeros::<f64>(3).map_err(|e| up("allocating", e))?,
             keep_out_host: Vec::new(),
-            keep_out_boxes: stream.alloc_zeros::<f32>(1).map_err(|e| up("allocating", e))?,
-            keep_out_out: stream.alloc_zeros::<f64>(4).map_err(|e| up("allocating", e))?,
+            keep_out_boxes: dev.alloc_zeros::<f32>(1).map_err(|e| up("allocating", e))?,
+            keep_out_out: dev.alloc_zeros::<f64>(4).map_err(|e| up("allocating", e))?,
             normal: None,
             error: None,
-            device_name,
-            stream,
+            dev,
         };
         Ok(backend)
     }
@@ -346,9 +316,9 @@ impl<const D: usize> CudaBackend<D> {
                 reason: e.to_string(),
             })?;
         let cells = geometry.cell_count();
-        let s = &self.stream;
+        let dev = &self.dev;
         let a = |len: usize| {
-            s.alloc_zeros::<u32>(len.max(1))
+            dev.alloc_zeros::<u32>(len.max(1))
                 .map_err(|e| device_error("allocating the grid", e))
         };
         self.grid = Some(DeviceGrid {
@@ -383,17 +353,8 @@ impl<const D: usize> CudaBackend<D> {
                 None => return,
             },
         };
-        let f = &self.kernels["gather_vec"];
         // SAFETY: perm, src and scratch hold n entries (times D for vectors).
-        let r = unsafe {
-            self.stream
-                .launch_builder(f)
-                .arg(&n)
-                .arg(&grid.perm)
-                .arg(&*src)
-                .arg(&mut self.scratch_vec)
-                .launch(launch_config(self.n))
-        };
+        let r = unsafe { self.dev.gather_vec(n, &grid.perm, src, &mut self.scratch_vec) };
         std::mem::swap(src, &mut self.scratch_vec);
         record(&mut self.error, "gathering a vector field", r);
     }
@@ -401,7 +362,6 @@ impl<const D: usize> CudaBackend<D> {
     fn gather_scalar(&mut self, which: ScalarField) {
         let n = self.n as u32;
         let grid = self.grid.as_ref().expect("sorted");
-        // The scalar scratch reuses the vector scratch's first n floats.
         let src = match which {
             ScalarField::Density => &mut self.f.density,
             ScalarField::Pressure => &mut self.f.pressure,
@@ -411,16 +371,10 @@ impl<const D: usize> CudaBackend<D> {
                 None => return,
             },
         };
-        let f = &self.kernels["gather_f32"];
         // SAFETY: perm and src hold n entries; the scratch holds at least n floats.
         let r = unsafe {
-            self.stream
-                .launch_builder(f)
-                .arg(&n)
-                .arg(&grid.perm)
-                .arg(&*src)
-                .arg(&mut self.delta_p_previous)
-                .launch(launch_config(self.n))
+            self.dev
+                .gather_f32(n, &grid.perm, src, &mut self.delta_p_previous)
         };
         // delta_p_previous is dead after a sort (the momentum restarts), so it is the scratch.
         std::mem::swap(src, &mut self.delta_p_previous);
@@ -430,7 +384,6 @@ impl<const D: usize> CudaBackend<D> {
     fn gather_index(&mut self, which: IndexField) {
         let n = self.n as u32;
         let grid = self.grid.as_mut().expect("sorted");
-        let f = &self.kernels["gather_u32"];
         let r = match which {
             IndexField::Kind | IndexField::Id => {
                 let src = if which == IndexField::Kind {
@@ -439,27 +392,13 @@ impl<const D: usize> CudaBackend<D> {
                     &mut self.f.id
                 };
                 // SAFETY: perm, src and scratch hold n entries.
-                let r = unsafe {
-                    self.stream
-                        .launch_builder(f)
-                        .arg(&n)
-                        .arg(&grid.perm)
-                        .arg(&*src)
-                        .arg(&mut self.scratch_u32)
-                        .launch(launch_config(self.n))
-                };
+                let r = unsafe { self.dev.gather_u32(n, &grid.perm, src, &mut self.scratch_u32) };
                 std::mem::swap(src, &mut self.scratch_u32);
                 r
             }
             // SAFETY: perm, key and cell_key hold n entries.
             IndexField::CellKey => unsafe {
-                self.stream
-                    .launch_builder(f)
-                    .arg(&n)
-                    .arg(&grid.perm)
-                    .arg(&grid.key)
-                    .arg(&mut grid.cell_key)
-                    .launch(launch_config(self.n))
+                self.dev.gather_u32(n, &grid.perm, &grid.key, &mut grid.cell_key)
             },
         };
         record(&mut self.error, "gathering an index field", r);
@@ -467,12 +406,10 @@ impl<const D: usize> CudaBackend<D> {
 
     /// Copies particle `i`'s fields to name the first non-finite quantity, as the CPU does.
     fn non_finite_quantity(&mut self, i: usize) -> &'static str {
-        let s = self.stream.clone();
-        let vec_at = |b: &CudaSlice<f32>| -> Vec<f32> {
-            s.clone_dtoh(&b.slice(i * D..(i + 1) * D)).unwrap_or_default()
-        };
-        let scalar_at =
-            |b: &CudaSlice<f32>| -> Vec<f32> { s.clone_dtoh(&b.slice(i..i + 1)).unwrap_or_default() };
+        let dev = &self.dev;
+        let vec_at =
+            |b: &K::Buf<f32>| -> Vec<f32> { dev.download_range(b, i * D..(i + 1) * D).unwrap_or_default() };
+        let scalar_at = |b: &K::Buf<f32>| -> Vec<f32> { dev.download_range(b, i..i + 1).unwrap_or_default() };
         let bad = |v: Vec<f32>| v.iter().any(|c| !c.is_finite());
         if bad(vec_at(&self.f.position)) {
             "position"
@@ -488,17 +425,14 @@ impl<const D: usize> CudaBackend<D> {
     }
 }
 
-/// Launches `$name` over `$n` items with the arguments given, recording a failure.
+/// Launches `$kernel` (a [`Launch`] method: the table's launch shape) with the arguments given,
+/// recording a failure.
 macro_rules! launch {
-    ($self:ident, $during:expr, $name:expr, $n:expr; $($arg:expr),* $(,)?) => {{
-        let cfg = launch_config($n);
-        let function = &$self.kernels[$name];
-        let mut builder = $self.stream.launch_builder(function);
-        $( builder.arg($arg); )*
+    ($self:ident, $during:expr, $kernel:ident($($arg:expr),* $(,)?)) => {{
         // SAFETY: every buffer passed holds the item count the kernel reads or writes (n
-        // particles, times D for vectors; ncell + 1 for cell arrays), and the argument list
-        // matches the kernel's signature in kernels/ (checked by the shim tests).
-        let r = unsafe { builder.launch(cfg) };
+        // particles, times D for vectors; ncell + 1 for cell arrays); the argument list is the
+        // table's, which the shim's C++ compile checks against the kernel.
+        let r = unsafe { $self.dev.$kernel($($arg),*) };
         record(&mut $self.error, $during, r);
     }};
 }
@@ -508,7 +442,7 @@ macro_rules! launch {
 #[path = "anderson.rs"]
 mod anderson;
 
-impl<const D: usize> CudaBackend<D> {
+impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
     /// Sizes the `corrected` solver's buffers (`delta_p`, `displacement`, the `*_solve_start`
     /// copies) to the particle count at its first stage; later calls find them sized. Particles
     /// are never added, so `n` is fixed.
@@ -517,13 +451,13 @@ impl<const D: usize> CudaBackend<D> {
             return;
         }
         let (n, dn) = (self.n.max(1), (self.n * D).max(1));
-        let stream = self.stream.clone();
-        let r = (|| -> Result<(), DriverError> {
-            self.delta_p = stream.alloc_zeros::<f32>(n)?;
-            self.displacement = stream.alloc_zeros::<f32>(dn)?;
-            self.velocity_solve_start = stream.alloc_zeros::<f32>(dn)?;
-            self.pressure_solve_start = stream.alloc_zeros::<f32>(n)?;
-            self.density_solve_start = stream.alloc_zeros::<f32>(n)?;
+        let dev = &self.dev;
+        let r = (|| -> Result<(), DeviceFault> {
+            self.delta_p = dev.alloc_zeros::<f32>(n)?;
+            self.displacement = dev.alloc_zeros::<f32>(dn)?;
+            self.velocity_solve_start = dev.alloc_zeros::<f32>(dn)?;
+            self.pressure_solve_start = dev.alloc_zeros::<f32>(n)?;
+            self.density_solve_start = dev.alloc_zeros::<f32>(n)?;
             Ok(())
         })();
         record(&mut self.error, "allocating the correction's buffers", r);
@@ -542,19 +476,31 @@ impl<const D: usize> CudaBackend<D> {
         }
         let n = self.n as u32;
         let tau2 = tau * tau;
-        let name = match params.phases {
-            Phases::Single => "correction_displacement",
-            Phases::Multi => "correction_displacement_multiphase",
-        };
         let density = if solve_start {
             &self.density_solve_start
         } else {
             &self.f.density
         };
-        launch!(self, "computing displacements", name, self.n;
-            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            density, &self.delta_p, &self.f.kind, &tau2, &mut self.displacement,
-            &mut self.reduce_i32);
+        launch!(
+            self,
+            "computing displacements",
+            correction_displacement(
+                params.phases as usize,
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.mass,
+                density,
+                &self.delta_p,
+                &self.f.kind,
+                tau2,
+                &mut self.displacement,
+                &mut self.reduce_i32
+            )
+        );
         Some(())
     }
 
@@ -566,16 +512,16 @@ impl<const D: usize> CudaBackend<D> {
         if self.error.is_some() {
             return None;
         }
-        let r = self.stream.memset_zeros(&mut self.reduce_i32);
+        let r = self.dev.zero(&mut self.reduce_i32);
         record(&mut self.error, "clearing the largest displacement", r)?;
         self.launch_displacements(params, tau, false)?;
-        let out = self.stream.clone_dtoh(&self.reduce_i32);
+        let out = self.dev.download(&self.reduce_i32);
         let out = record(&mut self.error, "copying the largest displacement", out)?;
         Some(sweep(out[0], max_step))
     }
 }
 
-impl<const D: usize> Backend<D> for CudaBackend<D> {
+impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
     fn name(&self) -> &'static str {
         "cuda"
     }
@@ -648,32 +594,32 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
     }
 
     fn device(&self) -> Option<String> {
-        Some(self.device_name.clone())
+        Some(self.dev.name())
     }
 
     fn synchronize(&mut self) {
-        let r = self.stream.synchronize();
+        let r = self.dev.synchronize();
         record(&mut self.error, "waiting for the GPU", r);
     }
 
     fn download(&mut self, fields: &mut Fields<D>) -> Result<(), BackendError> {
         let n = self.n;
-        let s = &self.stream;
-        let e = |x: DriverError| device_error("copying the fields to the host", x);
+        let s = &self.dev;
+        let e = |x: DeviceFault| device_error("copying the fields to the host", x);
         fields.position.resize(n, Vector::zeros());
         fields.velocity.resize(n, Vector::zeros());
         fields.acceleration.resize(n, Vector::zeros());
-        s.memcpy_dtoh(&self.f.position, floats_mut(&mut fields.position))
+        s.download_into(&self.f.position, floats_mut(&mut fields.position))
             .map_err(e)?;
-        s.memcpy_dtoh(&self.f.velocity, floats_mut(&mut fields.velocity))
+        s.download_into(&self.f.velocity, floats_mut(&mut fields.velocity))
             .map_err(e)?;
-        s.memcpy_dtoh(&self.f.acceleration, floats_mut(&mut fields.acceleration))
+        s.download_into(&self.f.acceleration, floats_mut(&mut fields.acceleration))
             .map_err(e)?;
-        fields.density = s.clone_dtoh(&self.f.density).map_err(e)?;
-        fields.pressure = s.clone_dtoh(&self.f.pressure).map_err(e)?;
-        fields.mass = s.clone_dtoh(&self.f.mass).map_err(e)?;
-        fields.kind = s.clone_dtoh(&self.f.kind).map_err(e)?;
-        fields.id = s.clone_dtoh(&self.f.id).map_err(e)?;
+        fields.density = s.download(&self.f.density).map_err(e)?;
+        fields.pressure = s.download(&self.f.pressure).map_err(e)?;
+        fields.mass = s.download(&self.f.mass).map_err(e)?;
+        fields.kind = s.download(&self.f.kind).map_err(e)?;
+        fields.id = s.download(&self.f.id).map_err(e)?;
         for v in [&mut fields.density, &mut fields.pressure, &mut fields.mass] {
             v.truncate(n);
         }
@@ -682,13 +628,13 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         match &self.f.wall_velocity {
             Some(b) => {
                 fields.wall_velocity.resize(n, Vector::zeros());
-                s.memcpy_dtoh(b, floats_mut(&mut fields.wall_velocity))
+                s.download_into(b, floats_mut(&mut fields.wall_velocity))
                     .map_err(e)?;
             }
             None => fields.wall_velocity.clear(),
         }
         if let Some(rest) = &self.f.rest_density {
-            fields.rest_density = s.clone_dtoh(rest).map_err(e)?;
+            fields.rest_density = s.download(rest).map_err(e)?;
             fields.rest_density.truncate(n);
         }
         // The step-start copies are the backend's scratch of SSP-RK3; the host keeps none.
@@ -697,7 +643,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         match &self.normal {
             Some(normal) => {
                 fields.normal.resize(n, Vector::zeros());
-                s.memcpy_dtoh(normal, floats_mut(&mut fields.normal)).map_err(e)?;
+                s.download_into(normal, floats_mut(&mut fields.normal))
+                    .map_err(e)?;
             }
             None => fields.normal.clear(),
         }
@@ -720,8 +667,8 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let n32 = n as u32;
         {
             let grid = self.grid.as_mut().expect("built above");
-            let r = self.stream.memset_zeros(&mut grid.cell_count);
-            let r2 = self.stream.memset_zeros(&mut grid.cell_fill);
+            let r = self.dev.zero(&mut grid.cell_count);
+            let r2 = self.dev.zero(&mut grid.cell_fill);
             let r = r.and(r2);
             if let Err(e) = r {
                 self.error = Some(device_error("clearing the cell counts", e));
@@ -734,99 +681,45 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         let m = (cells + 1) as u32;
         let chunk = SCAN_CHUNK;
         let ncell = cells as u32;
-        let (stream, kernels) = (&self.stream, &self.kernels);
+        let dev = &self.dev;
         let mut results = Vec::with_capacity(6);
         // SAFETY (all launches below): buffers sized n, ncell + 1 and chunks as the kernels of
         // kernels/sort_by_cell.cu expect.
         unsafe {
-            results.push(
-                stream
-                    .launch_builder(&kernels["cell_hash"])
-                    .arg(&n32)
-                    .arg(&geometry)
-                    .arg(&self.f.position)
-                    .arg(&mut grid.key)
-                    .arg(&mut grid.cell_count)
-                    .launch(launch_config(n)),
-            );
+            results.push(dev.cell_hash(
+                n32,
+                &geometry,
+                &self.f.position,
+                &mut grid.key,
+                &mut grid.cell_count,
+            ));
             // The exclusive scan of the counts, level by level (see `scan_levels`).
             let levels = &mut grid.chunk_sums;
             let sizes = scan_levels(m);
-            results.push(
-                stream
-                    .launch_builder(&kernels["scan_chunks"])
-                    .arg(&m)
-                    .arg(&chunk)
-                    .arg(&grid.cell_count)
-                    .arg(&mut grid.cell_start)
-                    .arg(&mut levels[0].0)
-                    .launch(launch_config(sizes[0] as usize)),
-            );
+            results.push(dev.scan_chunks(m, chunk, &grid.cell_count, &mut grid.cell_start, &mut levels[0].0));
             for l in 1..sizes.len() {
                 let (below, above) = levels.split_at_mut(l);
                 let (sums, scanned) = (&below[l - 1].0, &mut below[l - 1].1);
-                results.push(
-                    stream
-                        .launch_builder(&kernels["scan_chunks"])
-                        .arg(&sizes[l - 1])
-                        .arg(&chunk)
-                        .arg(sums)
-                        .arg(scanned)
-                        .arg(&mut above[0].0)
-                        .launch(launch_config(sizes[l] as usize)),
-                );
+                results.push(dev.scan_chunks(sizes[l - 1], chunk, sums, scanned, &mut above[0].0));
             }
             let top = sizes.len() - 1;
-            results.push(
-                stream
-                    .launch_builder(&kernels["scan_chunk_sums"])
-                    .arg(&sizes[top])
-                    .arg(&mut levels[top].0)
-                    .launch(launch_config(1)),
-            );
+            results.push(dev.scan_chunk_sums(sizes[top], &mut levels[top].0));
             for l in (1..sizes.len()).rev() {
                 // Level l's scanned sums complete the scan of level l - 1's sums.
                 let (below, above) = levels.split_at_mut(l);
                 let add = if l == top { &above[0].0 } else { &above[0].1 };
-                results.push(
-                    stream
-                        .launch_builder(&kernels["scan_add"])
-                        .arg(&sizes[l - 1])
-                        .arg(&chunk)
-                        .arg(&mut below[l - 1].1)
-                        .arg(add)
-                        .launch(launch_config(sizes[l - 1] as usize)),
-                );
+                results.push(dev.scan_add(sizes[l - 1], chunk, &mut below[l - 1].1, add));
             }
             let add = if top == 0 { &levels[0].0 } else { &levels[0].1 };
-            results.push(
-                stream
-                    .launch_builder(&kernels["scan_add"])
-                    .arg(&m)
-                    .arg(&chunk)
-                    .arg(&mut grid.cell_start)
-                    .arg(add)
-                    .launch(launch_config(m as usize)),
-            );
-            results.push(
-                stream
-                    .launch_builder(&kernels["scatter"])
-                    .arg(&n32)
-                    .arg(&grid.key)
-                    .arg(&grid.cell_start)
-                    .arg(&mut grid.cell_fill)
-                    .arg(&mut grid.perm)
-                    .launch(launch_config(n)),
-            );
-            results.push(
-                stream
-                    .launch_builder(&kernels["order_cells"])
-                    .arg(&ncell)
-                    .arg(&grid.cell_start)
-                    .arg(&self.f.id)
-                    .arg(&mut grid.perm)
-                    .launch(launch_config(cells)),
-            );
+            results.push(dev.scan_add(m, chunk, &mut grid.cell_start, add));
+            results.push(dev.scatter(
+                n32,
+                &grid.key,
+                &grid.cell_start,
+                &mut grid.cell_fill,
+                &mut grid.perm,
+            ));
+            results.push(dev.order_cells(ncell, &grid.cell_start, &self.f.id, &mut grid.perm));
         }
         for r in results {
             record(&mut self.error, "sorting by cell", r);
@@ -859,16 +752,23 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
     fn density(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
-        if params.phases == Phases::Multi {
-            // [HA06] number density (kernels/density.cu).
-            launch!(self, "computing the density", "density_multiphase", self.n;
-                &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-                &self.f.kind, &mut self.f.density);
-            return;
-        }
-        launch!(self, "computing the density", "density", self.n;
-            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            &self.f.kind, &mut self.f.density);
+        // [HA06] number density with several phases (kernels/density.cu).
+        launch!(
+            self,
+            "computing the density",
+            density(
+                params.phases as usize,
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.mass,
+                &self.f.kind,
+                &mut self.f.density
+            )
+        );
     }
 
     fn equation_of_state(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
@@ -877,12 +777,25 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             let Some(rest) = multiphase_rest(&self.f.rest_density, &mut self.error) else {
                 return;
             };
-            launch!(self, "applying the equation of state", "equation_of_state_multiphase", self.n;
-                &n, params, &self.f.density, rest, &self.f.kind, &mut self.f.pressure);
+            launch!(
+                self,
+                "applying the equation of state",
+                equation_of_state_multiphase(
+                    n,
+                    params,
+                    &self.f.density,
+                    rest,
+                    &self.f.kind,
+                    &mut self.f.pressure
+                )
+            );
             return;
         }
-        launch!(self, "applying the equation of state", "equation_of_state", self.n;
-            &n, params, &self.f.density, &self.f.kind, &mut self.f.pressure);
+        launch!(
+            self,
+            "applying the equation of state",
+            equation_of_state(n, params, &self.f.density, &self.f.kind, &mut self.f.pressure)
+        );
     }
 
     fn move_solids(
@@ -895,7 +808,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return;
         }
         if self.solid_reference.is_none() {
-            let r = self.stream.clone_htod(floats(&reference.position));
+            let r = self.dev.upload(floats(&reference.position));
             self.solid_reference = record(&mut self.error, "uploading the solids' reference positions", r);
         }
         let motion: Vec<Vector<D>> = kinematics
@@ -909,16 +822,27 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             ));
             return;
         }
-        let r = self.stream.memcpy_htod(floats(&motion), &mut self.solid_motion);
+        let r = self.dev.write(floats(&motion), &mut self.solid_motion);
         record(&mut self.error, "uploading the solids' motion", r);
         let Some(x0) = self.solid_reference.as_ref() else {
             return;
         };
         let n = self.n as u32;
         let first_id = reference.first_id;
-        launch!(self, "moving solids", "move_solids", self.n;
-            &n, &self.f.kind, &self.f.id, &first_id, x0, &self.solid_motion, &mut self.f.position,
-            &mut self.f.velocity);
+        launch!(
+            self,
+            "moving solids",
+            move_solids(
+                n,
+                &self.f.kind,
+                &self.f.id,
+                first_id,
+                x0,
+                &self.solid_motion,
+                &mut self.f.position,
+                &mut self.f.velocity
+            )
+        );
     }
 
     fn wall_pressure(
@@ -938,23 +862,31 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
                 ));
                 return;
             }
-            let r = self
-                .stream
-                .memcpy_htod(floats(wall_acceleration), &mut self.wall_acc);
+            let r = self.dev.write(floats(wall_acceleration), &mut self.wall_acc);
             record(&mut self.error, "uploading the walls' accelerations", r);
         }
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
         let summed = i32::from(model == WallModel::ExtrapolatedOrSummed);
-        if params.phases == Phases::Multi {
-            launch!(self, "extrapolating the wall pressure", "wall_pressure_multiphase", self.n;
-                &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-                &self.f.kind, &self.wall_acc, &summed, &mut self.f.pressure, &mut self.f.density);
-            return;
-        }
-        launch!(self, "extrapolating the wall pressure", "wall_pressure", self.n;
-            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            &self.f.kind, &self.wall_acc, &summed, &mut self.f.pressure, &mut self.f.density);
+        launch!(
+            self,
+            "extrapolating the wall pressure",
+            wall_pressure(
+                params.phases as usize,
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.mass,
+                &self.f.kind,
+                &self.wall_acc,
+                summed,
+                &mut self.f.pressure,
+                &mut self.f.density
+            )
+        );
     }
 
     fn wall_velocity(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
@@ -962,56 +894,56 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return;
         }
         if self.f.wall_velocity.is_none() {
-            let r = self.stream.alloc_zeros::<f32>((self.n * D).max(1));
+            let r = self.dev.alloc_zeros::<f32>((self.n * D).max(1));
             self.f.wall_velocity = record(&mut self.error, "allocating the wall velocity", r);
         }
         let (Some(g), Some(out)) = (self.grid.as_ref(), self.f.wall_velocity.as_mut()) else {
             return;
         };
         let n = self.n as u32;
-        let cfg = launch_config(self.n);
-        let mut b = self.stream.launch_builder(&self.kernels["wall_velocity"]);
-        b.arg(&n)
-            .arg(params)
-            .arg(&g.geometry)
-            .arg(&g.cell_start)
-            .arg(&g.cell_key)
-            .arg(&self.f.position)
-            .arg(&self.f.velocity)
-            .arg(&self.f.kind)
-            .arg(out);
         // SAFETY: as in `launch!`; wall_velocity holds n D floats.
-        let r = unsafe { b.launch(cfg) };
+        let r = unsafe {
+            self.dev.wall_velocity(
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.velocity,
+                &self.f.kind,
+                out,
+            )
+        };
         record(&mut self.error, "extrapolating the wall velocity", r);
     }
 
     fn forces(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
-        let names = match params.phases {
-            Phases::Single => FORCES,
-            Phases::Multi => FORCES_MULTIPHASE,
-        };
-        let name = names[terms.index()];
-        let cfg = launch_config(self.n);
-        let mut b = self.stream.launch_builder(&self.kernels[name]);
-        b.arg(&n)
-            .arg(params)
-            .arg(&g.geometry)
-            .arg(&g.cell_start)
-            .arg(&g.cell_key)
-            .arg(&self.f.position)
-            .arg(&self.f.velocity)
-            .arg(&self.f.mass)
-            .arg(&self.f.density)
-            .arg(&self.f.pressure)
-            .arg(&self.f.kind)
-            // Without no-slip walls a solid carries its own velocity in (17).
-            .arg(self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity))
-            .arg(&mut self.f.acceleration);
-        // SAFETY: as in `launch!`.
-        let r = unsafe { b.launch(cfg) };
-        record(&mut self.error, "computing the forces", r);
+        // One entry per term set, then the same with the [HA06] pressure force.
+        let entry = terms.index() + FORCES.len() / 2 * params.phases as usize;
+        launch!(
+            self,
+            "computing the forces",
+            forces(
+                entry,
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.velocity,
+                &self.f.mass,
+                &self.f.density,
+                &self.f.pressure,
+                &self.f.kind,
+                // Without no-slip walls a solid carries its own velocity in (17).
+                self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity),
+                &mut self.f.acceleration
+            )
+        );
     }
 
     fn surface_normals(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
@@ -1020,7 +952,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         }
         let Some(g) = self.grid.as_ref() else { return };
         if self.normal.is_none() {
-            let r = self.stream.alloc_zeros::<f32>((self.n * D).max(1));
+            let r = self.dev.alloc_zeros::<f32>((self.n * D).max(1));
             match record(&mut self.error, "allocating the surface normals", r) {
                 Some(b) => self.normal = Some(b),
                 None => return,
@@ -1039,9 +971,24 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
                 None => return,
             },
         };
-        launch!(self, "computing the surface normals", "surface_normals", self.n;
-            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            &self.f.density, rest, &has_rest, &self.f.kind, normal);
+        launch!(
+            self,
+            "computing the surface normals",
+            surface_normals(
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.mass,
+                &self.f.density,
+                rest,
+                has_rest,
+                &self.f.kind,
+                normal
+            )
+        );
     }
 
     fn surface_tension(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
@@ -1061,9 +1008,25 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
                 None => return,
             },
         };
-        launch!(self, "computing the surface tension", "surface_tension", self.n;
-            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.mass,
-            &self.f.density, rest, &has_rest, &self.f.kind, normal, &mut self.f.acceleration);
+        launch!(
+            self,
+            "computing the surface tension",
+            surface_tension(
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.mass,
+                &self.f.density,
+                rest,
+                has_rest,
+                &self.f.kind,
+                normal,
+                &mut self.f.acceleration
+            )
+        );
     }
 
     fn solid_forces(
@@ -1079,13 +1042,13 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         }
         let Some(g) = self.grid.as_ref() else { return zero };
         if self.solid_out.len() < 3 * solids {
-            let r = self.stream.alloc_zeros::<f64>(3 * solids);
+            let r = self.dev.alloc_zeros::<f64>(3 * solids);
             match record(&mut self.error, "allocating the solid forces", r) {
                 Some(b) => self.solid_out = b,
                 None => return zero,
             }
         }
-        let r = self.stream.memset_zeros(&mut self.solid_out);
+        let r = self.dev.zero(&mut self.solid_out);
         if record(&mut self.error, "clearing the solid forces", r).is_none() {
             return zero;
         }
@@ -1096,31 +1059,29 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         };
         let n = self.n as u32;
         // About 8 particles per thread (grid-stride loop in kernels/solid_forces.cu).
-        let cfg = launch_config(self.n.div_ceil(8));
-        let name = match params.phases {
-            Phases::Single => "solid_forces",
-            Phases::Multi => "solid_forces_multiphase",
-        };
-        let mut b = self.stream.launch_builder(&self.kernels[name]);
-        b.arg(&n)
-            .arg(&p)
-            .arg(&g.geometry)
-            .arg(&g.cell_start)
-            .arg(&g.cell_key)
-            .arg(&self.f.position)
-            .arg(&self.f.velocity)
-            .arg(&self.f.mass)
-            .arg(&self.f.density)
-            .arg(pressure)
-            .arg(&self.f.kind)
-            .arg(self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity))
-            .arg(&mut self.solid_out);
         // SAFETY: as in `launch!`; solid_out holds 3 doubles per solid.
-        let r = unsafe { b.launch(cfg) };
+        let r = unsafe {
+            self.dev.solid_forces(
+                params.phases as usize,
+                n,
+                &p,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.velocity,
+                &self.f.mass,
+                &self.f.density,
+                pressure,
+                &self.f.kind,
+                self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity),
+                &mut self.solid_out,
+            )
+        };
         if record(&mut self.error, "summing the forces on solids", r).is_none() {
             return zero;
         }
-        let out = self.stream.clone_dtoh(&self.solid_out);
+        let out = self.dev.download(&self.solid_out);
         match record(&mut self.error, "copying the solid forces", out) {
             Some(v) => (0..solids)
                 .map(|k| [v[3 * k], v[3 * k + 1], v[3 * k + 2]])
@@ -1134,9 +1095,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         if self.error.is_some() {
             return fallback;
         }
-        let r = self
-            .stream
-            .memcpy_htod(&[DeviceExtremes::initial()], &mut self.extremes);
+        let r = self.dev.write(&[DeviceExtremes::initial()], &mut self.extremes);
         if record(&mut self.error, "resetting the extremes", r).is_none() {
             return fallback;
         }
@@ -1146,15 +1105,40 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             let Some(rest) = multiphase_rest(&self.f.rest_density, &mut self.error) else {
                 return fallback;
             };
-            launch!(self, "reducing the extremes", "state_extremes_multiphase", self.n.div_ceil(64);
-                &n, params, &self.f.position, &self.f.velocity, &self.f.acceleration, &self.f.density,
-                &self.f.pressure, &self.f.kind, rest, &mut self.extremes);
+            launch!(
+                self,
+                "reducing the extremes",
+                state_extremes_multiphase(
+                    n,
+                    params,
+                    &self.f.position,
+                    &self.f.velocity,
+                    &self.f.acceleration,
+                    &self.f.density,
+                    &self.f.pressure,
+                    &self.f.kind,
+                    rest,
+                    &mut self.extremes
+                )
+            );
         } else {
-            launch!(self, "reducing the extremes", "state_extremes", self.n.div_ceil(64);
-                &n, params, &self.f.position, &self.f.velocity, &self.f.acceleration, &self.f.density,
-                &self.f.pressure, &self.f.kind, &mut self.extremes);
+            launch!(
+                self,
+                "reducing the extremes",
+                state_extremes(
+                    n,
+                    params,
+                    &self.f.position,
+                    &self.f.velocity,
+                    &self.f.acceleration,
+                    &self.f.density,
+                    &self.f.pressure,
+                    &self.f.kind,
+                    &mut self.extremes
+                )
+            );
         }
-        let out = self.stream.clone_dtoh(&self.extremes);
+        let out = self.dev.download(&self.extremes);
         let Some(out) = record(&mut self.error, "copying the extremes", out) else {
             return fallback;
         };
@@ -1167,22 +1151,53 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
 
     fn integrate(&mut self, _fields: &mut Fields<D>, dt: f32) {
         let n = self.n as u32;
-        launch!(self, "integrating", "integrate", self.n;
-            &n, &dt, &self.f.kind, &self.f.acceleration, &mut self.f.velocity, &mut self.f.position);
+        launch!(
+            self,
+            "integrating",
+            integrate(
+                n,
+                dt,
+                &self.f.kind,
+                &self.f.acceleration,
+                &mut self.f.velocity,
+                &mut self.f.position
+            )
+        );
     }
 
     fn store_step_start(&mut self, _fields: &mut Fields<D>) {
         let n = self.n as u32;
-        launch!(self, "storing the step start", "store_step_start", self.n;
-            &n, &self.f.position, &self.f.velocity, &mut self.f.position_start,
-            &mut self.f.velocity_start);
+        launch!(
+            self,
+            "storing the step start",
+            store_step_start(
+                n,
+                &self.f.position,
+                &self.f.velocity,
+                &mut self.f.position_start,
+                &mut self.f.velocity_start
+            )
+        );
     }
 
     fn rk_stage(&mut self, _fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
         let n = self.n as u32;
-        launch!(self, "taking a Runge-Kutta stage", "rk_stage", self.n;
-            &n, &dt, &a, &b, &self.f.kind, &self.f.acceleration, &self.f.position_start,
-            &self.f.velocity_start, &mut self.f.position, &mut self.f.velocity);
+        launch!(
+            self,
+            "taking a Runge-Kutta stage",
+            rk_stage(
+                n,
+                dt,
+                a,
+                b,
+                &self.f.kind,
+                &self.f.acceleration,
+                &self.f.position_start,
+                &self.f.velocity_start,
+                &mut self.f.position,
+                &mut self.f.velocity
+            )
+        );
     }
 
     fn correction_error(&mut self, _fields: &Fields<D>, params: &StepParams<D>) -> CorrectionError {
@@ -1193,7 +1208,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         if self.error.is_some() {
             return failed;
         }
-        let r = self.stream.memset_zeros(&mut self.reduce_i32);
+        let r = self.dev.zero(&mut self.reduce_i32);
         if record(&mut self.error, "clearing the residual", r).is_none() {
             return failed;
         }
@@ -1202,14 +1217,33 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             let Some(rest) = multiphase_rest(&self.f.rest_density, &mut self.error) else {
                 return failed;
             };
-            launch!(self, "reducing the density error", "correction_error_multiphase", self.n;
-                &n, rest, &self.f.density, &self.f.pressure, &self.f.kind, &mut self.reduce_i32);
+            launch!(
+                self,
+                "reducing the density error",
+                correction_error_multiphase(
+                    n,
+                    rest,
+                    &self.f.density,
+                    &self.f.pressure,
+                    &self.f.kind,
+                    &mut self.reduce_i32
+                )
+            );
         } else {
-            launch!(self, "reducing the density error", "correction_error", self.n;
-                &n, &params.rho0, &self.f.density, &self.f.pressure, &self.f.kind,
-                &mut self.reduce_i32);
+            launch!(
+                self,
+                "reducing the density error",
+                correction_error(
+                    n,
+                    params.rho0,
+                    &self.f.density,
+                    &self.f.pressure,
+                    &self.f.kind,
+                    &mut self.reduce_i32
+                )
+            );
         }
-        let out = self.stream.clone_dtoh(&self.reduce_i32);
+        let out = self.dev.download(&self.reduce_i32);
         match record(&mut self.error, "copying the residual", out) {
             Some(v) => CorrectionError {
                 compression: max_from_bits(v[0]),
@@ -1233,19 +1267,61 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             let Some(rest) = multiphase_rest(&self.f.rest_density, &mut self.error) else {
                 return;
             };
-            launch!(self, "computing pressure increments", "correction_pressure_fluid_multiphase", self.n;
-                &n, rest, &k, &beta, &has_previous, &self.f.density, &self.f.pressure,
-                &self.f.kind, &self.delta_p_previous, &mut self.delta_p);
+            launch!(
+                self,
+                "computing pressure increments",
+                correction_pressure_fluid_multiphase(
+                    n,
+                    rest,
+                    k,
+                    beta,
+                    has_previous,
+                    &self.f.density,
+                    &self.f.pressure,
+                    &self.f.kind,
+                    &self.delta_p_previous,
+                    &mut self.delta_p
+                )
+            );
         } else {
-            launch!(self, "computing pressure increments", "correction_pressure_fluid", self.n;
-                &n, &params.rho0, &k, &beta, &has_previous, &self.f.density, &self.f.pressure,
-                &self.f.kind, &self.delta_p_previous, &mut self.delta_p);
+            launch!(
+                self,
+                "computing pressure increments",
+                correction_pressure_fluid(
+                    n,
+                    params.rho0,
+                    k,
+                    beta,
+                    has_previous,
+                    &self.f.density,
+                    &self.f.pressure,
+                    &self.f.kind,
+                    &self.delta_p_previous,
+                    &mut self.delta_p
+                )
+            );
         }
-        launch!(self, "extrapolating pressure increments to walls", "correction_pressure_wall", self.n;
-            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position,
-            &self.f.density, &self.f.pressure, &self.f.kind, &mut self.delta_p);
-        launch!(self, "adding pressure increments", "correction_pressure_apply", self.n;
-            &n, &self.delta_p, &mut self.f.pressure, &mut self.delta_p_previous);
+        launch!(
+            self,
+            "extrapolating pressure increments to walls",
+            correction_pressure_wall(
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.density,
+                &self.f.pressure,
+                &self.f.kind,
+                &mut self.delta_p
+            )
+        );
+        launch!(
+            self,
+            "adding pressure increments",
+            correction_pressure_apply(n, &self.delta_p, &mut self.f.pressure, &mut self.delta_p_previous)
+        );
         self.has_previous = true;
     }
 
@@ -1262,9 +1338,19 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         };
         let n = self.n as u32;
         let scale = sweep.scale as Real;
-        launch!(self, "moving particles", "apply_displacement", self.n;
-            &n, &scale, &kick_tau, &self.f.kind, &self.displacement, &mut self.f.position,
-            &mut self.f.velocity);
+        launch!(
+            self,
+            "moving particles",
+            apply_displacement(
+                n,
+                scale,
+                kick_tau,
+                &self.f.kind,
+                &self.displacement,
+                &mut self.f.position,
+                &mut self.f.velocity
+            )
+        );
         sweep
     }
 
@@ -1276,16 +1362,10 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             return;
         }
         let r = self
-            .stream
-            .memcpy_dtod(&self.f.velocity, &mut self.velocity_solve_start)
-            .and_then(|()| {
-                self.stream
-                    .memcpy_dtod(&self.f.pressure, &mut self.pressure_solve_start)
-            })
-            .and_then(|()| {
-                self.stream
-                    .memcpy_dtod(&self.f.density, &mut self.density_solve_start)
-            });
+            .dev
+            .copy(&self.f.velocity, &mut self.velocity_solve_start)
+            .and_then(|()| self.dev.copy(&self.f.pressure, &mut self.pressure_solve_start))
+            .and_then(|()| self.dev.copy(&self.f.density, &mut self.density_solve_start));
         record(
             &mut self.error,
             "remembering the velocities, pressures and densities",
@@ -1301,15 +1381,45 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
                 return;
             };
             // [HA06] each particle's own mass and rest density (kernels/density.cu).
-            launch!(self, "predicting the density", "predicted_density_multiphase", self.n;
-                &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position,
-                &self.f.velocity, &self.f.mass, rest, &self.f.kind, &self.density_solve_start, &tau,
-                &mut self.f.density);
+            launch!(
+                self,
+                "predicting the density",
+                predicted_density_multiphase(
+                    n,
+                    params,
+                    &g.geometry,
+                    &g.cell_start,
+                    &g.cell_key,
+                    &self.f.position,
+                    &self.f.velocity,
+                    &self.f.mass,
+                    rest,
+                    &self.f.kind,
+                    &self.density_solve_start,
+                    tau,
+                    &mut self.f.density
+                )
+            );
             return;
         }
-        launch!(self, "predicting the density", "predicted_density", self.n;
-            &n, params, &g.geometry, &g.cell_start, &g.cell_key, &self.f.position, &self.f.velocity,
-            &self.f.mass, &self.f.kind, &self.density_solve_start, &tau, &mut self.f.density);
+        launch!(
+            self,
+            "predicting the density",
+            predicted_density(
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.velocity,
+                &self.f.mass,
+                &self.f.kind,
+                &self.density_solve_start,
+                tau,
+                &mut self.f.density
+            )
+        );
     }
 
     fn mix_velocity_pressure(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
@@ -1324,27 +1434,23 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         if self.error.is_some() {
             return;
         }
-        // The saved buffers hold at least one entry; copy exactly the fields' lengths back.
-        let (nv, np) = (self.f.velocity.len(), self.f.pressure.len());
+        // The saved buffers hold at least one entry; `copy` moves the fields' lengths back.
         if keep {
             let n = self.n as u32;
-            launch!(self, "keeping the released pressure", "keep_pressure_decreases", self.n;
-                &n, &self.pressure_solve_start, &mut self.f.pressure);
+            launch!(
+                self,
+                "keeping the released pressure",
+                keep_pressure_decreases(n, &self.pressure_solve_start, &mut self.f.pressure)
+            );
         } else {
             let r = self
-                .stream
-                .memcpy_dtod(&self.velocity_solve_start.slice(..nv), &mut self.f.velocity)
-                .and_then(|()| {
-                    self.stream
-                        .memcpy_dtod(&self.pressure_solve_start.slice(..np), &mut self.f.pressure)
-                });
+                .dev
+                .copy(&self.velocity_solve_start, &mut self.f.velocity)
+                .and_then(|()| self.dev.copy(&self.pressure_solve_start, &mut self.f.pressure));
             record(&mut self.error, "restoring the velocities and pressures", r);
         }
         // Positions did not move: the sum (18) is still the one remembered at the start.
-        let nd = self.f.density.len();
-        let r = self
-            .stream
-            .memcpy_dtod(&self.density_solve_start.slice(..nd), &mut self.f.density);
+        let r = self.dev.copy(&self.density_solve_start, &mut self.f.density);
         record(&mut self.error, "restoring the densities", r);
     }
 
@@ -1363,7 +1469,7 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
         // Upload the boxes only when they changed (moving solids): min, max, velocity, solid.
         let host: Vec<f32> = boxes.iter().flat_map(KeepOutBox::kernel_floats).collect();
         if host != self.keep_out_host {
-            let r = self.stream.clone_htod(&host);
+            let r = self.dev.upload(&host);
             match record(&mut self.error, "uploading the solid volumes", r) {
                 Some(b) => self.keep_out_boxes = b,
                 None => return report,
@@ -1371,23 +1477,36 @@ impl<const D: usize> Backend<D> for CudaBackend<D> {
             self.keep_out_host = host;
         }
         if self.keep_out_out.len() < 4 * solids {
-            let r = self.stream.alloc_zeros::<f64>(4 * solids);
+            let r = self.dev.alloc_zeros::<f64>(4 * solids);
             match record(&mut self.error, "allocating the guard's sums", r) {
                 Some(b) => self.keep_out_out = b,
                 None => return report,
             }
         }
-        let r = self.stream.memset_zeros(&mut self.keep_out_out);
+        let r = self.dev.zero(&mut self.keep_out_out);
         if record(&mut self.error, "clearing the guard's sums", r).is_none() {
             return report;
         }
         let (n, count) = (self.n as u32, boxes.len() as u32);
         let has_from = u32::from(from_step_start);
-        launch!(self, "keeping fluid out of solids", "keep_out", self.n;
-            &n, &count, &self.keep_out_boxes, &margin, &self.f.kind, &self.f.mass,
-            &self.f.position_start, &has_from, &mut self.f.position, &mut self.f.velocity,
-            &mut self.keep_out_out);
-        let out = self.stream.clone_dtoh(&self.keep_out_out);
+        launch!(
+            self,
+            "keeping fluid out of solids",
+            keep_out(
+                n,
+                count,
+                &self.keep_out_boxes,
+                margin,
+                &self.f.kind,
+                &self.f.mass,
+                &self.f.position_start,
+                has_from,
+                &mut self.f.position,
+                &mut self.f.velocity,
+                &mut self.keep_out_out
+            )
+        );
+        let out = self.dev.download(&self.keep_out_out);
         if let Some(v) = record(&mut self.error, "copying the guard's sums", out) {
             for (s, slot) in report.impulse.iter_mut().enumerate() {
                 report.pushes += v[4 * s] as u64;
@@ -1422,92 +1541,3 @@ enum IndexField {
     Id,
     CellKey,
 }
-
-/// The force kernels by `ForceTerms::index`.
-const FORCES: [&str; 8] = [
-    "forces_p",
-    "forces_pv",
-    "forces_pa",
-    "forces_pva",
-    "forces_pr",
-    "forces_pvr",
-    "forces_par",
-    "forces_pvar",
-];
-
-/// The same with the [HA06] volume-form pressure force (the `multiphase` effect).
-const FORCES_MULTIPHASE: [&str; 8] = [
-    "forces_p_mp",
-    "forces_pv_mp",
-    "forces_pa_mp",
-    "forces_pva_mp",
-    "forces_pr_mp",
-    "forces_pvr_mp",
-    "forces_par_mp",
-    "forces_pvar_mp",
-];
-
-/// Every entry point the backend launches (checked at start-up).
-const KERNEL_NAMES: &[&str] = &[
-    "cell_hash",
-    "scan_chunks",
-    "scan_chunk_sums",
-    "scan_add",
-    "scatter",
-    "order_cells",
-    "gather_vec",
-    "gather_f32",
-    "gather_u32",
-    "density",
-    "equation_of_state",
-    "wall_pressure",
-    "wall_velocity",
-    "move_solids",
-    "forces_p",
-    "forces_pv",
-    "forces_pa",
-    "forces_pva",
-    "forces_pr",
-    "forces_pvr",
-    "forces_par",
-    "forces_pvar",
-    "surface_normals",
-    "surface_tension",
-    "solid_forces",
-    "state_extremes",
-    "integrate",
-    "store_step_start",
-    "rk_stage",
-    "correction_error",
-    "correction_pressure_fluid",
-    "correction_pressure_wall",
-    "correction_pressure_apply",
-    "correction_displacement",
-    "apply_displacement",
-    "keep_pressure_decreases",
-    "predicted_density",
-    "keep_out",
-    "density_multiphase",
-    "equation_of_state_multiphase",
-    "wall_pressure_multiphase",
-    "forces_p_mp",
-    "forces_pv_mp",
-    "forces_pa_mp",
-    "forces_pva_mp",
-    "forces_pr_mp",
-    "forces_pvr_mp",
-    "forces_par_mp",
-    "forces_pvar_mp",
-    "solid_forces_multiphase",
-    "state_extremes_multiphase",
-    "correction_error_multiphase",
-    "correction_pressure_fluid_multiphase",
-    "correction_displacement_multiphase",
-    "predicted_density_multiphase",
-    "anderson_difference",
-    "anderson_dots",
-    "anderson_mix",
-    "velocity_solve_increments",
-    "velocity_solve_solid_pressure",
-    "velocity_from_displacement",
-];

@@ -28,7 +28,7 @@ fn from_ordered_bits(b: i32) -> f32 {
 /// Mirror of `Extremes` in `kernels/extremes.cuh` (`#[repr(C)]`, 48 bytes): the raw result of
 /// the `state_extremes` kernel. Upload [`DeviceExtremes::initial`] before each launch.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DeviceExtremes {
     /// Bits of the largest fluid speed [m/s].
     pub max_speed: i32,

@@ -23,6 +23,8 @@ mod device;
 pub mod extremes;
 pub mod grid;
 #[cfg(feature = "cuda")]
+pub mod launch;
+#[cfg(feature = "cuda")]
 pub mod library;
 #[cfg(feature = "cuda")]
 pub mod shim;
