@@ -1,0 +1,186 @@
+//! The walls on the device: `move_solids`, `wall_pressure` ([A12] eq. 27), `wall_velocity` ([A12]
+//! eqs. 22-23) and the no-penetration guard `keep_out` (`kernels/move_solids.cu`,
+//! `wall_pressure.cu`, `wall_velocity.cu`, `keep_out.cu`).
+
+use super::*;
+
+impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
+    pub(super) fn launch_move_solids(
+        &mut self,
+        reference: &SolidReference<D>,
+        kinematics: &[SolidKinematics<D>],
+    ) {
+        if self.error.is_some() {
+            return;
+        }
+        if self.solid_reference.is_none() {
+            let r = self.dev.upload(floats(&reference.position));
+            self.solid_reference = record(&mut self.error, "uploading the solids' reference positions", r);
+        }
+        let motion: Vec<Vector<D>> = kinematics
+            .iter()
+            .flat_map(|k| [k.displacement, k.velocity])
+            .collect();
+        if motion.len() * D > self.solid_motion.len() {
+            self.error = Some(device_error(
+                "moving solids",
+                format!("{} solids, buffers for fewer", kinematics.len()),
+            ));
+            return;
+        }
+        let r = self.dev.write(floats(&motion), &mut self.solid_motion);
+        record(&mut self.error, "uploading the solids' motion", r);
+        let Some(x0) = self.solid_reference.as_ref() else {
+            return;
+        };
+        let n = self.n as u32;
+        let first_id = reference.first_id;
+        launch!(
+            self,
+            "moving solids",
+            move_solids(
+                n,
+                &self.f.kind,
+                &self.f.id,
+                first_id,
+                x0,
+                &self.solid_motion,
+                &mut self.f.position,
+                &mut self.f.velocity
+            )
+        );
+    }
+
+    pub(super) fn launch_wall_pressure(
+        &mut self,
+        params: &StepParams<D>,
+        model: WallModel,
+        wall_acceleration: &[Vector<D>],
+    ) {
+        // Moving walls: their accelerations go up with each call (a few floats); while nothing
+        // moves the buffer keeps its zeros and nothing is copied.
+        if !wall_acceleration.is_empty() && self.error.is_none() {
+            if wall_acceleration.len() * D > self.wall_acc.len() {
+                self.error = Some(device_error(
+                    "extrapolating the wall pressure",
+                    format!("{} wall accelerations, buffer for fewer", wall_acceleration.len()),
+                ));
+                return;
+            }
+            let r = self.dev.write(floats(wall_acceleration), &mut self.wall_acc);
+            record(&mut self.error, "uploading the walls' accelerations", r);
+        }
+        let Some(g) = self.grid.as_ref() else { return };
+        let n = self.n as u32;
+        let summed = i32::from(model == WallModel::ExtrapolatedOrSummed);
+        launch!(
+            self,
+            "extrapolating the wall pressure",
+            wall_pressure(
+                params.phases as usize,
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.mass,
+                &self.f.kind,
+                &self.wall_acc,
+                summed,
+                &mut self.f.pressure,
+                &mut self.f.density
+            )
+        );
+    }
+
+    pub(super) fn launch_wall_velocity(&mut self, params: &StepParams<D>) {
+        if self.error.is_some() {
+            return;
+        }
+        if self.f.wall_velocity.is_none() {
+            let r = self.dev.alloc_zeros::<f32>((self.n * D).max(1));
+            self.f.wall_velocity = record(&mut self.error, "allocating the wall velocity", r);
+        }
+        let (Some(g), Some(out)) = (self.grid.as_ref(), self.f.wall_velocity.as_mut()) else {
+            return;
+        };
+        let n = self.n as u32;
+        // SAFETY: as in `launch!`; wall_velocity holds n D floats.
+        let r = unsafe {
+            self.dev.wall_velocity(
+                n,
+                params,
+                &g.geometry,
+                &g.cell_start,
+                &g.cell_key,
+                &self.f.position,
+                &self.f.velocity,
+                &self.f.kind,
+                out,
+            )
+        };
+        record(&mut self.error, "extrapolating the wall velocity", r);
+    }
+
+    pub(super) fn launch_keep_out(
+        &mut self,
+        boxes: &[KeepOutBox<D>],
+        solids: usize,
+        margin: f32,
+        from_step_start: bool,
+    ) -> KeepOutReport {
+        let mut report = KeepOutReport::none(solids);
+        if boxes.is_empty() || solids == 0 || self.error.is_some() {
+            return report;
+        }
+        // Upload the boxes only when they changed (moving solids): min, max, velocity, solid.
+        let host: Vec<f32> = boxes.iter().flat_map(KeepOutBox::kernel_floats).collect();
+        if host != self.keep_out_host {
+            let r = self.dev.upload(&host);
+            match record(&mut self.error, "uploading the solid volumes", r) {
+                Some(b) => self.keep_out_boxes = b,
+                None => return report,
+            }
+            self.keep_out_host = host;
+        }
+        if self.keep_out_out.len() < 4 * solids {
+            let r = self.dev.alloc_zeros::<f64>(4 * solids);
+            match record(&mut self.error, "allocating the guard's sums", r) {
+                Some(b) => self.keep_out_out = b,
+                None => return report,
+            }
+        }
+        let r = self.dev.zero(&mut self.keep_out_out);
+        if record(&mut self.error, "clearing the guard's sums", r).is_none() {
+            return report;
+        }
+        let (n, count) = (self.n as u32, boxes.len() as u32);
+        let has_from = u32::from(from_step_start);
+        launch!(
+            self,
+            "keeping fluid out of solids",
+            keep_out(
+                n,
+                count,
+                &self.keep_out_boxes,
+                margin,
+                &self.f.kind,
+                &self.f.mass,
+                &self.f.position_start,
+                has_from,
+                &mut self.f.position,
+                &mut self.f.velocity,
+                &mut self.keep_out_out
+            )
+        );
+        let out = self.dev.download(&self.keep_out_out);
+        if let Some(v) = record(&mut self.error, "copying the guard's sums", out) {
+            for (s, slot) in report.impulse.iter_mut().enumerate() {
+                report.pushes += v[4 * s] as u64;
+                slot.copy_from_slice(&v[4 * s + 1..4 * s + 4]);
+            }
+        }
+        report
+    }
+}
