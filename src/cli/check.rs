@@ -59,7 +59,7 @@ fn generated(
 /// Prints what generation did beyond whole-spacing boxes (the lines start with `lattice:`).
 fn print_report(scene: &Scene, report: &GenerationReport) {
     for f in &report.fitted {
-        let axis = crate::scene::generate::axis_name(f.axis);
+        let axis = crate::scene::count::axis_name(f.axis);
         println!(
             "  lattice: fluid_box[{}] is {:.3} spacings along {axis}, not a whole number: {} layer{}, {}",
             f.fluid_box,

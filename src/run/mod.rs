@@ -25,7 +25,7 @@ use crate::probe::ProbeLog;
 use crate::scene::{Effect, Scene, SceneError, SolidShape, SolverKind, generate};
 use crate::solver::checkpoint::{Checkpoint, CheckpointError};
 use crate::solver::{Correction, Integrator};
-use crate::solver::{SimConfig, Simulation, SurfaceTension};
+use crate::solver::{SimConfig, Simulation, StepReport, SurfaceTension};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -511,44 +511,9 @@ fn steps<const D: usize>(
             .ok()
             .and_then(|v| v.as_str().map(String::from))
             .unwrap_or_default();
+        record_step(sim, scene, state, &report, name, iterations_before)?;
         let clock = sim.clock();
-        if let Some(w) = state.writers.as_mut() {
-            let e = &report.extremes;
-            w.steps.push_row(&[
-                CsvValue::Int(clock.step as i64),
-                CsvValue::Float(clock.time),
-                CsvValue::Float(report.dt),
-                CsvValue::Text(&name),
-                CsvValue::Float(e.max_speed),
-                CsvValue::Float(e.max_compression),
-                CsvValue::Float(e.max_surface_deficit),
-                CsvValue::Int((sim.stats().correction.iterations - iterations_before) as i64),
-                CsvValue::Int(report.removed as i64),
-            ])?;
-        }
-        *state.limits.entry(name).or_default() += 1;
-        state.max_speed = state.max_speed.max(report.extremes.max_speed);
         let last = clock.time >= end;
-        let frame_time = clock.time >= state.next_frame - 1e-12 * end || last;
-        let frame_due = state.writers.is_some() && (scene.write_frames || scene.write_surface) && frame_time;
-        let probes = state.probes.as_mut().expect("opened by start");
-        if frame_due || probes.wants_fields(clock.time, last) {
-            sim.sync_fields()?;
-        }
-        probes.record(clock.time, report.dt, &sim.fields, sim.solid_forces(), last)?;
-        if let Some(w) = state.writers.as_mut() {
-            if let Some(log) = w.forces.as_mut() {
-                for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
-                    log.push(clock.time, name, *force)?;
-                }
-            }
-            if frame_time {
-                w.frame(sim, scene.write_frames)?;
-                while state.next_frame <= clock.time + 1e-12 * end {
-                    state.next_frame += scene.output_interval;
-                }
-            }
-        }
         let signal = options.stop.as_ref().map_or(0, |s| s.load(Ordering::SeqCst));
         if every.is_some_and(|n| clock.step % n.max(1) == 0 || last) || signal != 0 {
             write_checkpoint(sim, options, state)?;
@@ -567,4 +532,56 @@ fn steps<const D: usize>(
         });
     }
     Ok(Ending::Completed)
+}
+
+/// The outputs of the step just taken (its `steps.csv` row, the probes, the forces on solids
+/// and, at a frame time, a frame) and the loop's tallies of it; `name` is its step limit.
+fn record_step<const D: usize>(
+    sim: &mut Simulation<D>,
+    scene: &Scene,
+    state: &mut Loop,
+    report: &StepReport,
+    name: String,
+    iterations_before: u64,
+) -> Result<(), Error> {
+    let end = scene.end_time;
+    let clock = sim.clock();
+    if let Some(w) = state.writers.as_mut() {
+        let e = &report.extremes;
+        w.steps.push_row(&[
+            CsvValue::Int(clock.step as i64),
+            CsvValue::Float(clock.time),
+            CsvValue::Float(report.dt),
+            CsvValue::Text(&name),
+            CsvValue::Float(e.max_speed),
+            CsvValue::Float(e.max_compression),
+            CsvValue::Float(e.max_surface_deficit),
+            CsvValue::Int((sim.stats().correction.iterations - iterations_before) as i64),
+            CsvValue::Int(report.removed as i64),
+        ])?;
+    }
+    *state.limits.entry(name).or_default() += 1;
+    state.max_speed = state.max_speed.max(report.extremes.max_speed);
+    let last = clock.time >= end;
+    let frame_time = clock.time >= state.next_frame - 1e-12 * end || last;
+    let frame_due = state.writers.is_some() && (scene.write_frames || scene.write_surface) && frame_time;
+    let probes = state.probes.as_mut().expect("opened by start");
+    if frame_due || probes.wants_fields(clock.time, last) {
+        sim.sync_fields()?;
+    }
+    probes.record(clock.time, report.dt, &sim.fields, sim.solid_forces(), last)?;
+    if let Some(w) = state.writers.as_mut() {
+        if let Some(log) = w.forces.as_mut() {
+            for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
+                log.push(clock.time, name, *force)?;
+            }
+        }
+        if frame_time {
+            w.frame(sim, scene.write_frames)?;
+            while state.next_frame <= clock.time + 1e-12 * end {
+                state.next_frame += scene.output_interval;
+            }
+        }
+    }
+    Ok(())
 }

@@ -30,12 +30,12 @@
 
 use nalgebra::SVector;
 
+use super::count::{Dims, WHOLE, count_raw, fluid_box_count, fluid_dims, lattice_dims};
 use super::trim::{self, Body, MAX_TRIMMED_FRACTION, MIN_GAP, Points, Trimmed};
 use super::validate::RawProblem;
 use super::{Aabb, FluidBox, KeyPath, Location, Problem, Scene, SceneError, Solid, SolidShape};
 
-/// Largest supported dimension for counting.
-const MAX_DIM: usize = 3;
+pub use super::count::ParticleCounts;
 
 /// Initial particles of a scene.
 #[derive(Debug, Clone, PartialEq)]
@@ -57,18 +57,6 @@ pub struct SolidParticles<const D: usize> {
     pub name: String,
     /// Particle positions \[m\].
     pub position: Vec<SVector<f32, D>>,
-}
-
-/// Particle counts of a scene, as [`generate()`] places them before trimming (exact when its
-/// [`GenerationReport::trimmed`] is empty, an upper bound otherwise).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ParticleCounts {
-    /// Number of fluid particles.
-    pub fluid: u64,
-    /// Number of particles of each solid, by name, in scene order.
-    pub solid: Vec<(String, u64)>,
-    /// `fluid` plus all solids.
-    pub total: u64,
 }
 
 /// A fluid box axis whose extent is not a whole number of spacings.
@@ -104,110 +92,6 @@ pub fn wall_layers(h: f64, dx: f64) -> u64 {
     }
 }
 
-/// Lattice size of a box along each axis.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Dims {
-    n: [u64; MAX_DIM],
-    d: usize,
-}
-
-impl Dims {
-    fn axes(&self) -> &[u64] {
-        self.n.get(..self.d).unwrap_or_default()
-    }
-}
-
-/// Name of axis `k` for messages.
-pub(crate) fn axis_name(k: usize) -> String {
-    match k {
-        0 => "x".into(),
-        1 => "y".into(),
-        2 => "z".into(),
-        _ => format!("{k}"),
-    }
-}
-
-/// `n_k = round((max_k - min_k) / dx)` per axis; `path` names the box.
-pub(crate) fn lattice_dims(min: &[f64], max: &[f64], dx: f64, path: &KeyPath) -> Result<Dims, RawProblem> {
-    if min.len() != max.len() || min.len() > MAX_DIM || min.is_empty() {
-        return Err(RawProblem::new(
-            path.clone(),
-            format!("box corners must have 1 to {MAX_DIM} equal-length entries"),
-        ));
-    }
-    let mut n = [0u64; MAX_DIM];
-    for (k, ((&lo, &hi), slot)) in min.iter().zip(max).zip(n.iter_mut()).enumerate() {
-        let ratio = ((hi - lo) / dx).round();
-        if !ratio.is_finite() || ratio > f64::from(u32::MAX) {
-            return Err(RawProblem::new(
-                path.k("max"),
-                format!(
-                    "too many particles along axis {}: extent {} m / spacing {dx} m is not below {}",
-                    axis_name(k),
-                    hi - lo,
-                    u32::MAX
-                ),
-            ));
-        }
-        if ratio < 1.0 {
-            return Err(RawProblem::new(
-                path.k("max"),
-                format!(
-                    "box is thinner than the particle spacing along axis {}: max - min = {} m, spacing = {:e} m",
-                    axis_name(k),
-                    hi - lo,
-                    dx
-                ),
-            ));
-        }
-        *slot = ratio as u64;
-    }
-    Ok(Dims { n, d: min.len() })
-}
-
-fn overflow(path: &KeyPath) -> RawProblem {
-    RawProblem::new(
-        path.clone(),
-        "particle count overflows a 64-bit integer".to_string(),
-    )
-}
-
-/// Product of the lattice sizes, checked.
-fn product(mut iter: impl Iterator<Item = Option<u64>>) -> Option<u64> {
-    iter.try_fold(1u64, |acc, n| acc.checked_mul(n?))
-}
-
-/// Particles of a filled lattice box.
-pub(crate) fn box_count(min: &[f64], max: &[f64], dx: f64, path: &KeyPath) -> Result<u64, RawProblem> {
-    let dims = lattice_dims(min, max, dx, path)?;
-    product(dims.axes().iter().map(|&n| Some(n))).ok_or_else(|| overflow(path))
-}
-
-/// Tolerance, in spacings, under which an extent counts as a whole number of spacings.
-const WHOLE: f64 = 1e-6;
-
-/// Lattice size of a fluid box at spacing `s` \[m\]: `floor(E_k / s + WHOLE)` per axis, at
-/// least 1 (the module doc); the errors of [`lattice_dims`].
-fn fluid_dims(min: &[f64], max: &[f64], s: f64, path: &KeyPath) -> Result<Dims, RawProblem> {
-    let mut dims = lattice_dims(min, max, s, path)?;
-    for ((n, &lo), &hi) in dims.n.iter_mut().zip(min).zip(max) {
-        let inside = ((hi - lo) / s + WHOLE).floor();
-        if inside >= 1.0 && inside < *n as f64 {
-            *n = inside as u64;
-        }
-    }
-    Ok(dims)
-}
-
-/// Particles of a fluid box: its lattice at [`FluidBox::lattice_spacing`] plus its coincident
-/// twins ([`FluidBox::twins`]).
-pub(crate) fn fluid_box_count(fb: &FluidBox, dx: f64, path: &KeyPath) -> Result<u64, RawProblem> {
-    let (min, max) = (&fb.region.min, &fb.region.max);
-    let dims = fluid_dims(min, max, fb.lattice_spacing(dx, min.len()), path)?;
-    let n = product(dims.axes().iter().map(|&n| Some(n))).ok_or_else(|| overflow(path))?;
-    n.checked_add(fb.twins(n)).ok_or_else(|| overflow(path))
-}
-
 /// The fluid box axes that are not whole spacings, with the layers placed.
 fn fitted(scene: &Scene) -> Vec<Fitted> {
     let mut out = Vec::new();
@@ -232,32 +116,6 @@ fn fitted(scene: &Scene) -> Vec<Fitted> {
     out
 }
 
-/// Particles of one solid (box or container with `layers` wall layers).
-pub(crate) fn solid_count(solid: &Solid, dx: f64, layers: u64, path: &KeyPath) -> Result<u64, RawProblem> {
-    let (min, max) = (&solid.region.min, &solid.region.max);
-    match solid.shape {
-        SolidShape::Box => box_count(min, max, dx, path),
-        SolidShape::Container => {
-            let dims = lattice_dims(min, max, dx, path)?;
-            let axes = dims.axes();
-            let last = axes.len().saturating_sub(1);
-            let outer = product(axes.iter().enumerate().map(|(k, &n)| {
-                let grow = if solid.open_top && k == last {
-                    layers
-                } else {
-                    layers.checked_mul(2)?
-                };
-                n.checked_add(grow)
-            }));
-            let inner = product(axes.iter().map(|&n| Some(n)));
-            match (outer, inner) {
-                (Some(o), Some(i)) => o.checked_sub(i).ok_or_else(|| overflow(path)),
-                _ => Err(overflow(path)),
-            }
-        }
-    }
-}
-
 /// The rest density of every fluid particle's phase \[kg/m^3\], in [`generate()`]'s order (each
 /// particle's box's `rho0`, or else `fluid.rho0`): what the `multiphase` effect gives
 /// `Simulation::with_phases`. Generates the particles to know which ones trimming kept.
@@ -274,28 +132,6 @@ pub fn fluid_rest_density(scene: &Scene) -> Result<Vec<f64>, SceneError> {
         fb.and_then(|fb| fb.rho0).unwrap_or(scene.rho0)
     };
     Ok(boxes.into_iter().map(rho).collect())
-}
-
-/// Counts the particles of every fluid box and solid; the first problem found
-/// is returned.
-pub(crate) fn count_raw(scene: &Scene) -> Result<ParticleCounts, RawProblem> {
-    let dx = scene.spacing;
-    let layers = scene.wall_layers();
-    let mut fluid = 0u64;
-    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
-        let path = KeyPath::key("fluid_box").i(i);
-        let n = fluid_box_count(fb, dx, &path)?;
-        fluid = fluid.checked_add(n).ok_or_else(|| overflow(&path))?;
-    }
-    let mut total = fluid;
-    let mut solid = Vec::with_capacity(scene.solids.len());
-    for (i, s) in scene.solids.iter().enumerate() {
-        let path = KeyPath::key("solid").i(i);
-        let n = solid_count(s, dx, layers, &path)?;
-        total = total.checked_add(n).ok_or_else(|| overflow(&path))?;
-        solid.push((s.name.clone(), n));
-    }
-    Ok(ParticleCounts { fluid, solid, total })
 }
 
 fn generate_error(raw: RawProblem) -> SceneError {

@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 
 pub use crate::boundary::motion::Sway;
 
+pub(crate) mod count;
 pub mod generate;
 pub mod magnitude;
 pub mod overrides;

@@ -6,8 +6,9 @@
 //!
 //! This file holds the buffers, the construction, the transfers and the `Backend` methods, which
 //! call one `launch_<stage>` per stage; the stages live in child modules named as the kernel files
-//! they launch (`sort_by_cell`, `density`, `boundary`, `forces`, `surface_tension`,
-//! `state_extremes`, `integrate`, `correction`, `anderson`).
+//! they launch (`sort_by_cell`, `density`, `wall_pressure`, `move_solids`, `forces`,
+//! `solid_forces`, `surface_tension`, `state_extremes`, `integrate`, `correction`, `anderson`),
+//! as those of the CPU backend.
 
 use super::compile::{arch_for, compile_all};
 use super::extremes::{DeviceExtremes, max_from_bits, sweep};
@@ -304,8 +305,6 @@ macro_rules! launch {
 // buffers, declared after `launch!` so that it can use it.
 #[path = "anderson.rs"]
 mod anderson;
-#[path = "boundary.rs"]
-mod boundary;
 #[path = "correction.rs"]
 mod correction;
 #[path = "density.rs"]
@@ -314,12 +313,18 @@ mod density;
 mod forces;
 #[path = "integrate.rs"]
 mod integrate;
+#[path = "move_solids.rs"]
+mod move_solids;
+#[path = "solid_forces.rs"]
+mod solid_forces;
 #[path = "sort_by_cell.rs"]
 mod sort_by_cell;
 #[path = "state_extremes.rs"]
 mod state_extremes;
 #[path = "surface_tension.rs"]
 mod surface_tension;
+#[path = "wall_pressure.rs"]
+mod wall_pressure;
 
 impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {}
 

@@ -1,5 +1,4 @@
-//! Stages `forces` (eqs. 15-17, 6) and `solid_forces` on the device (`kernels/forces.cu`,
-//! `kernels/solid_forces.cu`).
+//! Stage `forces` (eqs. 15-17, 6) on the device (`kernels/forces.cu`).
 
 use super::*;
 
@@ -30,65 +29,5 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &mut self.f.acceleration
             )
         );
-    }
-
-    pub(super) fn launch_solid_forces(
-        &mut self,
-        params: &StepParams<D>,
-        solids: usize,
-        source: SolidForceSource,
-    ) -> Vec<[f64; 3]> {
-        let zero = vec![[0.0; 3]; solids];
-        if self.error.is_some() || solids == 0 {
-            return zero;
-        }
-        let Some(g) = self.grid.as_ref() else { return zero };
-        if self.solid_out.len() < 3 * solids {
-            let r = self.dev.alloc_zeros::<f64>(3 * solids);
-            match record(&mut self.error, "allocating the solid forces", r) {
-                Some(b) => self.solid_out = b,
-                None => return zero,
-            }
-        }
-        let r = self.dev.zero(&mut self.solid_out);
-        if record(&mut self.error, "clearing the solid forces", r).is_none() {
-            return zero;
-        }
-        let p = source.params(params);
-        let pressure = match source {
-            SolidForceSource::Forces => &self.f.pressure,
-            SolidForceSource::Correction => &self.delta_p,
-        };
-        let n = self.n as u32;
-        // About 8 particles per thread (grid-stride loop in kernels/solid_forces.cu).
-        // SAFETY: as in `launch!`; solid_out holds 3 doubles per solid.
-        let r = unsafe {
-            self.dev.solid_forces(
-                params.phases as usize,
-                n,
-                &p,
-                &g.geometry,
-                &g.cell_start,
-                &g.cell_key,
-                &self.f.position,
-                &self.f.velocity,
-                &self.f.mass,
-                &self.f.density,
-                pressure,
-                &self.f.kind,
-                self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity),
-                &mut self.solid_out,
-            )
-        };
-        if record(&mut self.error, "summing the forces on solids", r).is_none() {
-            return zero;
-        }
-        let out = self.dev.download(&self.solid_out);
-        match record(&mut self.error, "copying the solid forces", out) {
-            Some(v) => (0..solids)
-                .map(|k| [v[3 * k], v[3 * k + 1], v[3 * k + 2]])
-                .collect(),
-            None => zero,
-        }
     }
 }

@@ -89,7 +89,7 @@ pub(super) fn check_counts(c: &mut Checker, scene: &Scene) {
     let mut complete = true;
     for (i, fb) in scene.fluid_boxes.iter().enumerate() {
         let path = KeyPath::key("fluid_box").i(i);
-        match generate::fluid_box_count(fb, dx, &path) {
+        match count::fluid_box_count(fb, dx, &path) {
             Ok(n) => {
                 total = total.and_then(|t| t.checked_add(n));
                 fluid = fluid.and_then(|t| t.checked_add(n));
@@ -102,7 +102,7 @@ pub(super) fn check_counts(c: &mut Checker, scene: &Scene) {
     }
     for (i, s) in scene.solids.iter().enumerate() {
         let path = KeyPath::key("solid").i(i);
-        match generate::solid_count(s, dx, layers, &path) {
+        match count::solid_count(s, dx, layers, &path) {
             Ok(n) => total = total.and_then(|t| t.checked_add(n)),
             Err(p) => {
                 c.problems.push(p);

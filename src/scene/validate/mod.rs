@@ -13,7 +13,8 @@
 
 use std::path::PathBuf;
 
-use super::generate::{self, axis_name, fmt_box, intersection, outside_axis, solid_extent};
+use super::count::{self, axis_name};
+use super::generate::{fmt_box, intersection, outside_axis, solid_extent};
 use super::schema::{
     BoxFile, Effect, MotionFile, ProbeFile, ProbeKind, SceneFile, SolidShape, SolverFile, SolverKind,
 };

@@ -1,0 +1,255 @@
+//! The position correction, eqs. (23)–(24), and the velocity solve built on its sweep (twins
+//! of `kernels/correction.cu` and `kernels/anderson.cu`).
+
+use super::CpuBackend;
+use super::forces::{fill_pressure_terms, fill_volume_pressure_terms};
+use crate::backend::params::StepParams;
+use crate::backend::{CorrectionError, Sweep};
+use crate::fields::{FLUID, Fields};
+use crate::math::{Real, Vector, max_each_in_order, max_or_nan};
+use crate::physics::{
+    correction,
+    multiphase::{self, Phases},
+    pressure::pressure_acceleration_from_terms,
+};
+use rayon::prelude::*;
+
+impl<const D: usize> CpuBackend<D> {
+    pub(super) fn correction_error(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> CorrectionError {
+        let f = fields;
+        let (rest, rho0) = (&f.rest_density, params.rho0);
+        let [compression, residual] = max_each_in_order(f.len(), |i| {
+            if f.kind[i] == FLUID {
+                // (24) against the particle's own phase with the multiphase effect ([HA06]).
+                let rho0 = params.phases.rest_density(rest, i, rho0);
+                [
+                    correction::compression(f.density[i], rho0),
+                    correction::residual(f.density[i], rho0, f.pressure[i]),
+                ]
+            } else {
+                [0.0; 2]
+            }
+        });
+        CorrectionError {
+            compression: compression.max(0.0),
+            residual: residual.max(0.0),
+        }
+    }
+
+    pub(super) fn begin_correction(&mut self, _fields: &mut Fields<D>) {
+        // Both buffers: `correction_pressure` swaps them before it reads the previous one.
+        self.delta_p_previous.clear();
+        self.delta_p.clear();
+    }
+
+    pub(super) fn correction_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
+        // The last sweep's increments become the previous ones (heavy-ball momentum): a swap of
+        // buffers, not a copy; `delta_p` is overwritten below.
+        std::mem::swap(&mut self.delta_p, &mut self.delta_p_previous);
+        let n = fields.len();
+        if self.dry.len() != n {
+            self.find_dry_solids(&fields.kind);
+        }
+        self.delta_p.resize(n, 0.0);
+        let beta = correction::MOMENTUM;
+        let prev = &self.delta_p_previous;
+        let has_prev = prev.len() == n;
+        // Fluid first: eq. (19) with the correction's stiffness, pressure kept >= 0 (note 6),
+        // added to the pressure in the same pass.
+        let (kind, density, rho0) = (&fields.kind, &fields.density, params.rho0);
+        let rest = &fields.rest_density;
+        self.delta_p
+            .par_iter_mut()
+            .zip(fields.pressure.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (dp, p))| {
+                *dp = if kind[i] == FLUID {
+                    // Heavy-ball momentum on the increments (see `physics::correction::MOMENTUM`).
+                    let m = if has_prev { beta * prev[i] } else { 0.0 };
+                    // The particle's own phase with the multiphase effect ([HA06]).
+                    let rho0 = params.phases.rest_density(rest, i, rho0);
+                    correction::pressure_increment(density[i], rho0, *p + m, k) + m
+                } else {
+                    0.0
+                };
+                *p += *dp;
+            });
+        let f = &*fields;
+        // Then the solids with fluid candidates (the others get 0): [A12] extrapolation of the
+        // fluid increments, without the gravity term (gravity acts in the force stage, not in
+        // the correction), of either sign, with the wall's accumulated pressure kept
+        // non-negative: a wall must not pull a compressed particle onto itself (measured: that
+        // held a particle against the floor of the dam break through 1000 sweeps), but it must
+        // give back pressure its fluid gives back. With increments clamped at zero instead, a
+        // wall's pressure only grew and pushed its neighbours below ρ0 while they still carried
+        // pressure: on `scenes/hard/rest_3d.toml` stages stalled at the 1,000-sweep cap at
+        // 999.3–999.5 kg/m³ one or two spacings from the side walls.
+        self.extrapolate_increments(f, &f.density, params);
+        for (&w, &dp) in self.wet.iter().zip(&self.wet_increments) {
+            let p = &mut fields.pressure[w as usize];
+            let dp = (*p + dp).max(0.0) - *p;
+            self.delta_p[w as usize] = dp;
+            *p += dp;
+        }
+    }
+
+    pub(super) fn correct_positions(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+        kick_tau: f32,
+        max_step: f32,
+    ) -> Sweep {
+        let sweep = self.correction_displacements(fields, &fields.density, params, tau, max_step);
+        let scale = sweep.scale as Real;
+        let displacement = &self.displacement;
+        let kind = &fields.kind;
+        fields
+            .position
+            .par_iter_mut()
+            .zip(fields.velocity.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (x, u))| {
+                if kind[i] == FLUID {
+                    let dx = displacement[i] * scale;
+                    *x += dx;
+                    *u += dx / kick_tau; // PAPER.md note 7: the projection's velocity change
+                }
+            });
+        sweep
+    }
+
+    /// Eq. (23) without moving anything: `Δx = τ² a^press(δp)` of every fluid particle into
+    /// `displacement`, and one scale for all that keeps the largest within `max_step` [m]
+    /// (pair displacements stay antisymmetric, so momentum stays conserved).
+    fn correction_displacements(
+        &mut self,
+        fields: &Fields<D>,
+        density: &[Real],
+        params: &StepParams<D>,
+        tau: f32,
+        max_step: f32,
+    ) -> Sweep {
+        let kernel = params.smoothing();
+        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
+        let n = fields.len();
+        let f = fields;
+        let multiphase = params.phases == Phases::Multi;
+        if multiphase {
+            fill_volume_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.mass, density);
+        } else {
+            fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, density);
+        }
+        let q = &self.pressure_terms;
+        let tau2 = tau * tau;
+        self.displacement.resize(n, Vector::zeros());
+        // The displacements and their largest length in one pass.
+        let largest = self
+            .displacement
+            .par_iter_mut()
+            .enumerate()
+            .map(|(i, out)| {
+                *out = if f.kind[i] != FLUID {
+                    Vector::zeros()
+                } else {
+                    let mut a = Vector::<D>::zeros();
+                    neighbours.for_each_neighbour(&f.position, i, |j, d, r2| {
+                        if j == i {
+                            return;
+                        }
+                        let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
+                        if multiphase {
+                            a += multiphase::pressure_acceleration(q[i], q[j], f.mass[i], &grad); // [HA06]
+                        } else {
+                            a += pressure_acceleration_from_terms(q[i], q[j], f.mass[j], &grad);
+                        }
+                    });
+                    a * tau2 // eq. (23)
+                };
+                f64::from(out.norm())
+            })
+            .reduce(|| f64::NEG_INFINITY, max_or_nan)
+            .max(0.0);
+        let scale = if largest > f64::from(max_step) {
+            (f64::from(max_step) / largest) as Real
+        } else {
+            1.0
+        };
+        Sweep {
+            largest: largest * f64::from(scale),
+            scale: f64::from(scale),
+        }
+    }
+
+    pub(super) fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
+        self.delta_p_previous.clear();
+        self.delta_p.clear();
+        // The fluid and the solids with fluid candidates: the loops of the solve's sweeps.
+        let (kind, dry) = (&fields.kind, &self.dry);
+        self.velocity_neighbours.build(&self.grid, &fields.position, |i| {
+            kind[i] == FLUID || !dry.get(i).copied().unwrap_or(false)
+        });
+        self.velocity_solve_start.clone_from(&fields.velocity);
+        self.pressure_solve_start.clone_from(&fields.pressure);
+        self.anderson.reset();
+        self.density_solve_start.clone_from(&fields.density);
+    }
+
+    pub(super) fn mix_velocity_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
+        self.anderson.mix(fields, params.phases, params.rho0, k);
+    }
+
+    pub(super) fn velocity_from_pressure(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+    ) {
+        let n = fields.len();
+        let start = &self.pressure_solve_start;
+        let kind = &fields.kind;
+        self.delta_p.resize(n, 0.0);
+        self.delta_p
+            .par_iter_mut()
+            .zip(fields.pressure.par_iter())
+            .enumerate()
+            .for_each(|(i, (dp, p))| *dp = if kind[i] == FLUID { p - start[i] } else { 0.0 });
+        // The solve's density: the sum (18) at its fixed positions, not the predicted one.
+        let density = std::mem::take(&mut self.density_solve_start);
+        self.extrapolate_increments(fields, &density, params);
+        for (&w, &r) in self.wet.iter().zip(&self.wet_increments) {
+            let w = w as usize;
+            let p0 = self.pressure_solve_start[w];
+            let dp = (p0 + r).max(0.0) - p0; // the wall's pressure stays >= 0
+            self.delta_p[w] = dp;
+            fields.pressure[w] = p0 + dp;
+        }
+        self.correction_displacements(fields, &density, params, tau, f32::INFINITY);
+        self.density_solve_start = density;
+        let (start, displacement) = (&self.velocity_solve_start, &self.displacement);
+        let kind = &fields.kind;
+        fields.velocity.par_iter_mut().enumerate().for_each(|(i, u)| {
+            if kind[i] == FLUID {
+                *u = start[i] + displacement[i] / tau;
+            }
+        });
+    }
+
+    pub(super) fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {
+        if keep {
+            let start = &self.pressure_solve_start;
+            fields
+                .pressure
+                .par_iter_mut()
+                .zip(start.par_iter())
+                .for_each(|(p, p0)| *p = p.min(*p0));
+        } else {
+            fields.velocity.clone_from(&self.velocity_solve_start);
+            fields.pressure.clone_from(&self.pressure_solve_start);
+        }
+        // Positions did not move: the sum (18) is still the one remembered at the start.
+        fields.density.clone_from(&self.density_solve_start);
+        self.velocity_neighbours.clear();
+    }
+}

@@ -1,0 +1,84 @@
+//! The `move_solids` and `keep_out` stages (twins of `kernels/move_solids.cu` and
+//! `kernels/keep_out.cu`).
+
+use super::CpuBackend;
+use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
+use crate::boundary::motion::{SolidKinematics, SolidReference};
+use crate::fields::{FLUID, Fields};
+use crate::math::Vector;
+use rayon::prelude::*;
+
+impl<const D: usize> CpuBackend<D> {
+    pub(super) fn move_solids(
+        &mut self,
+        fields: &mut Fields<D>,
+        reference: &SolidReference<D>,
+        kinematics: &[SolidKinematics<D>],
+    ) {
+        let (kind, id) = (&fields.kind, &fields.id);
+        fields
+            .position
+            .par_iter_mut()
+            .zip(fields.velocity.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (x, u))| {
+                if kind[i] != FLUID {
+                    let k = &kinematics[kind[i] as usize - 1];
+                    *x = reference.position[(id[i] - reference.first_id) as usize] + k.displacement;
+                    *u = k.velocity;
+                }
+            });
+    }
+
+    pub(super) fn keep_out(
+        &mut self,
+        fields: &mut Fields<D>,
+        boxes: &[KeepOutBox<D>],
+        solids: usize,
+        margin: f32,
+        from_step_start: bool,
+    ) -> KeepOutReport {
+        let mut report = KeepOutReport::none(solids);
+        if boxes.is_empty() {
+            return report;
+        }
+        let (kind, mass) = (&fields.kind, &fields.mass);
+        // The step's start positions, stored by `store_step_start` (SSP-RK3): the side each
+        // particle came from (`KeepOutBox::push_out`).
+        let start: &[Vector<D>] = if from_step_start {
+            &fields.position_start
+        } else {
+            &[]
+        };
+        // Each particle's pushes (solid, axis, m Δu), gathered in index order and summed in that
+        // order, so the result does not depend on the thread count.
+        let pushes: Vec<Vec<(u32, usize, f64)>> = fields
+            .position
+            .par_iter_mut()
+            .zip(fields.velocity.par_iter_mut())
+            .enumerate()
+            .filter_map(|(i, (x, u))| {
+                if kind[i] != FLUID {
+                    return None;
+                }
+                let from = start.get(i);
+                let mut mine = Vec::new();
+                for b in boxes {
+                    let before = *u;
+                    if let Some(axis) = b.push_out(x, u, margin, from) {
+                        let du = f64::from(u[axis]) - f64::from(before[axis]);
+                        mine.push((b.solid, axis, f64::from(mass[i]) * du));
+                    }
+                }
+                (!mine.is_empty()).then_some(mine)
+            })
+            .collect();
+        for (solid, axis, dp) in pushes.into_iter().flatten() {
+            report.pushes += 1;
+            if let Some(slot) = report.impulse.get_mut(solid as usize) {
+                slot[axis] += dp;
+            }
+        }
+        report
+    }
+}
