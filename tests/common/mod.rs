@@ -1,11 +1,14 @@
-//! Helpers shared by the integration tests: each test file says `mod common;` and uses the
-//! part it needs. Folders are named after the test binary (`CARGO_CRATE_NAME`), the process
+//! Helpers shared by the integration tests: each test binary says `mod common;` (a binary made
+//! of a folder, `tests/NAME/main.rs`, says `#[path = "../common/mod.rs"] mod common;`) and uses
+//! the part it needs. Folders are named after the test binary (`CARGO_CRATE_NAME`), the process
 //! and a counter, so tests running in parallel never share one.
 #![allow(dead_code)] // each test binary uses a part
 
 use std::ops::Deref;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+pub mod scene;
 
 /// A path under the temporary directory, unique to this test binary, process, `name` and
 /// call, with nothing at it (for an `--out` the program is to create).

@@ -3,8 +3,11 @@
 
 use sph::scene as sc;
 
+use crate::common::scene::{
+    GARBAGE, check_result, edit, line, line_of, parse, parse_set, problems, with_key,
+};
 use proptest::prelude::*;
-use sc::{Effect, Location, Problem, SceneError, SolidShape, SolverKind};
+use sc::{Effect, Location, SceneError, SolidShape, SolverKind};
 use sph::backend::SurfaceTensionModel;
 
 const VALID_2D: &str = r#"name = "dam_break_2d"
@@ -85,57 +88,6 @@ end_time = 0.5
 interval = 0.01
 frames = false
 "#;
-
-fn parse(text: &str) -> Result<sc::Scene, SceneError> {
-    sc::parse_scene(text, "test.toml", &[])
-}
-
-fn parse_set(text: &str, sets: &[&str]) -> Result<sc::Scene, SceneError> {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    sc::parse_scene(text, "test.toml", &sets)
-}
-
-/// The problems of an expected error.
-fn problems(r: Result<sc::Scene, SceneError>) -> Vec<Problem> {
-    match r {
-        Ok(_) => panic!("expected an error"),
-        Err(e) => {
-            assert!(!e.problems().is_empty(), "no problems in {e}");
-            e.problems().to_vec()
-        }
-    }
-}
-
-/// The problem with `key` (panics with the full list if missing).
-fn with_key<'a>(ps: &'a [Problem], key: &str) -> &'a Problem {
-    ps.iter()
-        .find(|p| p.key == key)
-        .unwrap_or_else(|| panic!("no problem with key {key:?} in {ps:#?}"))
-}
-
-/// 1-based line of the first line of `text` containing `needle`, searching
-/// from the `nth` occurrence (0-based).
-fn line_of(text: &str, needle: &str, nth: usize) -> usize {
-    text.lines()
-        .enumerate()
-        .filter(|(_, l)| l.contains(needle))
-        .nth(nth)
-        .map(|(i, _)| i + 1)
-        .unwrap_or_else(|| panic!("{needle:?} not in text"))
-}
-
-fn line(p: &Problem) -> usize {
-    match p.location {
-        Location::Line { line, .. } => line,
-        ref other => panic!("expected a line location, got {other:?} for {p:?}"),
-    }
-}
-
-/// Replaces exactly one occurrence of `from`.
-fn edit(text: &str, from: &str, to: &str) -> String {
-    assert_eq!(text.matches(from).count(), 1, "{from:?} must occur once");
-    text.replace(from, to)
-}
 
 #[test]
 fn valid_2d_scene_parses_with_resolved_values() {
@@ -697,45 +649,6 @@ fn container_walls_have_l_layers_and_fluid_keeps_distance() {
     assert_eq!(scene.wall_layers(), 4);
     assert_eq!(check_container_band(&scene, &layout, 0), 4);
 }
-
-/// Every error must carry at least one usable problem.
-fn check_result(r: Result<sc::Scene, SceneError>) {
-    match r {
-        Ok(scene) => {
-            if let Ok(c) = sc::count_particles(&scene) {
-                if c.total < 200_000 {
-                    if scene.dimension == 2 {
-                        sc::generate::<2>(&scene).unwrap();
-                    } else {
-                        sc::generate::<3>(&scene).unwrap();
-                    }
-                }
-            }
-        }
-        Err(e) => {
-            let _ = e.to_string();
-            assert!(
-                e.problems()
-                    .iter()
-                    .any(|p| !p.key.is_empty() || !p.reason.is_empty()),
-                "{e:?}"
-            );
-        }
-    }
-}
-
-const GARBAGE: [&str; 10] = [
-    "nan",
-    "-inf",
-    "1e400",
-    "\"x\"",
-    "[",
-    "",
-    "-0",
-    "1e-300",
-    "99999999999999999999",
-    "{}",
-];
 
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]

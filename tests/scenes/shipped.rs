@@ -1,10 +1,11 @@
 //! The shipped scenes: each is valid, `sph check` accepts it, the 3D ones run (short end time)
 //! and the CLI writes the promised files; bad input is a clear error.
 
+use crate::common::fresh_path as scratch;
 use sph::output::{CsvFile, PvdSeries, read_summary, read_vtu};
 use sph::run::{RunOptions, run_scene, simulation_from_scene};
 use sph::scene::{count_particles, load_scene};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const SHIPPED: [&str; 8] = [
     "scenes/dam_break_2d.toml",
@@ -16,12 +17,6 @@ const SHIPPED: [&str; 8] = [
     "scenes/droplet_3d.toml",
     "scenes/yeh_petroff_3d.toml",
 ];
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_scenes_test_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
 
 #[test]
 fn every_shipped_scene_is_valid_and_checks() {

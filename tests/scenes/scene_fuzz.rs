@@ -8,10 +8,10 @@ use sph::scene::{load_scene, parse_scene};
 use std::path::Path;
 
 const SHIPPED: [&str; 4] = [
-    include_str!("../scenes/dam_break_2d.toml"),
-    include_str!("../scenes/dam_break_column_3d.toml"),
-    include_str!("../scenes/hydrostatic_2d.toml"),
-    include_str!("../scenes/yeh_petroff_3d.toml"),
+    include_str!("../../scenes/dam_break_2d.toml"),
+    include_str!("../../scenes/dam_break_column_3d.toml"),
+    include_str!("../../scenes/hydrostatic_2d.toml"),
+    include_str!("../../scenes/yeh_petroff_3d.toml"),
 ];
 
 /// Values that break numbers, types and ranges.

@@ -7,8 +7,11 @@ use std::path::{Path, PathBuf};
 
 use sph::scene as sc;
 
+use crate::common::scene::{
+    GARBAGE, check_result, edit, line, line_of, parse, parse_set, problems, with_key,
+};
 use proptest::prelude::*;
-use sc::{Integrator, Location, ProbeKind, Problem, SceneError, SolverKind, SolverSettings};
+use sc::{Integrator, Location, ProbeKind, SolverKind, SolverSettings};
 
 /// A small valid 2D scene with the `wcsph` solver and no probes.
 const WCSPH: &str = r#"dimension = 2
@@ -95,56 +98,6 @@ name = "height"
 kind = "front"
 axis = "y"
 "#;
-
-fn parse(text: &str) -> Result<sc::Scene, SceneError> {
-    sc::parse_scene(text, "test.toml", &[])
-}
-
-fn parse_set(text: &str, sets: &[&str]) -> Result<sc::Scene, SceneError> {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    sc::parse_scene(text, "test.toml", &sets)
-}
-
-/// The problems of an expected error.
-fn problems(r: Result<sc::Scene, SceneError>) -> Vec<Problem> {
-    match r {
-        Ok(s) => panic!("expected an error, got {s:#?}"),
-        Err(e) => {
-            assert!(!e.problems().is_empty(), "no problems in {e}");
-            e.problems().to_vec()
-        }
-    }
-}
-
-/// The problem with `key` (panics with the full list if missing).
-fn with_key<'a>(ps: &'a [Problem], key: &str) -> &'a Problem {
-    ps.iter()
-        .find(|p| p.key == key)
-        .unwrap_or_else(|| panic!("no problem with key {key:?} in {ps:#?}"))
-}
-
-/// 1-based line of the `nth` (0-based) line of `text` containing `needle`.
-fn line_of(text: &str, needle: &str, nth: usize) -> usize {
-    text.lines()
-        .enumerate()
-        .filter(|(_, l)| l.contains(needle))
-        .nth(nth)
-        .map(|(i, _)| i + 1)
-        .unwrap_or_else(|| panic!("{needle:?} not in text"))
-}
-
-fn line(p: &Problem) -> usize {
-    match p.location {
-        Location::Line { line, .. } => line,
-        ref other => panic!("expected a line location, got {other:?} for {p:?}"),
-    }
-}
-
-/// Replaces exactly one occurrence of `from`.
-fn edit(text: &str, from: &str, to: &str) -> String {
-    assert_eq!(text.matches(from).count(), 1, "{from:?} must occur once");
-    text.replace(from, to)
-}
 
 /// Edits `text`, expects exactly one problem, with `key`, on the line containing `needle`,
 /// whose reason contains `reason`.
@@ -799,30 +752,6 @@ fn reference_files_are_looked_up_in_the_reference_directory() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
-
-/// Every error must carry at least one usable problem.
-fn check_result(r: Result<sc::Scene, SceneError>) {
-    if let Err(e) = r {
-        let _ = e.to_string();
-        assert!(
-            e.problems()
-                .iter()
-                .any(|p| !p.key.is_empty() || !p.reason.is_empty()),
-            "{e:?}"
-        );
-    }
-}
-
-const GARBAGE: [&str; 8] = [
-    "nan",
-    "-inf",
-    "1e400",
-    "\"x\"",
-    "[",
-    "",
-    "-0",
-    "99999999999999999999",
-];
 
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
