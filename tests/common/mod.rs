@@ -8,6 +8,7 @@ use std::ops::Deref;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+pub mod run;
 pub mod scene;
 
 /// A path under the temporary directory, unique to this test binary, process, `name` and

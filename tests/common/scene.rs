@@ -97,3 +97,38 @@ pub fn check_result(r: Result<Scene, SceneError>) {
         }
     }
 }
+
+/// A 2D scene without walls or effects in the unit square (spacing 0.02 m, h = 2 dx,
+/// ρ0 = 1000 kg/m³, c = 50 m/s, `wcsph`), named `name`: `boxes` are the keys of its first
+/// `[[fluid_box]]` (further tables may follow them), `solver` the keys of `[solver]` besides
+/// its kind, and `interval` the output interval [s].
+pub fn unwalled_2d(name: &str, boxes: &str, solver: &str, interval: f64) -> String {
+    format!(
+        r#"name = "{name}"
+dimension = 2
+effects = []
+
+[domain]
+min = [0.0, 0.0]
+max = [1.0, 1.0]
+
+[particles]
+spacing = 0.02
+smoothing_ratio = 2.0
+
+[fluid]
+rho0 = 1000.0
+sound_speed = 50.0
+
+[[fluid_box]]
+{boxes}
+
+[solver]
+kind = "wcsph"
+{solver}
+
+[output]
+interval = {interval}
+"#
+    )
+}

@@ -14,40 +14,18 @@
 //!   log mid-row;
 //! - a weakly compressible run compressed beyond 10 % says so.
 
+use crate::common::run::{DAM_BREAK_2D as SCENE, SPH as BIN, coarse_run, kill_when, lines, wait_until};
+use crate::common::scratch;
 use sph::output::read_summary;
 use sph::solver::checkpoint::Checkpoint;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
-
-const BIN: &str = env!("CARGO_BIN_EXE_sph");
-const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/dam_break_2d.toml");
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_run_folder_test_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch");
-    dir
-}
+use std::time::Duration;
 
 /// `sph run` of the coarse 2D dam break (wcsph, one thread) with `extra` arguments.
 fn run(scene: &Path, end: &str, extra: &[&str]) -> Command {
-    let mut c = Command::new(BIN);
-    c.arg("run")
-        .arg(scene)
-        .args([
-            "--set",
-            "solver.kind=wcsph",
-            "--set",
-            "particles.spacing=0.01",
-            "--threads",
-            "1",
-            "--end-time",
-            end,
-        ])
-        .args(extra)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
+    let mut c = coarse_run(scene, "wcsph", end);
+    c.args(extra).stdout(Stdio::piped()).stderr(Stdio::piped());
     c
 }
 
@@ -144,15 +122,9 @@ fn a_stale_or_foreign_checkpoint_never_overwrites_a_newer_run() {
 
 /// Waits until `path` exists (a run writes `summary.json` as it starts).
 fn wait_for(path: &Path) {
-    let start = Instant::now();
-    while !path.exists() {
-        assert!(
-            start.elapsed() < Duration::from_secs(120),
-            "{} never appeared",
-            path.display()
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    wait_until(Duration::from_secs(120), &path.display().to_string(), || {
+        path.exists()
+    });
 }
 
 #[test]
@@ -224,22 +196,13 @@ fn a_new_run_never_overwrites_or_leaves_behind_what_is_not_its_own() {
     assert_eq!(read(&folder.join("notes.txt")), b"mine");
 
     // A forced run killed at once leaves `running`, not the previous run's `completed`.
-    let mut child = run(Path::new(SCENE), "0.3", &["--force", "--out"])
+    let child = run(Path::new(SCENE), "0.3", &["--force", "--out"])
         .args(out(&[&folder]))
         .spawn()
         .unwrap();
-    let start = Instant::now();
-    loop {
-        if let Ok(s) = read_summary(&folder.join("summary.json"))
-            && s.status == "running"
-        {
-            break;
-        }
-        assert!(start.elapsed() < Duration::from_secs(60));
-        std::thread::sleep(Duration::from_millis(2));
-    }
-    child.kill().unwrap();
-    child.wait().unwrap();
+    kill_when(child, Duration::from_secs(60), "running summary", || {
+        read_summary(&folder.join("summary.json")).is_ok_and(|s| s.status == "running")
+    });
     assert_eq!(
         read_summary(&folder.join("summary.json")).unwrap().status,
         "running"
@@ -312,18 +275,9 @@ fn interrupt(folder: &Path, end: &str, signal: &str, steps: usize) -> Output {
         .args(out(&[folder]))
         .spawn()
         .unwrap();
-    let start = Instant::now();
-    loop {
-        let lines = std::fs::read_to_string(folder.join("steps.csv")).map_or(0, |s| s.lines().count());
-        if lines > steps {
-            break;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(120),
-            "the run made no progress"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    wait_until(Duration::from_secs(120), "progress", || {
+        lines(&folder.join("steps.csv")) > steps
+    });
     let sent = Command::new("kill")
         .args([signal, &child.id().to_string()])
         .status()

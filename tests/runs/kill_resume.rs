@@ -6,27 +6,22 @@
 //! resident set). Both solvers, 10 kill points
 //! each (proptest; CI fixes the seed).
 
-mod common;
-
-use common::fresh_path as scratch;
+use crate::common::fresh_path as scratch;
+use crate::common::run::{DAM_BREAK_2D as SCENE, SPH as BIN, coarse_run, kill_when, lines};
 use proptest::prelude::*;
 use sph::output::{PvdSeries, Summary, read_summary};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::OnceLock;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-const BIN: &str = env!("CARGO_BIN_EXE_sph");
-const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/dam_break_2d.toml");
 const END: &str = "0.15";
 
+/// The coarse dam break with `solver` to `END`, a frame every 0.01 s and a checkpoint every
+/// `every` steps, quiet.
 fn command(solver: &str, out: &Path, every: u64) -> Command {
-    let mut c = Command::new(BIN);
-    c.arg("run")
-        .arg(SCENE)
-        .args(["--set", &format!("solver.kind={solver}")])
-        .args(["--set", "particles.spacing=0.01", "--set", "output.interval=0.01"])
-        .args(["--threads", "1", "--end-time", END])
+    let mut c = coarse_run(Path::new(SCENE), solver, END);
+    c.args(["--set", "output.interval=0.01"])
         .args(["--checkpoint-every", &every.to_string(), "--out"])
         .arg(out)
         .stdout(Stdio::null())
@@ -63,18 +58,10 @@ fn kill_and_resume(solver: &'static str, every: u64, kill_fraction: f64, case: &
     let (reference, steps) = straight(solver);
     let out = scratch(&format!("{solver}_{case}"));
     let kill_after = 1 + (kill_fraction * (*steps as f64 - 2.0)) as usize;
-    let mut child = command(solver, &out, every).spawn().unwrap();
-    let started = Instant::now();
-    loop {
-        let rows = std::fs::read_to_string(out.join("steps.csv")).map_or(0, |s| s.lines().count());
-        if rows > kill_after || child.try_wait().unwrap().is_some() {
-            break;
-        }
-        assert!(started.elapsed() < Duration::from_secs(300), "no progress");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    let _ = child.kill();
-    child.wait().unwrap();
+    let child = command(solver, &out, every).spawn().unwrap();
+    kill_when(child, Duration::from_secs(300), "progress", || {
+        lines(&out.join("steps.csv")) > kill_after
+    });
     // Killed before its first checkpoint: nothing to resume, the run starts afresh.
     let resume = if out.join("checkpoint.bin").exists() {
         Command::new(BIN)

@@ -2,9 +2,7 @@
 //! bit-identical states on the CPU backend (the restart also on another thread count), for both
 //! solvers; damaged or foreign checkpoints are refused with an error naming the problem.
 
-mod common;
-
-use common::scratch;
+use crate::common::scratch;
 use sph::run::AnySimulation;
 use sph::scene::load_scene;
 use sph::solver::Simulation;

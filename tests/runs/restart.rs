@@ -4,38 +4,22 @@
 //! And the state guards: a run that loses a particle or meets a non-finite value stops naming the
 //! step, the time, the particle and the quantity, and keeps its last good frame and checkpoint.
 
-mod common;
-
-use common::fresh_path as scratch;
+use crate::common::fresh_path as scratch;
+use crate::common::run::{DAM_BREAK_2D as SCENE, SPH as BIN, coarse_run, kill_when};
+use crate::common::scene::unwalled_2d;
 use sph::output::{PvdSeries, read_summary, read_vtu};
 use sph::solver::checkpoint::Checkpoint;
 use std::path::Path;
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-const BIN: &str = env!("CARGO_BIN_EXE_sph");
-const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/dam_break_2d.toml");
-
+/// The coarse dam break (wcsph) to 0.4 s with a checkpoint every 25 steps, quiet.
 fn command(out: &Path) -> Command {
-    let mut c = Command::new(BIN);
-    c.args([
-        "run",
-        SCENE,
-        "--set",
-        "solver.kind=wcsph",
-        "--set",
-        "particles.spacing=0.01",
-        "--end-time",
-        "0.4",
-        "--threads",
-        "1",
-        "--checkpoint-every",
-        "25",
-        "--out",
-    ])
-    .arg(out)
-    .stdout(Stdio::null())
-    .stderr(Stdio::null());
+    let mut c = coarse_run(Path::new(SCENE), "wcsph", "0.4");
+    c.args(["--checkpoint-every", "25", "--out"])
+        .arg(out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null());
     c
 }
 
@@ -54,18 +38,11 @@ fn a_killed_run_leaves_complete_files_and_resumes_bit_identically() {
     assert!(command(&straight).status().expect("runs").success());
 
     let killed = scratch("killed");
-    let mut child = command(&killed).spawn().expect("starts");
+    let child = command(&killed).spawn().expect("starts");
     let checkpoint = killed.join("checkpoint.bin");
-    let started = Instant::now();
-    while !checkpoint.exists() {
-        assert!(
-            started.elapsed() < Duration::from_secs(60),
-            "no checkpoint after 60 s"
-        );
-        std::thread::sleep(Duration::from_millis(2));
-    }
-    child.kill().expect("SIGKILL");
-    let status = child.wait().expect("reaped");
+    let status = kill_when(child, Duration::from_secs(60), "checkpoint", || {
+        checkpoint.exists()
+    });
     assert!(!status.success(), "the run was still going when killed");
     let running = read_summary(&killed.join("summary.json")).expect("written at the start");
     assert_eq!(running.status, "running", "killed before the end");
@@ -156,35 +133,12 @@ fn a_particle_leaving_the_domain_stops_the_run_and_keeps_the_last_good_files() {
     let scene = dir.join("escape.toml");
     std::fs::write(
         &scene,
-        r#"name = "escape"
-dimension = 2
-effects = []
-
-[domain]
-min = [0.0, 0.0]
-max = [1.0, 1.0]
-
-[particles]
-spacing = 0.02
-smoothing_ratio = 2.0
-
-[fluid]
-rho0 = 1000.0
-sound_speed = 50.0
-
-[[fluid_box]]
-min = [0.4, 0.4]
-max = [0.6, 0.6]
-velocity = [5.0, 0.0]
-
-[solver]
-kind = "wcsph"
-end_time = 0.5
-on_escape = "stop"
-
-[output]
-interval = 0.02
-"#,
+        unwalled_2d(
+            "escape",
+            "min = [0.4, 0.4]\nmax = [0.6, 0.6]\nvelocity = [5.0, 0.0]",
+            "end_time = 0.5\non_escape = \"stop\"",
+            0.02,
+        ),
     )
     .expect("scene");
     let out = dir.join("run");
@@ -284,38 +238,12 @@ fn a_droplet_leaving_the_domain_is_removed_and_the_run_goes_on() {
     let scene = dir.join("droplet.toml");
     std::fs::write(
         &scene,
-        r#"name = "droplet"
-dimension = 2
-effects = []
-
-[domain]
-min = [0.0, 0.0]
-max = [1.0, 1.0]
-
-[particles]
-spacing = 0.02
-smoothing_ratio = 2.0
-
-[fluid]
-rho0 = 1000.0
-sound_speed = 50.0
-
-[[fluid_box]]
-min = [0.3, 0.1]
-max = [0.7, 0.3]
-
-[[fluid_box]]
-min = [0.4, 0.6]
-max = [0.5, 0.7]
-velocity = [5.0, 0.0]
-
-[solver]
-kind = "wcsph"
-end_time = 0.3
-
-[output]
-interval = 0.05
-"#,
+        unwalled_2d(
+            "droplet",
+            "min = [0.3, 0.1]\nmax = [0.7, 0.3]\n\n[[fluid_box]]\nmin = [0.4, 0.6]\nmax = [0.5, 0.7]\nvelocity = [5.0, 0.0]",
+            "end_time = 0.3",
+            0.05,
+        ),
     )
     .expect("scene");
     let run = |out: &Path, extra: &[&str]| {
@@ -358,7 +286,7 @@ interval = 0.05
     // Killed once a checkpoint holds fewer particles than the scene, then resumed: the same
     // bytes.
     let resumed = dir.join("resumed");
-    let mut child = Command::new(BIN)
+    let child = Command::new(BIN)
         .args(["run"])
         .arg(&scene)
         .args(["--threads", "1", "--checkpoint-every", "5", "--out"])
@@ -367,18 +295,10 @@ interval = 0.05
         .stderr(Stdio::null())
         .spawn()
         .expect("starts");
-    let started = Instant::now();
-    loop {
-        let smaller = Checkpoint::<2>::read(&resumed.join("checkpoint.bin"))
-            .is_ok_and(|c| (c.fields.len() as u64) < summary.particles);
-        if smaller || child.try_wait().expect("status").is_some() {
-            break;
-        }
-        assert!(started.elapsed() < Duration::from_secs(120), "no removal");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    child.kill().ok();
-    child.wait().expect("reaped");
+    kill_when(child, Duration::from_secs(120), "removal", || {
+        Checkpoint::<2>::read(&resumed.join("checkpoint.bin"))
+            .is_ok_and(|c| (c.fields.len() as u64) < summary.particles)
+    });
     let again = Command::new(BIN)
         .args(["run", "--threads", "1", "--resume"])
         .arg(&resumed)
