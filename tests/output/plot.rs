@@ -1,8 +1,6 @@
 //! Integration tests for the PNG figure writer (`output::plot`).
 
-mod common;
-
-use common::{assert_no_tmp_left, scratch_dir as scratch};
+use crate::common::{assert_no_tmp_left, scratch_dir as scratch};
 use sph::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
 use std::path::Path;
 

@@ -1,8 +1,6 @@
 //! Integration tests for the output module.
 
-mod common;
-
-use common::{assert_no_tmp_left, scratch};
+use crate::common::{assert_no_tmp_left, scratch};
 use sph::output::{
     CsvFile, Encoding, ForceLog, Frame, OutputError, PvdSeries, Summary, VtkType, VtuSection, read_summary,
     read_vtu, read_vtu_header, read_vtu_points, write_summary, write_vtu,

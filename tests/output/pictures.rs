@@ -5,9 +5,8 @@
 //! scratch folders. The golden tests draw synthetic frames built in code and compare them with
 //! `tests/golden/*.png`; `SPH_BLESS=1` writes those files (commit them, and say why).
 
-mod common;
-
-use common::scratch_dir as scratch;
+use crate::common::run::SPH as BIN;
+use crate::common::scratch_dir as scratch;
 use sph::bench::{BenchRow, timing_figure};
 use sph::output::plot::{write_png, write_rgb_png};
 use sph::render::colormap::ColorRange;
@@ -17,7 +16,6 @@ use sph::render::projection::{Projection, View};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-const BIN: &str = env!("CARGO_BIN_EXE_sph");
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 fn sph(args: &[&str]) -> Output {

@@ -7,6 +7,8 @@
 //! staircase whose volume is `N dx^D`; the reference is the ball (disc) of that volume, radius
 //! `R_eq = (3 N dx³ / 4π)^(1/3)` (`(N dx² / π)^(1/2)` in 2D), and its area (perimeter).
 
+use crate::common::run::SPH as BIN;
+use crate::common::scratch;
 use sph::math::{Real, Vector};
 use sph::output::PvdSeries;
 use sph::output::vtp::read_vtp;
@@ -208,7 +210,7 @@ fn smaller_support_sharpens_edges_and_roughens_curved_surfaces() {
 /// Volume and area errors of the four bodies (and the jittered box) for supports and cell
 /// sizes from the environment (`SWEEP_RADII`, `SWEEP_CELLS` in spacings, `SWEEP_SHIFT` of the
 /// lattice against the grid in spacings); prints the table of the module doc of `sph::surface`:
-/// `cargo test --release --test surface -- --ignored --nocapture radius_and_cell_sweep`.
+/// `cargo test --release --test output -- --ignored --nocapture radius_and_cell_sweep`.
 #[test]
 #[ignore = "a measurement, not a check: prints the support/cell table (about a minute)"]
 fn radius_and_cell_sweep() {
@@ -366,16 +368,6 @@ fn square_area_and_perimeter_within_3_percent() {
     );
     assert!(rel_err(v, side * side) < REL, "area {v}");
     assert!(rel_err(a, 4.0 * side) < REL, "perimeter {a}");
-}
-
-const BIN: &str = env!("CARGO_BIN_EXE_sph");
-
-/// A fresh scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_surface_test_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
 }
 
 /// A block of fluid at rest in free space (no effects), a few steps long; `output` is appended

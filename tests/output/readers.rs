@@ -9,9 +9,8 @@
 //! most `2 Δt max(|u|max, |g| Δt)`, while the storage order changes), the `TimeValue` of each
 //! file equals its time in the `.pvd`, and 2D surfaces are line cells, 3D surfaces triangles.
 
-mod common;
-
-use common::scratch;
+use crate::common::run::SPH as BIN;
+use crate::common::scratch;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -22,8 +21,6 @@ use sph::output::vtp::{read_vtp, write_vtp};
 use sph::output::{Encoding, Frame, PvdSeries, read_vtu, write_vtu};
 use sph::surface::SurfaceMesh;
 use vtkio::model::{Attribute, DataSet, IOBuffer, Piece, VertexNumbers};
-
-const BIN: &str = env!("CARGO_BIN_EXE_sph");
 
 /// |g| of the scenes below [m/s²].
 const GRAVITY: f64 = 9.81;

@@ -2,9 +2,7 @@
 //! the column, and the files the program writes read back through it with their unit-named
 //! columns (`output::csv`'s convention).
 
-mod common;
-
-use common::scratch;
+use crate::common::scratch;
 use sph::bench::{BENCH_COLUMNS, BenchRow, STAGE_COLUMNS, stages_csv, to_csv};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
