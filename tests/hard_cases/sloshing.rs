@@ -13,7 +13,7 @@
 //! - the fluid's mass bitwise unchanged;
 //! - `corrected`: no stage at the iteration cap and every stage's compression below δ.
 //!
-//! No energy bound applies, unlike `tests/hard_cases.rs`: the walls do work on the fluid.
+//! No energy bound applies, unlike the suite (`suite.rs`): the walls do work on the fluid.
 //! Instead the physics of the forcing is checked: the fluid's kinetic energy grows far above
 //! that of the same tank left at rest, and the horizontal force on the tank oscillates at the
 //! forcing period. A unit test of the motion formula is in `src/boundary/motion.rs`.
@@ -26,7 +26,7 @@ use sph::solver::Simulation;
 use std::path::Path;
 
 /// The scene file of `scenes/hard/` with the solver `solver`; for `corrected` a cap of 1,000
-/// sweeps per stage (as `tests/hard_cases.rs`) and δ = 1e-3, the recommended tolerance
+/// sweeps per stage (as the suite, `suite.rs`) and δ = 1e-3, the recommended tolerance
 /// (it buys most of the accuracy of 1e-4 at a quarter of the sweeps, which keeps the run short).
 fn scene(file: &str, solver: &str) -> Scene {
     let path = format!("{}/scenes/hard/{file}", env!("CARGO_MANIFEST_DIR"));
