@@ -53,6 +53,22 @@ pub fn scratch_dir(name: &str) -> ScratchDir {
     ScratchDir(scratch(name))
 }
 
+/// Every shipped scene: the `*.toml` files of `scenes/` and `scenes/hard/`, sorted.
+pub fn shipped_scenes() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut all = Vec::new();
+    for dir in ["scenes", "scenes/hard"] {
+        for entry in std::fs::read_dir(root.join(dir)).expect("scene folder") {
+            let path = entry.expect("entry").path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                all.push(path);
+            }
+        }
+    }
+    all.sort();
+    all
+}
+
 /// No temporary file of the atomic writes (`output::safe_file::is_tmp_name`) is left in `dir`.
 pub fn assert_no_tmp_left(dir: &Path) {
     for entry in std::fs::read_dir(dir).expect("folder") {

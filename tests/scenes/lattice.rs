@@ -4,6 +4,7 @@
 //! every shipped scene at its own spacing and coarsened, on the README's coarse Yeh & Petroff
 //! run, and on random boxes whose extents are not whole spacings.
 
+use crate::common::shipped_scenes;
 use nalgebra::SVector;
 use proptest::prelude::*;
 use sph::scene::{MIN_GAP, Scene, SceneError, generate, generate_reported, load_scene, parse_scene};
@@ -110,18 +111,12 @@ fn assert_invariant(scene: &Scene, what: &str) -> usize {
     fluid.unwrap_or_default()
 }
 
+/// Every shipped scene ([`shipped_scenes`]), as a string for the messages.
 fn shipped() -> Vec<String> {
-    let mut out = Vec::new();
-    for dir in ["scenes", "scenes/hard"] {
-        for entry in std::fs::read_dir(dir).expect("scenes folder") {
-            let path = entry.expect("entry").path();
-            if path.extension().is_some_and(|e| e == "toml") {
-                out.push(path.to_string_lossy().into_owned());
-            }
-        }
-    }
-    out.sort();
-    out
+    shipped_scenes()
+        .iter()
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect()
 }
 
 /// The README's coarse run: Yeh & Petroff at dx = 21.6 mm started with 28 fluid–fluid and 5

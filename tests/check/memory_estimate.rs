@@ -5,12 +5,11 @@
 //! written), on 2 threads. Measured on the Xeon 2-core VM: −5.2 % to +6.6 %, with about 3 %
 //! run-to-run spread.
 
+use crate::common::run::SPH as BIN;
 use sph::output::read_summary;
 use sph::scene::{count_particles, load_scene, run_bytes, scene_particle_bytes};
 use std::path::Path;
 use std::process::Command;
-
-const BIN: &str = env!("CARGO_BIN_EXE_sph");
 
 /// The estimate's relative error on `scene` (a path under `scenes/`, without `.toml`) run
 /// with `solver`, or `None` where the scene refuses that solver (checked to be `sph check`'s

@@ -2,6 +2,7 @@
 //! fixed step is refused on purpose (`scenes/hard/large_dt_*.toml`), the one-line validation
 //! error and a non-zero exit; and the plan shows exactly the effects the scene asks for.
 
+use crate::common::shipped_scenes;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -18,21 +19,6 @@ fn plan(scene: &Path, sets: &[&str]) -> Output {
 /// A shipped scene by its path under the crate.
 fn shipped(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
-}
-
-/// Every `*.toml` of `scenes/` and `scenes/hard/`.
-fn shipped_scenes() -> Vec<PathBuf> {
-    let mut all = Vec::new();
-    for dir in ["scenes", "scenes/hard"] {
-        for entry in std::fs::read_dir(shipped(dir)).expect("scene folder") {
-            let path = entry.expect("entry").path();
-            if path.extension().is_some_and(|e| e == "toml") {
-                all.push(path);
-            }
-        }
-    }
-    all.sort();
-    all
 }
 
 /// The printed plan's stage lines (`  N. name  equation  description`).

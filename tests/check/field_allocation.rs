@@ -5,27 +5,12 @@
 //! Scenes run at twice their spacing (a coarser copy of the same set-up; the shipped spacing where
 //! the coarse one is refused) with a fixed step of 1e-5 s, short enough for every solver and scene.
 
+use crate::common::shipped_scenes;
 use sph::fields::Field;
 use sph::run::{plan_inputs, simulation_from_scene};
 use sph::scene::{Effect, Scene, load_scene, parse_scene};
 use sph::solver::plan::{needed_fields, plan};
-use std::path::{Path, PathBuf};
-
-/// Every `*.toml` of `scenes/` and `scenes/hard/`.
-fn shipped_scenes() -> Vec<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut all = Vec::new();
-    for dir in ["scenes", "scenes/hard"] {
-        for entry in std::fs::read_dir(root.join(dir)).expect("scene folder") {
-            let path = entry.expect("entry").path();
-            if path.extension().is_some_and(|e| e == "toml") {
-                all.push(path);
-            }
-        }
-    }
-    all.sort();
-    all
-}
+use std::path::Path;
 
 /// The scene at twice its spacing and a 1e-5 s step, or at its own spacing if that is refused;
 /// `None` for a scene the validator refuses as shipped.

@@ -7,6 +7,8 @@
 //! stderr, the problem reported at the key at fault, and an end within a few seconds (a child
 //! that runs longer is killed and the case fails).
 
+use crate::common::run::SPH;
+use crate::common::scratch as temp_dir;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -14,19 +16,9 @@ use std::time::{Duration, Instant};
 
 use sph::solver::StepError;
 
-const SPH: &str = env!("CARGO_BIN_EXE_sph");
-
 /// The small corrected 2D dam break (2,500 fluid particles).
 fn dam_break() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/dam_break_2d.toml")
-}
-
-/// A fresh temporary directory for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sph_guards_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// What a finished child left: exit code (`None` if a signal ended it), stderr, seconds taken.
