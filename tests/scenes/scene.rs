@@ -385,7 +385,7 @@ fn too_much_memory() {
     assert!(p.reason.contains("3375000000 particles"), "{}", p.reason);
     assert!(p.reason.contains("bytes available"), "{}", p.reason);
     // The corrected solver needs more than twice the memory of wcsph on a scene half fluid
-    // (tests/memory_estimate.rs checks both against measured peaks).
+    // (tests/check/memory_estimate.rs checks both against measured peaks).
     let bytes = |kind| sc::run_bytes(2000, 1000, sc::particle_bytes(3, kind)).expect("fits");
     assert!(
         bytes(sc::SolverKind::Corrected) - sc::BASE_BYTES
@@ -1064,7 +1064,7 @@ fn multiphase_box_density_resolves_and_defaults_to_the_fluid() {
     assert!(s.has(Effect::Multiphase));
     assert_eq!(s.fluid_boxes[0].rho0, Some(800.0));
     // The effect without any box of another density is allowed: one phase, the multiphase
-    // variants of the stages (tests/multiphase.rs: equal to the plain run to rounding).
+    // variants of the stages (tests/physics/multiphase.rs: equal to the plain run to rounding).
     let s = parse(&phased_2d(r#"["gravity", "viscosity", "multiphase"]"#, "")).expect("valid");
     assert_eq!(s.fluid_boxes[0].rho0, None);
     assert_eq!(parse(VALID_2D).expect("valid").fluid_boxes[0].rho0, None);
