@@ -10,6 +10,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 pub mod run;
 pub mod scene;
+pub mod tolerance;
 
 /// A path under the temporary directory, unique to this test binary, process, `name` and
 /// call, with nothing at it (for an `--out` the program is to create).

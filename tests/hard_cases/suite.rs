@@ -7,6 +7,7 @@
 //! scenes start at rest or in free flight, walls are fixed and every term dissipates or
 //! conserves), and for `corrected` every stage's compression below δ.
 
+use crate::common::tolerance::{ENERGY_RISE, F32_ROUNDING};
 use sph::fields::FLUID;
 use sph::physics::lattice::lattice_gradient_moment;
 use sph::run::AnySimulation;
@@ -284,12 +285,13 @@ fn run_with<const D: usize>(scene: &Scene, mut sim: Simulation<D>, bound: Energy
     sim.sync_fields().expect("fields");
     let e0 = energy(&sim, &g);
     let allowed = match bound {
-        EnergyBound::Start => Some(e0 + 1e-3 * e0.abs().max(1e-12)),
+        EnergyBound::Start => Some(e0 + ENERGY_RISE * e0.abs().max(1e-12)),
         EnergyBound::StartPlusElastic => {
-            Some(e0 + (1.0 + ELASTIC_SLACK) * elastic_energy(scene, &sim) + 1e-3 * e0.abs().max(1e-12))
+            Some(e0 + (1.0 + ELASTIC_SLACK) * elastic_energy(scene, &sim) + ENERGY_RISE * e0.abs().max(1e-12))
         }
         EnergyBound::StartPlusTwinRelease => Some(
-            e0 + twin_release_ratio::<D>(scene) * elastic_energy(scene, &sim) + 1e-3 * e0.abs().max(1e-12),
+            e0 + twin_release_ratio::<D>(scene) * elastic_energy(scene, &sim)
+                + ENERGY_RISE * e0.abs().max(1e-12),
         ),
     };
     let kernel = Smoothing::<D>::new(scene.smoothing_length as f32).expect("2D or 3D");
@@ -488,7 +490,7 @@ fn thin_sheet_3d_corrected() {
 fn isolated(file: &str, solver: &str) {
     let trace = case_with(file, solver, &[], EnergyBound::Start);
     assert!(
-        trace.min_density >= trace.self_density * (1.0 - 1e-6),
+        trace.min_density >= trace.self_density * (1.0 - F32_ROUNDING),
         "{file} ({solver}): fluid density {} below the self term m W(0) = {}",
         trace.min_density,
         trace.self_density

@@ -43,6 +43,7 @@
 //! correction and the particle boundary alone. One deterministic test gives it the guard, as a
 //! scene run has: the thrown block at the largest step validation accepts.
 
+use crate::common::tolerance::{CORRECTION_WALL_BALANCE, PAIRWISE_MOMENTUM, THROWN_BLOCK_BALANCE};
 use proptest::prelude::*;
 use sph::boundary::keep_out::KeepOutBox;
 use sph::fields::FLUID;
@@ -398,7 +399,7 @@ fn check_case<const D: usize>(case: &Case, wall_tolerance: Option<(f64, f64)>) -
         })
         .fold(0.0, f64::max);
     let tolerance = match (case.walls, wall_tolerance) {
-        (false, _) => 1e-5 * mass * speed,
+        (false, _) => PAIRWISE_MOMENTUM * mass * speed,
         (true, Some((relative, floor))) => relative * largest + floor * mass * speed,
         (true, None) => return Ok(()),
     };
@@ -425,7 +426,7 @@ proptest! {
 
     #[test]
     fn corrected_steps_leave_no_compression_and_balance_momentum_in_2d(case in cases(2)) {
-        check_case::<2>(&case, Some((1e-3, 1e-5)))?;
+        check_case::<2>(&case, Some(CORRECTION_WALL_BALANCE))?;
     }
 }
 
@@ -434,7 +435,7 @@ proptest! {
 
     #[test]
     fn corrected_steps_leave_no_compression_and_balance_momentum_in_3d(case in cases(3)) {
-        check_case::<3>(&case, Some((1e-3, 1e-5)))?;
+        check_case::<3>(&case, Some(CORRECTION_WALL_BALANCE))?;
     }
 }
 
@@ -457,7 +458,7 @@ fn block_against_walls_in_3d_stays_off_the_wall_layer() {
         integrator: Integrator::Rk3,
         seed: 3_074_884_354_973_246_187,
     };
-    expect_ok(check_case::<3>(&case, Some((1e-3, 1e-5))));
+    expect_ok(check_case::<3>(&case, Some(CORRECTION_WALL_BALANCE)));
 }
 
 /// Turns a failed property into a panic, for the deterministic tests.
@@ -589,7 +590,7 @@ fn wall_impulse_balances_fluid_momentum_to_three_percent() {
         integrator: Integrator::Rk3,
         seed: 4066443804933428726,
     };
-    expect_ok(check_case::<2>(&case, Some((0.03, 1e-4))));
+    expect_ok(check_case::<2>(&case, Some(THROWN_BLOCK_BALANCE)));
 }
 
 /// A lattice block of `size` particles per axis (no jitter) moving at 1 m/s along x towards a
@@ -641,7 +642,8 @@ fn check_thrown_block<const D: usize>(
                 .max((p1[k] - p0[k]).abs())
         })
         .fold(0.0, f64::max);
-    let tolerance = 0.03 * largest + 1e-4 * mass * speed;
+    let (relative, floor) = THROWN_BLOCK_BALANCE;
+    let tolerance = relative * largest + floor * mass * speed;
     assert!(
         wall_impulse[0].abs() > 0.5 * p0[0].abs(),
         "{D}D: the block hit the wall (wall impulse {wall_impulse:?}, initial momentum {p0:?})"
@@ -701,7 +703,7 @@ fn large_step_with_gravity_in_2d_converges() {
         integrator: Integrator::Rk3,
         seed: 500_988_943_488_858_139,
     };
-    expect_ok(check_case::<2>(&case, Some((1e-3, 1e-5))));
+    expect_ok(check_case::<2>(&case, Some(CORRECTION_WALL_BALANCE)));
 }
 
 /// A 2D property-test input: a free 13 x 14 block, no gravity, no walls, moving at up to
@@ -727,5 +729,5 @@ fn free_block_at_one_spacing_per_step_in_2d_converges() {
         integrator: Integrator::Rk3,
         seed: 13_904_500_518_979_752_299,
     };
-    expect_ok(check_case::<2>(&case, Some((1e-3, 1e-5))));
+    expect_ok(check_case::<2>(&case, Some(CORRECTION_WALL_BALANCE)));
 }

@@ -3,6 +3,7 @@
 //! columns (`output::csv`'s convention).
 
 use crate::common::scratch;
+use crate::common::tolerance::F32_ROUNDING;
 use sph::bench::{BENCH_COLUMNS, BenchRow, STAGE_COLUMNS, stages_csv, to_csv};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
@@ -181,7 +182,7 @@ fn probes_csv_reads_back_with_unit_named_columns() {
     assert_eq!(table.header(), ["t_s", "front_m", "post_force_N_per_m"]);
     assert_eq!(table.len(), 2);
     let front = table.numbers(table.column("front_m").unwrap()).unwrap();
-    assert!(front.iter().all(|z| (*z - 0.3).abs() < 1e-6), "{front:?}");
+    assert!(front.iter().all(|z| (*z - 0.3).abs() < F32_ROUNDING), "{front:?}");
     let force = table
         .number(1, table.column("post_force_N_per_m").unwrap())
         .unwrap();

@@ -11,6 +11,7 @@
 
 use crate::common::run::SPH as BIN;
 use crate::common::scratch;
+use crate::common::tolerance::F32_ROUNDING;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -316,7 +317,7 @@ fn check_run(out: &Path, zlib: &Path, dimension: usize) {
         let (positions, speed) = by_id(&read);
         if let Some((t0, before, speed0, ids0)) = &previous {
             let dt = t - t0;
-            let bound = 2.0 * dt * speed.max(*speed0).max(GRAVITY * dt) + 1e-6;
+            let bound = 2.0 * dt * speed.max(*speed0).max(GRAVITY * dt) + F32_ROUNDING;
             let worst = before
                 .iter()
                 .map(|(id, p)| {

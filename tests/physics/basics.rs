@@ -1,7 +1,9 @@
 //! Physics of the weakly compressible CPU solver: hydrostatics, conservation laws, free fall.
 //!
-//! Tolerances are stated where they are used, with where they come from.
+//! Tolerances are stated where they are used, with where they come from; those several tests
+//! share are named in `common::tolerance`.
 
+use crate::common::tolerance::{CLOCK_SLACK, F32_ACCUMULATION, HYDROSTATIC_PRESSURE, PAIRWISE_MOMENTUM};
 use sph::math::Vector;
 use sph::run::simulation_from_scene;
 use sph::scene::{load_scene, parse_scene};
@@ -58,7 +60,7 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
     let bottom_pressure = -impulse / duration / width;
     let expected = rho0 * g * depth;
     assert!(
-        (bottom_pressure - expected).abs() <= 0.02 * expected,
+        (bottom_pressure - expected).abs() <= HYDROSTATIC_PRESSURE * expected,
         "bottom pressure {bottom_pressure:.1} Pa, rho0 g H = {expected:.1} Pa"
     );
     let limit = 0.01 * (g * depth).sqrt();
@@ -145,7 +147,7 @@ fn closed_box_without_gravity_conserves_momentum_with_wall_impulse() {
     for k in 0..2 {
         let change = p1[k] - p0[k];
         assert!(
-            (change + impulse[k]).abs() <= 1e-4 * scale,
+            (change + impulse[k]).abs() <= F32_ACCUMULATION * scale,
             "axis {k}: fluid momentum change {change:.6e}, wall impulse {:.6e}",
             impulse[k]
         );
@@ -212,7 +214,7 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
         let total_mass = sim.fluid_mass();
         for k in 0..D {
             assert!(
-                (p1[k] - p0[k]).abs() <= 1e-5 * total_mass,
+                (p1[k] - p0[k]).abs() <= PAIRWISE_MOMENTUM * total_mass,
                 "{D}D axis {k}: momentum {:.6e} -> {:.6e}",
                 p0[k],
                 p1[k]
@@ -259,7 +261,7 @@ fn free_falling_block_follows_g_t() {
         (y, v)
     };
     let (y0, _) = com(&sim);
-    while sim.clock().time < scene.end_time - 1e-9 {
+    while sim.clock().time < scene.end_time - CLOCK_SLACK {
         sim.step(scene.end_time).expect("stable");
     }
     let t = sim.clock().time;
@@ -267,13 +269,13 @@ fn free_falling_block_follows_g_t() {
     let g = -9.81;
     // f32 velocity accumulated over 2500 steps: 1e-4 relative.
     assert!(
-        (v - g * t).abs() <= 1e-4 * (g * t).abs(),
+        (v - g * t).abs() <= F32_ACCUMULATION * (g * t).abs(),
         "v = {v}, g t = {}",
         g * t
     );
     let expected = y0 + 0.5 * g * t * t + 0.5 * g * t * 2.0e-4;
     assert!(
-        (y - expected).abs() <= 1e-4 * (0.5 * g * t * t).abs(),
+        (y - expected).abs() <= F32_ACCUMULATION * (0.5 * g * t * t).abs(),
         "y = {y}, expected {expected}"
     );
 }

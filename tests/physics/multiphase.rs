@@ -7,6 +7,7 @@
 //!   buoyancy against the fluid's added mass.
 //! - With every phase at one density the effect reproduces the single-phase run to rounding.
 
+use crate::common::tolerance::{CLOCK_SLACK, HYDROSTATIC_PRESSURE_EARLY, INTERFACE_CROSSING_DX};
 use sph::fields::FLUID;
 use sph::math::{Real, Vector};
 use sph::physics::multiphase::buoyant_acceleration;
@@ -59,7 +60,7 @@ fn two_layer(sets: &[&str], end: f64, rho_t: f64) -> TwoLayer {
     let mut next = end - 0.5;
     while sim.clock().time < end {
         sim.step(end).expect("stable step");
-        if sim.clock().time + 1e-9 < next {
+        if sim.clock().time + CLOCK_SLACK < next {
             continue;
         }
         next += 0.05;
@@ -120,12 +121,12 @@ fn assert_two_layer(r: &TwoLayer, tolerance: f64) {
         100.0 * r.worst_pressure
     );
     assert!(
-        r.water_above <= 1.5,
+        r.water_above <= INTERFACE_CROSSING_DX,
         "water {:.2} dx above the interface",
         r.water_above
     );
     assert!(
-        r.oil_below <= 1.5,
+        r.oil_below <= INTERFACE_CROSSING_DX,
         "oil {:.2} dx below the interface",
         r.oil_below
     );
@@ -136,7 +137,7 @@ fn two_layer_tank_wcsph_settles_to_the_piecewise_hydrostatic_pressure() {
     // Measured: worst slab 1.63 % (the bottom slab), water 0.19 dx below and oil 0.52 dx below
     // the interface at most (the water layer compresses by about g h / C² ≈ 1 %).
     let r = two_layer(&[], 1.5, 800.0);
-    assert_two_layer(&r, 0.03);
+    assert_two_layer(&r, HYDROSTATIC_PRESSURE_EARLY);
 }
 
 /// The same tank with a density ratio of 4 (ρ_t = 250 kg/m³ on water): measured worst slab
@@ -146,7 +147,7 @@ fn two_layer_tank_wcsph_settles_to_the_piecewise_hydrostatic_pressure() {
 #[test]
 fn two_layer_tank_wcsph_holds_a_density_ratio_of_four() {
     let r = two_layer(&["fluid_box.1.rho0=250"], 1.5, 250.0);
-    assert_two_layer(&r, 0.03);
+    assert_two_layer(&r, HYDROSTATIC_PRESSURE_EARLY);
 }
 
 /// The `corrected` solver on the same tank, at dx = 10 mm (each layer 10 particles deep) to keep
@@ -156,7 +157,7 @@ fn two_layer_tank_wcsph_holds_a_density_ratio_of_four() {
 #[test]
 fn two_layer_tank_corrected_settles_to_the_piecewise_hydrostatic_pressure() {
     let r = two_layer(&["solver.kind=corrected", "particles.spacing=0.01"], 1.0, 800.0);
-    assert_two_layer(&r, 0.03);
+    assert_two_layer(&r, HYDROSTATIC_PRESSURE_EARLY);
 }
 
 /// What the released disc did.

@@ -42,6 +42,7 @@
 //! unresisted and the fluid slides as a plug that keeps accelerating (centreline 3.0 u0 at
 //! t = 0.6 s, 1.26 u0 more than at 0.4 s). `artificial_viscosity_is_not_a_shear_viscosity`.
 
+use crate::common::tolerance::{CLOCK_SLACK, F32_ACCUMULATION, F32_ROUNDING, F64_SUM};
 use sph::fields::FLUID;
 use sph::physics::lattice::lattice_mass;
 use sph::run::simulation_from_scene;
@@ -103,7 +104,7 @@ fn profiles(scene: &Scene) -> Vec<Profile> {
     let bins = (WIDTH / dx).round() as usize;
     let mut out = Vec::new();
     for &t in &TIMES {
-        while sim.clock().time < t - 1e-9 {
+        while sim.clock().time < t - CLOCK_SLACK {
             sim.step(t).expect("the step succeeds");
         }
         sim.sync_fields().expect("CPU fields");
@@ -246,7 +247,7 @@ fn lattice_calibration_and_no_slip_walls_remove_the_curvature_and_slip_errors() 
     );
     let sim = simulation_from_scene::<2>(&scene).expect("the scene builds");
     assert!(
-        (f64::from(sim.viscosity_scale()) * lambda - 1.0).abs() < 1e-6,
+        (f64::from(sim.viscosity_scale()) * lambda - 1.0).abs() < F32_ROUNDING,
         "the simulation scales (17) by 1/λ: {}",
         sim.viscosity_scale()
     );
@@ -412,7 +413,7 @@ fn no_slip_wall_drag_is_the_reaction_and_follows_rayleigh() {
     let mut sim = sliding_block("", end);
     let p0 = sim.fluid_momentum();
     let mut impulse = [0.0f64; 3];
-    while sim.clock().time < end - 1e-12 {
+    while sim.clock().time < end - F64_SUM {
         let r = sim.step(end).expect("stable");
         for k in 0..3 {
             impulse[k] += sim.solid_forces()[0][k] * r.dt;
@@ -422,7 +423,7 @@ fn no_slip_wall_drag_is_the_reaction_and_follows_rayleigh() {
     for k in 0..2 {
         let change = p1[k] - p0[k];
         assert!(
-            (change + impulse[k]).abs() <= 1e-4 * p0[0],
+            (change + impulse[k]).abs() <= F32_ACCUMULATION * p0[0],
             "axis {k}: fluid momentum change {change:.6e}, wall impulse {:.6e}",
             impulse[k]
         );

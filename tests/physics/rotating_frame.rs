@@ -9,6 +9,7 @@
 //! solid-body rotation; the slice through the axis is this parabola), with the centre-to-wall
 //! rise `Δ = Ω² R² / (2 g)` = 0.0999 m.
 
+use crate::common::tolerance::{CLOCK_SLACK, ROTATING_SURFACE};
 use nalgebra::{Rotation3, Vector3};
 use sph::fields::FLUID;
 use sph::math::Vector;
@@ -92,7 +93,7 @@ fn rotating_tank_surface_settles_to_the_parabola_of_solid_body_rotation() {
     let (mut frames, mut worst_rise_error, mut worst_column) = (0, 0.0f64, 0.0f64);
     while sim.clock().time < end {
         sim.step(end).expect("stable step");
-        if sim.clock().time + 1e-9 < next_frame {
+        if sim.clock().time + CLOCK_SLACK < next_frame {
             continue;
         }
         next_frame += frame;
@@ -123,12 +124,12 @@ fn rotating_tank_surface_settles_to_the_parabola_of_solid_body_rotation() {
     }
     assert!(frames >= 10, "{frames} frames after t = {settled} s");
     assert!(
-        worst_rise_error <= 0.05,
+        worst_rise_error <= ROTATING_SURFACE,
         "fitted rise off by {:.2} % of Ω²R²/(2g) (tolerance 5 %)",
         100.0 * worst_rise_error
     );
     assert!(
-        worst_column <= 0.05,
+        worst_column <= ROTATING_SURFACE,
         "a column is {:.2} % of the rise from the parabola (tolerance 5 %)",
         100.0 * worst_column
     );
@@ -173,7 +174,7 @@ fn a_lone_particle_moves_in_a_straight_line_in_the_inertial_frame() {
         let (x0, u0, w) = (Vector3::from(x0), Vector3::from(u0), Vector3::from(omega));
         let mut sim = Simulation::new(config, &[to_d(x0)], &[to_d(u0)], &[]).expect("builds");
         let end = 1.0;
-        while sim.clock().time < end - 1e-9 {
+        while sim.clock().time < end - CLOCK_SLACK {
             sim.step(end).expect("stable step");
         }
         sim.sync_fields().expect("cpu backend");

@@ -20,6 +20,7 @@
 //! (the van der Waals "internal pressure"), balanced by a positive EOS pressure `P0` that a flat
 //! slab has too (`P0 ≈ 5 σ/h`, 30 times `σ/R` here).
 
+use crate::common::tolerance::{CLOCK_SLACK, F64_SUM, LAPLACE_JUMP, PAIRWISE_MOMENTUM};
 use sph::fields::{FLUID, Fields};
 use sph::math::{Real, Vector};
 use sph::physics::eos;
@@ -238,11 +239,11 @@ fn run_droplet(sets: &[&str], average: f64) -> Droplet {
     let mut next = end - average;
     let (mut mechanical, mut eos_p, mut frames, mut momentum) = (0.0, 0.0, 0usize, 0.0f64);
     let mut core_density = 0.0;
-    while sim.clock().time < end - 1e-12 {
+    while sim.clock().time < end - F64_SUM {
         sim.step(end).expect("stable step");
         let m = sim.fluid_momentum();
         momentum = momentum.max((m[0] * m[0] + m[1] * m[1]).sqrt() / (mass * capillary_speed));
-        if sim.clock().time + 1e-9 >= next {
+        if sim.clock().time + CLOCK_SLACK >= next {
             next += frame;
             let (pm, pe, rho) = core_pressure(&sim, 0.5 * r);
             mechanical += pm;
@@ -302,7 +303,7 @@ fn square_droplet_relaxes_to_a_circle_of_the_same_area() {
         d.area_ratio
     );
     assert!(
-        d.momentum < 1.0e-5,
+        d.momentum < PAIRWISE_MOMENTUM,
         "momentum {:.2e} of M u_capillary",
         d.momentum
     );
@@ -331,7 +332,7 @@ fn laplace_jump_is_sigma_over_r_within_10_percent_and_linear_in_sigma() {
         eprintln!("{d:#?}");
         let ratio = d.mechanical / d.laplace;
         assert!(
-            (ratio - 1.0).abs() <= 0.10,
+            (ratio - 1.0).abs() <= LAPLACE_JUMP,
             "sigma = {sigma} N/m: core pressure {:.3} Pa = {ratio:.3} sigma/R (tolerance 10 %; EOS pressure {:.3} Pa)",
             d.mechanical,
             d.eos
@@ -340,7 +341,7 @@ fn laplace_jump_is_sigma_over_r_within_10_percent_and_linear_in_sigma() {
     }
     let ratio = core[1] / core[0];
     assert!(
-        (ratio / 2.0 - 1.0).abs() <= 0.10,
+        (ratio / 2.0 - 1.0).abs() <= LAPLACE_JUMP,
         "core pressure for 2 sigma over sigma: {ratio:.3} (tolerance 2 ± 10 %)"
     );
 }
@@ -389,10 +390,13 @@ fn akinci_laplace_jump_is_sigma_over_r_and_linear_in_sigma() {
     );
     for d in [&one, &two] {
         let ratio = d.mechanical / d.laplace;
-        assert!((ratio - 1.0).abs() <= 0.10, "core pressure {ratio:.3} sigma/R");
+        assert!(
+            (ratio - 1.0).abs() <= LAPLACE_JUMP,
+            "core pressure {ratio:.3} sigma/R"
+        );
     }
     let ratio = two.mechanical / one.mechanical;
-    assert!((ratio / 2.0 - 1.0).abs() <= 0.10, "ratio {ratio:.3}");
+    assert!((ratio / 2.0 - 1.0).abs() <= LAPLACE_JUMP, "ratio {ratio:.3}");
 }
 
 /// `r_max / r_rms` of the fluid about its centre: √3 = 1.73 for a continuous cube, `sqrt(5/3)`
@@ -424,7 +428,7 @@ fn cube_droplet_becomes_a_ball_in_3d() {
         let speed = (0.072 / (scene.rho0 * r)).sqrt();
         let start = corner_ratio(&sim.fields);
         let mut momentum = 0.0f64;
-        while sim.clock().time < scene.end_time - 1e-12 {
+        while sim.clock().time < scene.end_time - F64_SUM {
             sim.step(scene.end_time).expect("finite, stable step");
             let m = sim.fluid_momentum();
             momentum = momentum.max((m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt() / (mass * speed));
@@ -433,7 +437,7 @@ fn cube_droplet_becomes_a_ball_in_3d() {
         eprintln!("{sets:?}: r_max/r_rms {start:.3} -> {end:.3}; momentum {momentum:.2e} of M u_capillary");
         assert!(start > 1.5, "the start is a cube: {start}");
         assert!(end <= 1.30, "{sets:?}: r_max/r_rms = {end:.3}");
-        assert!(momentum < 1.0e-5, "{sets:?}: momentum {momentum:.2e}");
+        assert!(momentum < PAIRWISE_MOMENTUM, "{sets:?}: momentum {momentum:.2e}");
     }
 }
 
@@ -462,7 +466,7 @@ fn laplace_jump_goes_as_one_over_r() {
         large.mechanical / large.laplace
     );
     assert!(
-        (ratio / 2.0 - 1.0).abs() <= 0.10,
+        (ratio / 2.0 - 1.0).abs() <= LAPLACE_JUMP,
         "ratio {ratio:.3} (tolerance 2 ± 10 %)"
     );
 }

@@ -7,6 +7,7 @@
 use crate::common::fresh_path as scratch;
 use crate::common::run::{DAM_BREAK_2D as SCENE, SPH as BIN, coarse_run, kill_when};
 use crate::common::scene::unwalled_2d;
+use crate::common::tolerance::F64_SUM;
 use sph::output::{PvdSeries, read_summary, read_vtu};
 use sph::solver::checkpoint::Checkpoint;
 use std::path::Path;
@@ -262,7 +263,7 @@ fn a_droplet_leaving_the_domain_is_removed_and_the_run_goes_on() {
     assert!(String::from_utf8_lossy(&done.stderr).contains("left the domain and are removed"));
     let summary = read_summary(&straight.join("summary.json")).expect("summary");
     assert_eq!(summary.status, "completed");
-    assert!((summary.simulated_time - 0.3).abs() < 1e-12);
+    assert!((summary.simulated_time - 0.3).abs() < F64_SUM);
     // The droplet is 5 x 5 particles; the pool stays.
     assert_eq!(summary.extra["removed_particles"], 25);
     assert!(

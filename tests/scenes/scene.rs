@@ -1,6 +1,7 @@
 //! Integration tests of the scene loader: parsing, validation with key paths
 //! and line numbers, overrides, particle generation and fuzzing.
 
+use crate::common::tolerance::{F32_ROUNDING, F64_FEW_OPERATIONS};
 use sph::scene as sc;
 
 use crate::common::scene::{
@@ -96,7 +97,10 @@ fn valid_2d_scene_parses_with_resolved_values() {
     assert_eq!(s.dimension, 2);
     assert!(s.has(Effect::Gravity) && s.has(Effect::Viscosity));
     assert_eq!(s.spacing, 0.01);
-    assert!((s.smoothing_length - 0.02).abs() < 1e-15, "h = ratio * dx");
+    assert!(
+        (s.smoothing_length - 0.02).abs() < F64_FEW_OPERATIONS,
+        "h = ratio * dx"
+    );
     assert_eq!(s.wall_layers(), 2);
     assert_eq!(s.viscosity, Some(1.0e-3));
     assert_eq!(s.gravity, Some(vec![0.0, -9.81]));
@@ -105,7 +109,10 @@ fn valid_2d_scene_parses_with_resolved_values() {
     assert_eq!(s.dt, None);
     assert_eq!(s.cfl, 0.2);
     assert_eq!(s.end_time, 1.0);
-    assert!((s.output_interval - 0.02).abs() < 1e-15, "default end_time / 50");
+    assert!(
+        (s.output_interval - 0.02).abs() < F64_FEW_OPERATIONS,
+        "default end_time / 50"
+    );
     assert!(s.write_frames);
     assert_eq!(s.fluid_boxes.len(), 1);
     assert_eq!(s.fluid_boxes[0].velocity, vec![0.0, 0.0]);
@@ -637,12 +644,12 @@ fn container_walls_have_l_layers_and_fluid_keeps_distance() {
     let (scene, layout) = check_counts::<2>(VALID_2D);
     assert_eq!(check_container_band(&scene, &layout, 0), 2);
     let d = min_fluid_solid_distance(&layout);
-    assert!(d >= 0.5 * scene.spacing as f32 - 1e-6, "{d}");
+    assert!(d >= 0.5 * scene.spacing as f32 - F32_ROUNDING as f32, "{d}");
 
     let (scene, layout) = check_counts::<3>(VALID_3D);
     assert_eq!(check_container_band(&scene, &layout, 0), 2);
     let d = min_fluid_solid_distance(&layout);
-    assert!(d >= 0.5 * scene.spacing as f32 - 1e-6, "{d}");
+    assert!(d >= 0.5 * scene.spacing as f32 - F32_ROUNDING as f32, "{d}");
 
     let thick = edit(VALID_2D, "smoothing_ratio = 2.0", "smoothing_ratio = 3.5");
     let (scene, layout) = check_counts::<2>(&thick);

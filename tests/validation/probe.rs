@@ -2,6 +2,7 @@
 //! force probe reports the time-weighted mean of its solid's force over each sample interval,
 //! and a force probe's first peak is found within its reference's time range.
 
+use crate::common::tolerance::{F32_ROUNDING, F64_SUM};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::probe::{ProbeLog, compare_samples, measure};
@@ -69,7 +70,7 @@ fn front_and_force_are_measured_from_the_state() {
     let f = fields();
     let forces = [[5.0, 6.0, 0.0], [-2.0, 3.0, 0.0]];
     // The solid particle at x = 0.9 is not fluid: the front is 0.7 - 0.1.
-    assert!((measure(&scene.probes[0], &f, &forces) - 0.6).abs() < 1e-6);
+    assert!((measure(&scene.probes[0], &f, &forces) - 0.6).abs() < F32_ROUNDING);
     assert_eq!(measure(&scene.probes[1], &f, &forces), -2.0);
 }
 
@@ -90,8 +91,8 @@ fn force_probe_reports_the_time_weighted_mean_of_each_interval() {
     }
     let samples = log.samples(1);
     assert_eq!(samples.len(), 2, "{samples:?}");
-    assert!((samples[1].0 - 0.11).abs() < 1e-12);
-    assert!((samples[1].1 - 0.29 / 0.11).abs() < 1e-12, "{samples:?}");
+    assert!((samples[1].0 - 0.11).abs() < F64_SUM);
+    assert!((samples[1].1 - 0.29 / 0.11).abs() < F64_SUM, "{samples:?}");
 }
 
 #[test]
@@ -123,13 +124,13 @@ fn force_peak_is_found_within_the_reference_range() {
     // reference between (0, 0) and (0.2, 10).
     let (sim_onset, ref_onset) = peak.onset.expect("both curves reach 7.5 N");
     assert!(
-        (sim_onset - (0.1 + 0.25 * 6.5 / 39.0)).abs() < 1e-12,
+        (sim_onset - (0.1 + 0.25 * 6.5 / 39.0)).abs() < F64_SUM,
         "{sim_onset}"
     );
-    assert!((ref_onset - 0.15).abs() < 1e-12, "{ref_onset}");
+    assert!((ref_onset - 0.15).abs() < F64_SUM, "{ref_onset}");
     let rise = peak.rise_time_error().expect("onsets");
     assert!(
-        (rise - ((0.35 - sim_onset) - (0.4 - 0.15))).abs() < 1e-12,
+        (rise - ((0.35 - sim_onset) - (0.4 - 0.15))).abs() < F64_SUM,
         "{rise}"
     );
     std::fs::remove_dir_all(&dir).ok();
