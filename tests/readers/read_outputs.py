@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Reads the frames and surfaces of `sph run` with independent readers: VTK's own XML readers
-(the ones ParaView uses) and meshio, and checks what tests/readers.rs checks through vtkio.
+(the ones ParaView uses) and meshio, and checks what tests/output/readers.rs checks through vtkio.
 
     read_outputs.py --sph target/release/sph   # runs 2D and 3D dam breaks in every encoding
     read_outputs.py RUN_DIR [RUN_DIR ...]      # checks finished runs
@@ -140,7 +140,7 @@ def same(a, b):
 
 
 def dam_break(dimension, output):
-    """The scene of tests/readers.rs: a small dam break in a tank; `output` goes in [output]."""
+    """The scene of tests/output/readers.rs: a small dam break in a tank; `output` goes in [output]."""
     if dimension == 2:
         domain, fluid, tank = "[-0.1, -0.1]", "[0.2, 0.3]", "[0.6, 0.4]"
         lo, hi_domain, spacing, end, g = "[0.0, 0.0]", "[0.7, 0.5]", 0.02, 0.08, "[0.0, -9.81]"

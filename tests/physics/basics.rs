@@ -1,0 +1,313 @@
+//! Physics of the weakly compressible CPU solver: hydrostatics, conservation laws, free fall.
+//!
+//! Tolerances are stated where they are used, with where they come from; those several tests
+//! share are named in `common::tolerance`.
+
+use crate::common::tolerance::{CLOCK_SLACK, F32_ACCUMULATION, HYDROSTATIC_PRESSURE, PAIRWISE_MOMENTUM};
+use sph::math::Vector;
+use sph::run::simulation_from_scene;
+use sph::scene::{load_scene, parse_scene};
+use sph::solver::{SimConfig, Simulation};
+use std::path::Path;
+
+/// A small deterministic generator (xorshift), so the tests need no random seed.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// `scenes/hydrostatic_2d.toml`: water H = 0.5 m deep at rest in a 1 m wide tank, run for 5 s.
+///
+/// Asserts:
+/// - the floor's mean pressure (vertical force on the floor / tank width, averaged over
+///   4 s ≤ t ≤ 5 s) is within 2 % of ρ0 g H;
+/// - after the start-up the water stays at rest: the largest fluid speed for 3 s ≤ t ≤ 5 s is
+///   below 1 % of sqrt(g H). The start-up is the gravity ramp (1 s) and the rearrangement of the
+///   square lattice under its own weight, during which interior particles move at up to
+///   0.04 m/s (measured: 1 s ≤ t ≤ 2.5 s); from t = 2.5 s on the largest speed stays below
+///   0.016 m/s.
+#[test]
+fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
+    let scene = load_scene(Path::new("scenes/hydrostatic_2d.toml"), &[]).expect("shipped scene");
+    let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+    let (g, depth, width, rho0) = (9.81, 0.5, 1.0, 1000.0);
+    let floor = sim
+        .solid_names()
+        .iter()
+        .position(|n| n == "floor")
+        .expect("floor solid");
+    let end = scene.end_time;
+    assert_eq!(end, 5.0);
+    let mut max_speed_at_rest: f64 = 0.0;
+    let (mut impulse, mut duration) = (0.0, 0.0);
+    while sim.clock().time < end {
+        let t = sim.clock().time;
+        let report = sim.step(end).expect("stable step");
+        if t >= 3.0 {
+            max_speed_at_rest = max_speed_at_rest.max(report.extremes.max_speed);
+        }
+        if t >= 4.0 {
+            impulse += sim.solid_forces()[floor][1] * report.dt;
+            duration += report.dt;
+        }
+    }
+    let bottom_pressure = -impulse / duration / width;
+    let expected = rho0 * g * depth;
+    assert!(
+        (bottom_pressure - expected).abs() <= HYDROSTATIC_PRESSURE * expected,
+        "bottom pressure {bottom_pressure:.1} Pa, rho0 g H = {expected:.1} Pa"
+    );
+    let limit = 0.01 * (g * depth).sqrt();
+    assert!(
+        max_speed_at_rest < limit,
+        "max speed {max_speed_at_rest:.4} m/s at rest, limit {limit:.4}"
+    );
+}
+
+/// A 2D dam break: fluid mass and particle count are constant and no particle is lost or
+/// duplicated (the reorder is a permutation).
+#[test]
+fn dam_break_conserves_mass_and_particles() {
+    let scene = load_scene(
+        Path::new("scenes/dam_break_2d.toml"),
+        &["solver.end_time=0.2".into()],
+    )
+    .expect("shipped scene");
+    let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+    let mass0 = sim.fluid_mass();
+    let n = sim.fields.len();
+    while sim.clock().time < scene.end_time {
+        sim.step(scene.end_time).expect("stable step");
+    }
+    assert_eq!(
+        sim.fluid_mass(),
+        mass0,
+        "mass is summed in a fixed order, so it is exact"
+    );
+    let mut ids = sim.fields.id.clone();
+    ids.sort_unstable();
+    assert!(
+        ids.iter().copied().eq(0..n as u32),
+        "every particle present exactly once"
+    );
+    assert!(sim.clock().step > 100);
+}
+
+/// Closed box, gravity off, fluid thrown at the walls: the fluid's momentum changes exactly by
+/// the impulse of the walls, `ΔP_fluid = −Σ_steps F_walls dt` (every pair force is
+/// antisymmetric). Tolerance: f32 accumulation over ~1e3 steps, 1e-4 of the initial momentum.
+#[test]
+fn closed_box_without_gravity_conserves_momentum_with_wall_impulse() {
+    let text = r#"
+        dimension = 2
+        effects = ["viscosity", "artificial_viscosity"]
+        [domain]
+        min = [-0.1, -0.1]
+        max = [0.6, 0.6]
+        [particles]
+        spacing = 0.01
+        smoothing_ratio = 2.0
+        [fluid]
+        rho0 = 1000.0
+        sound_speed = 20.0
+        viscosity = 0.01
+        artificial_viscosity = 0.05
+        [[fluid_box]]
+        min = [0.1, 0.1]
+        max = [0.3, 0.3]
+        velocity = [1.5, -0.7]
+        [[solid]]
+        name = "box"
+        shape = "container"
+        min = [0.0, 0.0]
+        max = [0.5, 0.5]
+        open_top = false
+        [solver]
+        kind = "wcsph"
+        end_time = 0.3
+    "#;
+    let scene = parse_scene(text, "closed_box", &[]).expect("valid scene");
+    let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+    let p0 = sim.fluid_momentum();
+    let mut impulse = [0.0f64; 3];
+    while sim.clock().time < scene.end_time {
+        let r = sim.step(scene.end_time).expect("stable");
+        for k in 0..3 {
+            impulse[k] += sim.solid_forces()[0][k] * r.dt;
+        }
+    }
+    let p1 = sim.fluid_momentum();
+    let scale = (p0[0].powi(2) + p0[1].powi(2)).sqrt();
+    for k in 0..2 {
+        let change = p1[k] - p0[k];
+        assert!(
+            (change + impulse[k]).abs() <= F32_ACCUMULATION * scale,
+            "axis {k}: fluid momentum change {change:.6e}, wall impulse {:.6e}",
+            impulse[k]
+        );
+    }
+    // The walls did act: the fluid hit them and turned around.
+    assert!(
+        impulse[0].abs() > 0.1 * scale,
+        "walls exerted an impulse {impulse:?}"
+    );
+}
+
+/// A jittered, randomly moving fluid block with no solids and no gravity: internal pressure and
+/// viscous forces are pairwise antisymmetric, so total momentum is conserved to f32 rounding
+/// (relative 1e-5 over 200 steps), in 2D and 3D.
+#[test]
+fn free_fluid_conserves_momentum_in_2d_and_3d() {
+    fn check<const D: usize>() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15 + D as u64);
+        let dx = 0.02;
+        let n: usize = if D == 2 { 20 } else { 8 };
+        let mut x = Vec::new();
+        let mut u = Vec::new();
+        let count = n.pow(D as u32);
+        for c in 0..count {
+            let mut p = Vector::<D>::zeros();
+            let mut v = Vector::<D>::zeros();
+            let mut rest = c;
+            for k in 0..D {
+                p[k] = (((rest % n) as f64 + 0.5 + 0.6 * (rng.next() - 0.5)) * dx) as f32;
+                v[k] = (rng.next() - 0.5) as f32;
+                rest /= n;
+            }
+            x.push(p);
+            u.push(v);
+        }
+        let config = SimConfig::<D> {
+            spacing: dx,
+            h: 2.0 * dx,
+            rho0: 1000.0,
+            sound_speed: 20.0,
+            viscosity: Some(0.05),
+            artificial_viscosity: Some(0.1),
+            gravity: None,
+            gravity_ramp: 0.0,
+            angular_velocity: None,
+            rotation_centre: Vector::zeros(),
+            surface_tension: None,
+            dt: None,
+            cfl: 0.2,
+            domain_min: Vector::<D>::repeat(-10.0),
+            domain_max: Vector::<D>::repeat(10.0),
+            integrator: Default::default(),
+            correction: None,
+            on_escape: Default::default(),
+        };
+        let mut sim = Simulation::new(config, &x, &u, &[]).expect("builds");
+        let p0 = sim.fluid_momentum();
+        let mut max_acc: f64 = 0.0;
+        for _ in 0..200 {
+            let r = sim.step(1.0).expect("stable");
+            max_acc = max_acc.max(r.extremes.max_acceleration);
+        }
+        let p1 = sim.fluid_momentum();
+        let total_mass = sim.fluid_mass();
+        for k in 0..D {
+            assert!(
+                (p1[k] - p0[k]).abs() <= PAIRWISE_MOMENTUM * total_mass,
+                "{D}D axis {k}: momentum {:.6e} -> {:.6e}",
+                p0[k],
+                p1[k]
+            );
+        }
+        assert!(max_acc > 1.0, "{D}D: forces acted (max |a| = {max_acc})");
+    }
+    check::<2>();
+    check::<3>();
+}
+
+/// A block with no solids falls freely: its centre of mass follows `u = g t` exactly (internal
+/// forces cancel pairwise) and `x = x0 + g t²/2 + g t dt/2` (the symplectic-Euler offset).
+#[test]
+fn free_falling_block_follows_g_t() {
+    let text = r#"
+        dimension = 2
+        effects = ["gravity"]
+        [domain]
+        min = [-1.0, -5.0]
+        max = [1.0, 1.0]
+        [particles]
+        spacing = 0.01
+        smoothing_ratio = 2.0
+        [fluid]
+        rho0 = 1000.0
+        sound_speed = 20.0
+        gravity = [0.0, -9.81]
+        [[fluid_box]]
+        min = [0.0, 0.0]
+        max = [0.2, 0.1]
+        [solver]
+        kind = "wcsph"
+        dt = 2.0e-4
+        end_time = 0.5
+    "#;
+    let scene = parse_scene(text, "free_fall", &[]).expect("valid scene");
+    let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+    let com = |sim: &Simulation<2>| {
+        let f = &sim.fields;
+        let n = f.len() as f64;
+        let y: f64 = f.position.iter().map(|p| f64::from(p[1])).sum::<f64>() / n;
+        let v: f64 = f.velocity.iter().map(|u| f64::from(u[1])).sum::<f64>() / n;
+        (y, v)
+    };
+    let (y0, _) = com(&sim);
+    while sim.clock().time < scene.end_time - CLOCK_SLACK {
+        sim.step(scene.end_time).expect("stable");
+    }
+    let t = sim.clock().time;
+    let (y, v) = com(&sim);
+    let g = -9.81;
+    // f32 velocity accumulated over 2500 steps: 1e-4 relative.
+    assert!(
+        (v - g * t).abs() <= F32_ACCUMULATION * (g * t).abs(),
+        "v = {v}, g t = {}",
+        g * t
+    );
+    let expected = y0 + 0.5 * g * t * t + 0.5 * g * t * 2.0e-4;
+    assert!(
+        (y - expected).abs() <= F32_ACCUMULATION * (0.5 * g * t * t).abs(),
+        "y = {y}, expected {expected}"
+    );
+}
+
+/// Reproducibility (docs/method.md): the CPU backend gives bitwise identical states for any
+/// thread count (gathers only; global sums in fixed chunks). Run on the shipped dam break
+/// (corrected solver: the correction's sweeps and reductions included), 100 steps.
+#[test]
+fn cpu_results_are_bitwise_identical_for_one_and_two_threads() {
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        pool.install(|| {
+            let scene = load_scene(Path::new("scenes/dam_break_2d.toml"), &[]).expect("shipped scene");
+            let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+            for _ in 0..100 {
+                sim.step(scene.end_time).expect("stable");
+            }
+            (
+                sim.fields.position.clone(),
+                sim.fields.velocity.clone(),
+                sim.solid_forces().to_vec(),
+            )
+        })
+    };
+    let (x1, u1, f1) = run(1);
+    let (x2, u2, f2) = run(2);
+    assert!(
+        x1 == x2 && u1 == u2,
+        "positions and velocities differ between 1 and 2 threads"
+    );
+    assert_eq!(f1, f2, "forces on solids differ between 1 and 2 threads");
+}

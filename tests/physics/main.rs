@@ -1,0 +1,14 @@
+//! The solver against exact physics: hydrostatics, conservation of mass and momentum, free fall
+//! and thread-count independence (`basics`); plane Poiseuille start-up and the wall drag of the
+//! viscosity (`poiseuille`); and the effects, each against its exact solution: the rotating
+//! tank's parabola (`rotating_frame`), Laplace's pressure jump and round drops
+//! (`surface_tension`), two fluid phases' piecewise hydrostatics and buoyancy (`multiphase`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod basics;
+mod multiphase;
+mod poiseuille;
+mod rotating_frame;
+mod surface_tension;

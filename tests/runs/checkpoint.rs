@@ -1,0 +1,144 @@
+//! Checkpoint and restart: 200 steps straight and 100 + checkpoint file + restart + 100 give
+//! bit-identical states on the CPU backend (the restart also on another thread count), for both
+//! solvers; damaged or foreign checkpoints are refused with an error naming the problem.
+
+use crate::common::scratch;
+use sph::run::AnySimulation;
+use sph::scene::load_scene;
+use sph::solver::Simulation;
+use sph::solver::checkpoint::{Checkpoint, CheckpointError};
+use std::path::Path;
+
+const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/dam_break_2d.toml");
+
+fn sim(sets: &[&str]) -> Simulation<2> {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let scene = load_scene(Path::new(SCENE), &sets).expect("scene");
+    match AnySimulation::from_scene(&scene).expect("builds") {
+        AnySimulation::D2(s) => s,
+        AnySimulation::D3(_) => unreachable!("2D scene"),
+    }
+}
+
+fn steps(sim: &mut Simulation<2>, n: usize) {
+    for _ in 0..n {
+        sim.step(f64::INFINITY).expect("step");
+    }
+}
+
+/// Every field bit for bit, in the same order.
+fn assert_identical(a: &Simulation<2>, b: &Simulation<2>) {
+    assert_eq!(a.clock(), b.clock());
+    assert_eq!(a.stats(), b.stats());
+    assert_eq!(a.solid_forces(), b.solid_forces());
+    let (fa, fb) = (&a.fields, &b.fields);
+    assert_eq!(fa.id, fb.id, "same order");
+    let bits = |v: &[sph::math::Vector<2>]| -> Vec<u32> {
+        v.iter().flat_map(|x| x.iter().map(|c| c.to_bits())).collect()
+    };
+    let sbits = |v: &[f32]| -> Vec<u32> { v.iter().map(|c| c.to_bits()).collect() };
+    assert_eq!(bits(&fa.position), bits(&fb.position), "positions");
+    assert_eq!(bits(&fa.velocity), bits(&fb.velocity), "velocities");
+    assert_eq!(bits(&fa.acceleration), bits(&fb.acceleration), "accelerations");
+    assert_eq!(sbits(&fa.density), sbits(&fb.density), "densities");
+    assert_eq!(sbits(&fa.pressure), sbits(&fb.pressure), "pressures");
+}
+
+fn straight_and_restarted(name: &str, sets: &[&str], first: usize, second: usize) {
+    let mut straight = sim(sets);
+    steps(&mut straight, first + second);
+
+    let mut before = sim(sets);
+    steps(&mut before, first);
+    let path = scratch(name).join("checkpoint.bin");
+    let meta = serde_json::json!({"note": name});
+    before
+        .checkpoint(meta.clone())
+        .expect("state")
+        .write(&path)
+        .expect("written");
+    drop(before);
+    let checkpoint = Checkpoint::<2>::read(&path).expect("read back");
+    assert_eq!(checkpoint.header.metadata, meta);
+    let mut resumed = sim(sets);
+    resumed.restore(checkpoint).expect("same scene");
+    // The second half on one thread: the CPU backend's sums do not depend on the thread count.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool");
+    pool.install(|| steps(&mut resumed, second));
+    assert_identical(&straight, &resumed);
+    assert!(straight.clock().time > 0.0);
+    std::fs::remove_dir_all(path.parent().expect("dir")).ok();
+}
+
+#[test]
+fn wcsph_restart_is_bit_identical() {
+    straight_and_restarted(
+        "wcsph",
+        &["solver.kind=wcsph", "particles.spacing=0.01"],
+        100,
+        100,
+    );
+}
+
+#[test]
+fn corrected_restart_is_bit_identical() {
+    straight_and_restarted("corrected", &["particles.spacing=0.01"], 15, 15);
+}
+
+#[test]
+fn damaged_and_foreign_checkpoints_are_refused() {
+    let dir = scratch("damaged");
+    let path = dir.join("checkpoint.bin");
+    let mut s = sim(&["solver.kind=wcsph", "particles.spacing=0.01"]);
+    steps(&mut s, 3);
+    s.checkpoint(serde_json::Value::Null)
+        .expect("state")
+        .write(&path)
+        .expect("written");
+    let bytes = std::fs::read(&path).expect("read");
+    for entry in std::fs::read_dir(&dir).expect("folder") {
+        let name = entry.expect("entry").file_name().to_string_lossy().into_owned();
+        assert!(
+            !sph::output::safe_file::is_tmp_name(&name),
+            "the temporary file {name} is renamed away"
+        );
+    }
+
+    // Truncated, and one flipped byte: the checksum catches both.
+    for (label, damaged) in [
+        ("truncated", bytes[..bytes.len() / 2].to_vec()),
+        ("flipped", {
+            let mut b = bytes.clone();
+            let k = b.len() / 2;
+            b[k] ^= 0x40;
+            b
+        }),
+        ("empty", Vec::new()),
+        ("foreign", b"<?xml version=\"1.0\"?>".to_vec()),
+    ] {
+        std::fs::write(&path, &damaged).expect("write");
+        match Checkpoint::<2>::read(&path) {
+            Err(CheckpointError::Malformed { path: p, .. }) => assert_eq!(p, path, "{label}"),
+            other => panic!("{label}: expected Malformed, got {:?}", other.map(|_| ())),
+        }
+    }
+    // A 2D checkpoint read as 3D.
+    std::fs::write(&path, &bytes).expect("write");
+    let err = Checkpoint::<3>::read(&path).map(|_| ()).expect_err("dimension");
+    assert!(err.to_string().contains("2D"), "{err}");
+    // Another scene: a different spacing has a different particle count.
+    let good = Checkpoint::<2>::read(&path).expect("intact");
+    let mut other = sim(&["solver.kind=wcsph", "particles.spacing=0.0125"]);
+    let err = other.restore(good).expect_err("another scene");
+    assert!(matches!(err, CheckpointError::Mismatch { .. }), "{err}");
+    assert!(err.to_string().contains("particles"), "{err}");
+    // A missing file names itself.
+    let err = Checkpoint::<2>::read(&dir.join("nope.bin"))
+        .map(|_| ())
+        .expect_err("missing");
+    assert!(err.to_string().contains("nope.bin"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

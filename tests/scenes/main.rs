@@ -1,0 +1,12 @@
+//! Scene files: the loader (parsing, validation with key paths and line numbers, overrides,
+//! particle generation), the solver and probe keys, bad input that must never panic, the
+//! lattice distance of generated particles, and the shipped scenes themselves.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod lattice;
+mod scene;
+mod scene_fuzz;
+mod scene_solver;
+mod shipped;
