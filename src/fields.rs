@@ -3,7 +3,7 @@
 //! Fluid and solid particles live in the same arrays (sorted together by cell, section 3 of the
 //! paper); `kind` tells them apart. Every per-particle quantity is a field of [`Fields`], and
 //! [`Fields::permute`] reorders all of them: adding a field means adding it there too
-//! (`tests/grid.rs` checks that a reorder permutes every field).
+//! (`tests/numerics/grid.rs` checks that a reorder permutes every field).
 
 use crate::math::{Real, Vector};
 use rayon::prelude::*;
@@ -218,7 +218,7 @@ impl<const D: usize> Fields<D> {
 
     /// Whether `field` has storage (one entry per particle). The optional fields are allocated
     /// only when a stage of the plan needs them (`solver::plan::needed_fields`, checked on
-    /// every shipped scene by `tests/field_allocation.rs`).
+    /// every shipped scene by `tests/check/field_allocation.rs`).
     pub fn is_allocated(&self, field: Field) -> bool {
         let n = self.len();
         n > 0

@@ -3,7 +3,7 @@
 //! All kernels have compact support of radius `h` (PAPER.md note 1: the kernel formulas use
 //! support `h`, so the neighbour grid's cell size equals `h`).
 //!
-//! Normalisations (PAPER.md note 3; each is proved by the quadrature tests in `tests/laws.rs`):
+//! Normalisations (PAPER.md note 3; each is proved by the quadrature tests in `tests/numerics/laws.rs`):
 //!
 //! | kernel | 3D | 2D |
 //! |---|---|---|

@@ -63,7 +63,7 @@ pub enum SurfaceTensionModel {
     SurfaceStress = 0,
     /// [AAT13] pair cohesion and curvature between all fluid particles within `h`
     /// (`physics::surface_tension`): momentum-conserving pair by pair, but its bulk pressure
-    /// (≈ 5σ/h) jams small drops (tests/surface_tension.rs).
+    /// (≈ 5σ/h) jams small drops (tests/physics/surface_tension.rs).
     Akinci = 1,
 }
 

@@ -114,7 +114,7 @@ impl<const D: usize> KeepOutBox<D> {
     /// box ([`KeepOutBox::entry_face`]); otherwise, or when `from` is itself inside, the nearest
     /// face. The nearest face alone is wrong for a particle that crossed the middle of a thin
     /// wall slab in one move: it would be put on the far side of the wall (measured: a block
-    /// thrown at a wall at 0.25 h/|u| left its box so, tests/correction.rs). With `from`, a
+    /// thrown at a wall at 0.25 h/|u| left its box so, tests/numerics/correction.rs). With `from`, a
     /// particle outside the box whose segment from `from` passes through the box's interior
     /// went through the solid: it too goes back to the face it entered by
     /// ([`KeepOutBox::crossed_face`]).

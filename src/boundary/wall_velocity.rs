@@ -3,7 +3,7 @@
 //!
 //! A solid particle that carries its own (wall) velocity in (17) is not a no-slip condition at
 //! the wall face: the fluid next to the wall sees a neighbour moving with the wall half a
-//! spacing or more beyond the face, and slips (measured in `tests/poiseuille.rs`: slip length
+//! spacing or more beyond the face, and slips (measured in `tests/physics/poiseuille.rs`: slip length
 //! ≈ h/4). Adami, Hu & Adams give each solid particle `w` instead the velocity
 //! `2 u_w − ũ_w`, with `ũ_w` the Shepard interpolation of the fluid velocity around it
 //! (eq. 22), so that the velocity interpolated at the wall face is the wall's own (eq. 23).

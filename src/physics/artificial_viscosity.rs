@@ -49,7 +49,7 @@ pub fn artificial_viscous_acceleration<const D: usize>(
 /// (`physics::lattice::lattice_laplacian_moment`), this is left uncalibrated on purpose: on the
 /// lattice at h = 2 dx the artificial viscosity's fourth moment is anisotropic (2D: 0.65 of the
 /// continuum value for a shear along a lattice axis, 1.12 for a compression along it;
-/// `tests/poiseuille.rs`), so no single factor would calibrate it, and it is a damping with a
+/// `tests/physics/poiseuille.rs`), so no single factor would calibrate it, and it is a damping with a
 /// tuned α rather than a physical viscosity. For the step bound the continuum value is the larger
 /// one in shear, so the step is the safer one.
 pub fn equivalent_viscosity(alpha: f64, c: f64, h: f64, dimension: usize) -> f64 {

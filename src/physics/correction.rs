@@ -16,7 +16,7 @@ use crate::math::Real;
 /// iteration cap in most stages at `δ = 1e-4`. With the spiky density and the velocity solve
 /// (`solver::step`), `β = 0.9`: at 0.95 the two-layer tank's carried pressure settles 3.8 % of
 /// the bottom pressure high (limit 3 %), at 0.9 1.5 % low, and the block thrown at a wall at
-/// 0.25 h/|u| stays inside (`tests/correction.rs`). The momentum is reset after every re-sort and
+/// 0.25 h/|u| stays inside (`tests/numerics/correction.rs`). The momentum is reset after every re-sort and
 /// at the start of every stage.
 pub const MOMENTUM: Real = 0.9;
 

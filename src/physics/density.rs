@@ -12,7 +12,7 @@
 //!   1e-3 and stalled at the 1,000-sweep cap while particles drifted sideways, and the first step
 //!   gained 0.37 % of |E0| (kinetic plus potential energy). Summing the kernel whose gradient
 //!   moves the particles makes the operator `G Gᵀ`-like (positive): every stage of that scene
-//!   converges in at most 78 sweeps and the energy never rises (`tests/hard_cases.rs`). The
+//!   converges in at most 78 sweeps and the energy never rises (`tests/hard_cases/suite.rs`). The
 //!   other single-kernel choice, poly6 for (16) too, pairs particles in 3D (its gradient
 //!   vanishes at `r = 0`; the column collapsed by step 20); the spiky kernel `(h − r)³` is
 //!   positive definite in 2D and 3D (Askey), so it does not pair (Dehnen & Aly 2012).

@@ -71,7 +71,7 @@ pub fn lattice_gradient_moment<const D: usize>(kernel: &Smoothing<D>, dx: f64, r
 /// `λ` to give the fluid the scene's viscosity on the lattice, as the pressure force (16) is
 /// divided by `κ` ([`lattice_gradient_moment`]). Measured: λ = 0.85 at h = 2dx in 2D (0.95 at
 /// 3dx, 0.98 at 4dx); the missing 15 % made the Poiseuille profile 1.17 times too curved
-/// (`tests/poiseuille.rs`). Deviation (docs/method.md): the paper uses (17) unscaled.
+/// (`tests/physics/poiseuille.rs`). Deviation (docs/method.md): the paper uses (17) unscaled.
 pub fn lattice_laplacian_moment<const D: usize>(kernel: &Smoothing<D>, dx: f64, rho0: f64) -> f64 {
     let volume = lattice_mass(kernel, dx, rho0) / rho0;
     let mut sum = 0.0f64;

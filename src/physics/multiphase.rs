@@ -22,7 +22,7 @@
 //!   for `m_j/ρ_i`. The volume form makes a uniform pressure exert no force whatever the phases
 //!   (for equal volumes, which the lattice masses give). For a single phase it equals (16) up to
 //!   rounding. Pair forces stay antisymmetric, so momentum is conserved.
-//!   Measured on the two-layer tank (`tests/multiphase.rs`, wcsph, dx = 5 mm, worst slab
+//!   Measured on the two-layer tank (`tests/physics/multiphase.rs`, wcsph, dx = 5 mm, worst slab
 //!   pressure against the piecewise hydrostatic profile, % of the bottom pressure): volume form
 //!   1.63 / 1.64 / 1.27 % for ρ_top = 800 / 500 / 250 on 1000; (16) with the same number density
 //!   1.70 / 2.42 / 2.52 %, and its water particles crossed the interface by 0.12–0.14 dx, while

@@ -53,7 +53,7 @@ use crate::smoothing::Smoothing;
 /// `1 − ε (W(r)/W(dx))^n` ([`tensile_factor`]): `1 − ε` at the initial spacing, repulsive below
 /// about 0.75 dx (h = 2 dx). `n = 4` as in [M00a].
 ///
-/// `ε = 0.2`, measured (tests/surface_tension.rs, the 2D drop of R = 11.3 dx, core pressure over
+/// `ε = 0.2`, measured (tests/physics/surface_tension.rs, the 2D drop of R = 11.3 dx, core pressure over
 /// t = 0.5–1 s): at 0.15 the surface layer still clumps (the outline's spread grows to 0.34 by
 /// 1 s, the core holds 0.53 σ/R); at 0.2 the core holds 1.03 σ/R; at 0.25 0.92 σ/R and at 0.3
 /// 0.79 σ/R. The counter-stress is a compressive stress along the surface, and the surface

@@ -1,7 +1,7 @@
 //! Surface tension by cohesion and curvature forces, [AAT13] Akinci, Akinci & Teschner,
 //! "Versatile surface tension and adhesion for SPH fluids", ACM TOG 32(6) 182 (2013), the model
 //! `fluid.surface_tension_model = "akinci"` (the default is `physics::surface_stress`: this
-//! model's bulk pressure jams small drops, tests/surface_tension.rs):
+//! model's bulk pressure jams small drops, tests/physics/surface_tension.rs):
 //!
 //! - eq. (1)–(2) cohesion `F_coh = −γ m_i m_j C(|x_ij|) x_ij/|x_ij|` with their spline `C`;
 //! - eq. (3) normals `n_i = h Σ_j (m_j/ρ_j) ∇W(x_ij)` (poly6 gradient (20), the density kernel);
@@ -115,7 +115,7 @@ pub fn surface_tension_acceleration<const D: usize>(
 /// layers' missing neighbours count as they will in a run. Summed in f64.
 ///
 /// Not included: the pressure (16) and viscous forces (the pressure of the relaxed interface is
-/// not known before a run), and the relaxation of the surface layers (tests/surface_tension.rs
+/// not known before a run), and the relaxation of the surface layers (tests/physics/surface_tension.rs
 /// measures what that leaves: the drops' jump is 0.58–1.26 σ/R).
 ///
 /// Caveat: the curvature term has no kernel weight, so it jumps at `r = h`; a lattice offset at

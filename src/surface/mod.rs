@@ -26,7 +26,7 @@
 //! 1.25 dx (0.017, 0.025, 0.022, 0.026 dx in 2D); measured on the box at `R = 2 dx`: within
 //! 0.022 dx. On a curved surface of radius `ρ` the level sits about `R²/(10 ρ)` inside the union
 //! body (less than half the kernel ball is inside there); on a 20-particle sphere with
-//! `R = 2 dx` that is 0.04 dx, a volume error near 1 %. Measured in `tests/surface.rs`. The
+//! `R = 2 dx` that is 0.04 dx, a volume error near 1 %. Measured in `tests/output/surface.rs`. The
 //! level exceeds the value 1 that F reaches at a lone particle when `R > (15/π)^(1/3) dx`
 //! = 1.68 dx in 3D, `R > (12/π)^(1/2) dx` = 1.95 dx in 2D, so with the default isolated spray
 //! particles are not drawn; clusters of a few particles are.
@@ -36,8 +36,8 @@
 //! about 1.1 dx at `R = 2 dx`), so a box loses area; a smaller `R` rounds less, but then a
 //! curved surface follows the staircase of the lattice's outer cells and gains area (a ball's
 //! staircase has 1.5 times its area, a disc's 4/π times its perimeter). Volume (area in 2D) and area (perimeter) errors in %
-//! at 20 particles across against the exact bodies of `tests/surface.rs` (the jittered box:
-//! every coordinate moved by up to 0.1 dx; `cargo test --release --test surface -- --ignored
+//! at 20 particles across against the exact bodies of `tests/output/surface.rs` (the jittered box:
+//! every coordinate moved by up to 0.1 dx; `cargo test --release --test output surface:: -- --ignored
 //! --nocapture radius_and_cell_sweep`, grid aligned with the lattice):
 //!
 //! | R/dx | cell | sphere V, A | box V, A | jittered box V, A | disc A, P | square A, P |

@@ -47,7 +47,7 @@ pub const CORRECTED_GRAVITY_FACTOR: f64 = 0.0125;
 /// 0.02 m): 0.25 h / |u| = 0.5 ms keeps every invariant, 0.3 h / |u| (0.6 ms) raises the energy
 /// at the impact; `jet_3d.toml` (h = 0.04 m) passes at 0.25 and 0.3 h / |u|. A 12 × 12 lattice
 /// block thrown at 1 m/s at a wall (h = 0.02 m, no gravity, with the no-penetration guard;
-/// tests/correction.rs) stays in its box for 0.3 s at 0.05, 0.075, 0.1 and 0.15 h / |u|; at
+/// tests/numerics/correction.rs) stays in its box for 0.3 s at 0.05, 0.075, 0.1 and 0.15 h / |u|; at
 /// 0.125, 0.2 and 0.25 the impact is violent enough that a particle went through the wall (steps
 /// 25, 7 and 7) until the guard took each particle's step start into account, and since then the
 /// correction stops unconverged (steps 28, 10 and 9). 0.1 is the largest factor below which every
