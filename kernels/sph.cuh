@@ -1,5 +1,5 @@
 // Shared by every kernel in this folder: the dimension, the step parameters, the neighbour grid
-// and the smoothing kernels. Mirrors `backend::params`, `smoothing.rs` and the CUDA backend's
+// and the smoothing kernels. Mirrors `model::params`, `smoothing.rs` and the CUDA backend's
 // dense cell grid (`backend::cuda::grid`). Single precision, as in the paper (section 3).
 //
 // Rules for kernels here (so the C++ host shim in `shim/` runs them exactly):
@@ -60,7 +60,7 @@ __device__ __forceinline__ float vdot(vec_t a, vec_t b) {
     return s;
 }
 
-/// Mirror of `backend::params::StepParams<D>` (`#[repr(C)]`), SI units.
+/// Mirror of `model::params::StepParams<D>` (`#[repr(C)]`), SI units.
 struct StepParams {
     float h;                        // kernel support [m]
     float rho0;                     // rest density [kg/m^3]
@@ -88,7 +88,7 @@ struct StepParams {
 /// `physics::density::DensityKernel`.
 #define SPH_DENSITY_POLY6 0u
 #define SPH_DENSITY_SCALED_SPIKY 1u
-/// `backend::SurfaceTensionModel`.
+/// `model::SurfaceTensionModel`.
 #define SPH_SURFACE_STRESS 0u
 #define SPH_SURFACE_AKINCI 1u
 /// `physics::multiphase::Phases`: the host picks each stage's entry (`name` or

@@ -26,6 +26,7 @@ pub mod fields;
 pub mod grid;
 pub mod math;
 pub mod memory;
+pub mod model;
 pub mod neighbour_list;
 pub mod output;
 pub mod physics;

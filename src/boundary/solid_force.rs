@@ -1,7 +1,7 @@
 //! Force exerted by the fluid on a solid particle: the reaction to the pair forces (16)–(17).
 
-use crate::backend::params::StepParams;
 use crate::math::{Real, Vector};
+use crate::model::params::StepParams;
 use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration, pressure::pressure_acceleration,
     viscosity::viscous_acceleration,

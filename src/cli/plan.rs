@@ -7,8 +7,8 @@
 //! the run does after each step (probes, output files). A term the scene does not ask for is
 //! not printed because it does not run.
 
-use crate::backend::SurfaceTensionModel;
 use crate::fields::Field;
+use crate::model::SurfaceTensionModel;
 use crate::run::{correction, plan_inputs};
 use crate::scene::{Effect, Scene, load_scene};
 use crate::solver::Integrator;

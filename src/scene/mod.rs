@@ -89,7 +89,7 @@ pub struct Scene {
     pub surface_tension: Option<f64>,
     /// The surface-tension model (`fluid.surface_tension_model`, default `surface_stress`);
     /// meaningful only with [`Effect::SurfaceTension`].
-    pub surface_tension_model: crate::backend::SurfaceTensionModel,
+    pub surface_tension_model: crate::model::SurfaceTensionModel,
     /// Initial fluid blocks, in file order (non-empty, non-overlapping).
     pub fluid_boxes: Vec<FluidBox>,
     /// Solid bodies, in file order, with unique names.

@@ -184,7 +184,7 @@ pub struct FluidFile {
     pub surface_tension: Option<f64>,
     /// The surface-tension model, `"surface_stress"` (default) or `"akinci"`; only with the
     /// `surface_tension` effect.
-    pub surface_tension_model: Option<crate::backend::SurfaceTensionModel>,
+    pub surface_tension_model: Option<crate::model::SurfaceTensionModel>,
 }
 
 /// `fluid.angular_velocity`: a number (2D, about the out-of-plane axis) or a vector.

@@ -3,9 +3,9 @@
 
 use super::{Simulation, StepError};
 use crate::backend::cpu::CpuBackend;
-use crate::backend::params::StepParams;
 use crate::backend::{Backend, BackendError, BackendKind};
 use crate::fields::Fields;
+use crate::model::params::StepParams;
 
 impl<const D: usize> Simulation<D> {
     /// Backend name.
@@ -97,7 +97,7 @@ impl<const D: usize> Simulation<D> {
     pub fn time_sweeps(&mut self, count: usize) -> Result<f64, StepError> {
         let step = self.clock.step;
         let params = self.step_params();
-        let terms = crate::backend::ForceTerms {
+        let terms = crate::model::ForceTerms {
             viscosity: self.config.viscosity.is_some(),
             artificial_viscosity: self.config.artificial_viscosity.is_some(),
             rotating_frame: self.config.angular_velocity.is_some(),

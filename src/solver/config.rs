@@ -2,8 +2,8 @@
 //! surface tension.
 
 use super::escape;
-use crate::backend::SurfaceTensionModel;
 use crate::math::Vector;
+use crate::model::SurfaceTensionModel;
 
 /// The time integrator (scene `solver.integrator`, in `snake_case`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, serde::Deserialize)]

@@ -4,8 +4,8 @@
 
 use super::Integrator;
 use super::stage::{SolidsAt, Stage, SubStage};
-use crate::backend::{ForceTerms, SurfaceTensionModel, WallModel};
 use crate::fields::Field;
+use crate::model::{ForceTerms, SurfaceTensionModel, WallModel};
 
 /// What the plan depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

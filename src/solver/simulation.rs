@@ -3,13 +3,14 @@
 use super::plan;
 use super::stage::Stage;
 use super::{Clock, RunStats, SetupError, SimConfig, SurfaceTension};
+use crate::backend::Backend;
 use crate::backend::cpu::CpuBackend;
-use crate::backend::params::StepParams;
-use crate::backend::{Backend, SurfaceTensionModel};
 use crate::boundary::keep_out::KeepOutBox;
 use crate::boundary::motion::{SolidKinematics, SolidReference, Sway};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
+use crate::model::SurfaceTensionModel;
+use crate::model::params::StepParams;
 use crate::physics::density::DensityWeight;
 use crate::physics::gravity::gravity_at;
 use crate::physics::lattice::{

@@ -11,8 +11,8 @@
 //! cannot drift apart. [`SubStage`] does the same for the steps the driver (`solver::step`) runs
 //! inside a stage: the correction loop and the no-penetration guard.
 
-use crate::backend::{ForceTerms, SurfaceTensionModel, WallModel};
 use crate::fields::Field;
+use crate::model::{ForceTerms, SurfaceTensionModel, WallModel};
 use Field::{
     Acceleration, Density, Id, Kind, Mass, Normal, Position, PositionStart, Pressure, Velocity,
     VelocityStart, WallVelocity,

@@ -22,6 +22,7 @@ use super::timestep::{self, TimeStepInputs, TimeStepLimit};
 use super::{Correction, Simulation, StepError, StepReport};
 use crate::backend::{SolidForceSource, StateExtremes};
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
+use crate::model::params::StepParams;
 
 /// Largest displacement of one correction sweep, in units of the particle spacing.
 pub const MAX_SWEEP_STEP: f64 = 0.1;
@@ -115,8 +116,21 @@ impl<const D: usize> Simulation<D> {
                     }
                     Stage::WallVelocity => bk.wall_velocity(f, &params), // [A12] eqs. (22)-(23)
                     Stage::Forces(terms) => bk.forces(f, &params, terms), // eqs. (15)-(17), (6)
-                    Stage::SurfaceNormals(_) => bk.surface_normals(f, &params), // [AAT13] eq. (3)
-                    Stage::SurfaceTension(_) => bk.surface_tension(f, &params), // surface stress or [AAT13]
+                    // The plan's model is the one the backends evaluate.
+                    Stage::SurfaceNormals(model) => {
+                        let params = StepParams {
+                            surface_tension_model: model,
+                            ..params
+                        };
+                        bk.surface_normals(f, &params) // [AAT13] eq. (3)
+                    }
+                    Stage::SurfaceTension(model) => {
+                        let params = StepParams {
+                            surface_tension_model: model,
+                            ..params
+                        };
+                        bk.surface_tension(f, &params) // surface stress or [AAT13]
+                    }
                     Stage::SolidForces => {
                         let part = bk.solid_forces(f, &params, solids, SolidForceSource::Forces); // Fig. 4
                         add_force(&mut solid_force, &part, integrator.force_weights()[k]);
@@ -255,11 +269,7 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The state guards and the time step (stage `TimeStep`).
-    fn choose_time_step(
-        &mut self,
-        params: &crate::backend::params::StepParams<D>,
-        end_time: f64,
-    ) -> Result<StepReport, StepError> {
+    fn choose_time_step(&mut self, params: &StepParams<D>, end_time: f64) -> Result<StepReport, StepError> {
         let (step, time) = (self.clock.step, self.clock.time);
         let mut e = self.backend.state_extremes(&self.fields, params);
         let mut removed = 0;
@@ -356,7 +366,7 @@ impl<const D: usize> Simulation<D> {
     fn solve_velocities(
         &mut self,
         tau: f64,
-        params: &crate::backend::params::StepParams<D>,
+        params: &StepParams<D>,
         stiffness: f32,
         delta: f64,
         max_iterations: u32,
@@ -422,7 +432,7 @@ impl<const D: usize> Simulation<D> {
         stage: usize,
         tau: f64,
         kick_tau: f64,
-        params: &crate::backend::params::StepParams<D>,
+        params: &StepParams<D>,
     ) -> Result<Vec<[f64; 3]>, StepError> {
         let Correction {
             delta,

@@ -3,10 +3,10 @@
 
 use super::CpuBackend;
 use super::forces::{fill_pressure_terms, fill_volume_pressure_terms};
-use crate::backend::params::StepParams;
 use crate::backend::{CorrectionError, Sweep};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, max_each_in_order, max_or_nan};
+use crate::model::params::StepParams;
 use crate::physics::{
     correction,
     multiphase::{self, Phases},

@@ -2,8 +2,8 @@
 //! `kernels/density.cu` and `kernels/equation_of_state.cu`).
 
 use super::CpuBackend;
-use crate::backend::params::StepParams;
 use crate::fields::{FLUID, Fields};
+use crate::model::params::StepParams;
 use crate::physics::{
     density::{density_kernel_gradient, density_term, velocity_solve_base},
     eos,

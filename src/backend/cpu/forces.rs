@@ -2,11 +2,11 @@
 //! the correction and the forces on solids (twin of `kernels/forces.cu`).
 
 use super::CpuBackend;
-use crate::backend::ForceTerms;
-use crate::backend::params::StepParams;
 use crate::fields::{FLUID, Fields};
 use crate::grid::Grid;
 use crate::math::{Real, Vector};
+use crate::model::ForceTerms;
+use crate::model::params::StepParams;
 use crate::physics::{
     artificial_viscosity::artificial_viscous_acceleration,
     multiphase::{self, Phases},

@@ -4,10 +4,10 @@
 use super::CpuBackend;
 use super::forces::fill_volume_pressure_terms;
 use crate::backend::SolidForceSource;
-use crate::backend::params::StepParams;
 use crate::boundary::solid_force::force_on_solid;
 use crate::fields::{FLUID, Fields};
 use crate::math::{Vector, sum_by_group, to_xyz};
+use crate::model::params::StepParams;
 use crate::physics::multiphase::{self, Phases};
 
 impl<const D: usize> CpuBackend<D> {

@@ -2,9 +2,9 @@
 
 use super::CpuBackend;
 use crate::backend::StateExtremes;
-use crate::backend::params::StepParams;
 use crate::fields::{FLUID, Fields};
 use crate::math::{Vector, max_each_in_order, sum_in_order};
+use crate::model::params::StepParams;
 use rayon::prelude::*;
 
 impl<const D: usize> CpuBackend<D> {

@@ -2,10 +2,10 @@
 //! `kernels/surface_tension.cu`).
 
 use super::CpuBackend;
-use crate::backend::SurfaceTensionModel;
-use crate::backend::params::StepParams;
 use crate::fields::{FLUID, Fields};
 use crate::math::Vector;
+use crate::model::SurfaceTensionModel;
+use crate::model::params::StepParams;
 use crate::physics::{
     surface_stress::{surface_stress_acceleration, surface_weight, tensile_factor},
     surface_tension::{normal_term, surface_tension_acceleration},

@@ -3,11 +3,11 @@
 //! `kernels/wall_velocity.cu`).
 
 use super::CpuBackend;
-use crate::backend::WallModel;
-use crate::backend::params::StepParams;
 use crate::boundary::{wall_pressure::WallPressureSums, wall_velocity::WallVelocitySums};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector};
+use crate::model::WallModel;
+use crate::model::params::StepParams;
 use crate::physics::{
     density::density_term,
     eos,

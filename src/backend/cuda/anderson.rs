@@ -8,8 +8,8 @@
 
 use super::{CudaBackend, record};
 use crate::backend::cuda::launch::{Buffer, DeviceFault, Launch, Memory};
-use crate::backend::params::StepParams;
 use crate::math::Real;
+use crate::model::params::StepParams;
 use crate::physics::multiphase::Phases;
 use crate::solver::anderson::WINDOW;
 

@@ -14,7 +14,6 @@ use super::compile::{arch_for, compile_all};
 use super::extremes::{DeviceExtremes, max_from_bits, sweep};
 use super::grid::GridGeometry;
 use super::launch::{Buffer, DeviceFault, FORCES, Gpu, KERNEL_NAMES, Launch, Memory};
-use crate::backend::params::StepParams;
 use crate::backend::{
     Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel,
 };
@@ -23,6 +22,7 @@ use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
+use crate::model::params::StepParams;
 use crate::physics::multiphase::Phases;
 use crate::solver::anderson::AndersonState;
 use cudarc::driver::CudaContext;

@@ -7,7 +7,7 @@
 use super::extremes::DeviceExtremes;
 use super::grid::GridGeometry;
 use super::shim::Shim;
-use crate::backend::params::StepParams;
+use crate::model::params::StepParams;
 use cudarc::driver::{
     CudaContext, CudaFunction, CudaSlice, CudaStream, DeviceRepr, DriverError, LaunchArgs, LaunchConfig,
     PushKernelArg, ValidAsZeroBits,

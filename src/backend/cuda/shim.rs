@@ -13,9 +13,9 @@ use super::CudaBackend;
 use super::extremes::DeviceExtremes;
 use super::grid::GridGeometry;
 use super::launch::{DeviceFault, Element, Launch, Memory};
-use crate::backend::params::StepParams;
 use crate::backend::{Backend, BackendError};
 use crate::fields::Fields;
+use crate::model::params::StepParams;
 use std::ops::Range;
 
 include!(concat!(env!("OUT_DIR"), "/shim_externs.rs"));

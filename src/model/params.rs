@@ -2,7 +2,7 @@
 //! instead of loose arguments. `#[repr(C)]` so the CUDA backend can mirror it: `StepParams` in
 //! `kernels/sph.cuh`.
 
-use crate::backend::SurfaceTensionModel;
+use super::SurfaceTensionModel;
 use crate::math::{Real, Vector};
 use crate::physics::density::{DensityKernel, DensityWeight};
 use crate::physics::multiphase::Phases;

@@ -1,0 +1,72 @@
+//! The plan's vocabulary: the model choices a plan carries to the backends (which force terms,
+//! which wall model, which surface-tension model) and the step's parameters (`params`). Both the
+//! solver, which builds the plan, and the backends, which run it, import it from here; so do the
+//! scene and the boundary code, without depending on a backend.
+
+pub mod params;
+
+use serde::Deserialize;
+
+/// Which terms the force stage computes; a term a scene does not ask for is compiled out
+/// (the CPU backend monomorphises the force loop on these flags).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ForceTerms {
+    /// Eq. (17), the viscous force.
+    pub viscosity: bool,
+    /// Monaghan's artificial viscosity ([M92]).
+    pub artificial_viscosity: bool,
+    /// Coriolis and centrifugal forces of a rotating frame ([B67] §3.2,
+    /// `physics::rotating_frame`).
+    pub rotating_frame: bool,
+}
+
+impl ForceTerms {
+    /// The term set as a number in `0..8`: `viscosity + 2 artificial_viscosity + 4
+    /// rotating_frame`, for tables indexed by term set.
+    pub fn index(self) -> usize {
+        usize::from(self.viscosity)
+            + 2 * usize::from(self.artificial_viscosity)
+            + 4 * usize::from(self.rotating_frame)
+    }
+}
+
+/// How the pressure of solid particles is set (`Stage::WallPressure`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WallModel {
+    /// `max(`[A12] extrapolation, eq. (19) of the wall's own summed density`)`: the weakly
+    /// compressible solver, whose clamped pressure gives lone splash particles no pressure.
+    ExtrapolatedOrSummed,
+    /// [A12] extrapolation only: the `corrected` solver, where eq. (19) with a real `C` would be
+    /// stiff and the position correction (23) keeps fluid out of walls instead.
+    Extrapolated,
+}
+
+/// The surface-tension model (`fluid.surface_tension_model`), evaluated by the `surface_tension`
+/// stage.
+///
+/// `#[repr(u32)]` as a field of `StepParams`; `kernels/sph.cuh` names the same values
+/// `SPH_SURFACE_*`.
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SurfaceTensionModel {
+    /// The capillary stress `σ δ (I − N̂N̂ᵀ)` of the surface layers, the conservative form of the
+    /// continuum surface force (`physics::surface_stress`); the default: the bulk carries no
+    /// stress of its own, so the core of a drop holds the Laplace pressure in its EOS pressure.
+    #[default]
+    SurfaceStress = 0,
+    /// [AAT13] pair cohesion and curvature between all fluid particles within `h`
+    /// (`physics::surface_tension`): momentum-conserving pair by pair, but its bulk pressure
+    /// (≈ 5σ/h) jams small drops (tests/physics/surface_tension.rs).
+    Akinci = 1,
+}
+
+impl SurfaceTensionModel {
+    /// The name used in scene files (`"surface_stress"`, `"akinci"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            SurfaceTensionModel::SurfaceStress => "surface_stress",
+            SurfaceTensionModel::Akinci => "akinci",
+        }
+    }
+}
