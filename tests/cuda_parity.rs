@@ -31,7 +31,6 @@
 #![cfg(feature = "cuda")]
 
 use sph::backend::BackendKind;
-use sph::backend::cuda::launch::Launch;
 use sph::backend::cuda::shim::Shim;
 use sph::fields::Fields;
 use sph::run::AnySimulation;
@@ -56,10 +55,7 @@ enum Device {
 }
 
 impl Device {
-    fn attach<const D: usize>(self, sim: &mut Simulation<D>)
-    where
-        Shim: Launch<D>,
-    {
+    fn attach<const D: usize>(self, sim: &mut Simulation<D>) {
         match self {
             Device::Shim => sim.use_backend_from(Shim::backend),
             Device::Gpu => sim.use_backend(BackendKind::Cuda),
@@ -110,10 +106,7 @@ fn compare<const D: usize>(
     device: Device,
     mut cpu: Simulation<D>,
     mut gpu: Simulation<D>,
-) -> Worst
-where
-    Shim: Launch<D>,
-{
+) -> Worst {
     device.attach(&mut gpu);
     let mut worst = Worst {
         position: 0.0,

@@ -12,7 +12,7 @@
 use super::CudaBackend;
 use super::extremes::DeviceExtremes;
 use super::grid::GridGeometry;
-use super::launch::{DeviceFault, Element, Launch, Memory};
+use super::launch::{DeviceFault, Element, Memory};
 use crate::backend::{Backend, BackendError};
 use crate::fields::Fields;
 use crate::model::params::StepParams;
@@ -80,10 +80,7 @@ impl Shim {
     pub fn backend<const D: usize>(
         fields: &Fields<D>,
         params: &StepParams<D>,
-    ) -> Result<Box<dyn Backend<D> + Send>, BackendError>
-    where
-        Shim: Launch<D>,
-    {
+    ) -> Result<Box<dyn Backend<D> + Send>, BackendError> {
         Ok(Box::new(CudaBackend::on_device(Shim, fields, params)?))
     }
 }
