@@ -137,20 +137,15 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
     }
 }
 
-/// What the stage plan of a validated scene depends on (`solver::plan`): its effects, its
-/// solids and whether any moves, its integrator and solver.
+/// What the stage plan of a validated scene depends on (`solver::plan`): the plan inputs of its
+/// settings ([`sim_config`], `SimConfig::plan_inputs`), so a scene's plan is the one its
+/// simulation runs.
 pub fn plan_inputs(scene: &Scene) -> crate::solver::plan::PlanInputs {
-    crate::solver::plan::PlanInputs {
-        viscosity: scene.has(Effect::Viscosity),
-        artificial_viscosity: scene.has(Effect::ArtificialViscosity),
-        rotating_frame: scene.has(Effect::RotatingFrame),
-        surface_tension: scene
-            .has(Effect::SurfaceTension)
-            .then_some(scene.surface_tension_model),
-        solids: !scene.solids.is_empty(),
-        moving_solids: scene.solids.iter().any(|s| s.motion.is_some()),
-        integrator: integrator(scene),
-        corrected: correction(scene).is_some(),
+    let solids = !scene.solids.is_empty();
+    let moving = scene.solids.iter().any(|s| s.motion.is_some());
+    match scene.dimension {
+        2 => sim_config::<2>(scene).plan_inputs(solids, moving),
+        _ => sim_config::<3>(scene).plan_inputs(solids, moving),
     }
 }
 

@@ -2,6 +2,7 @@
 //! surface tension.
 
 use super::escape;
+use super::plan::PlanInputs;
 use crate::math::Vector;
 use crate::model::SurfaceTensionModel;
 
@@ -132,6 +133,25 @@ pub struct SimConfig<const D: usize> {
     pub correction: Option<Correction>,
     /// What a step does with a fluid particle outside the domain ([`escape`]).
     pub on_escape: escape::EscapePolicy,
+}
+
+impl<const D: usize> SimConfig<D> {
+    /// What the stage plan (`solver::plan`) depends on: the models these settings switch on,
+    /// whether there are solids and whether some move. The one place a setting becomes a
+    /// plan choice; `StepParams` takes its values from the same settings
+    /// (`Simulation::params_at`).
+    pub fn plan_inputs(&self, solids: bool, moving_solids: bool) -> PlanInputs {
+        PlanInputs {
+            viscosity: self.viscosity.is_some(),
+            artificial_viscosity: self.artificial_viscosity.is_some(),
+            rotating_frame: self.angular_velocity.is_some(),
+            surface_tension: self.surface_tension.map(|s| s.model),
+            solids,
+            moving_solids,
+            integrator: self.integrator,
+            corrected: self.correction.is_some(),
+        }
+    }
 }
 
 /// The `surface_tension` effect of a run.

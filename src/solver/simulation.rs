@@ -91,20 +91,6 @@ pub struct Simulation<const D: usize> {
     pub(super) phases: Phases,
 }
 
-/// The plan's inputs from the settings, whether there are solids and whether some move.
-fn plan_inputs<const D: usize>(config: &SimConfig<D>, solids: bool, moving_solids: bool) -> plan::PlanInputs {
-    plan::PlanInputs {
-        viscosity: config.viscosity.is_some(),
-        artificial_viscosity: config.artificial_viscosity.is_some(),
-        rotating_frame: config.angular_velocity.is_some(),
-        surface_tension: config.surface_tension.map(|s| s.model),
-        solids,
-        moving_solids,
-        integrator: config.integrator,
-        corrected: config.correction.is_some(),
-    }
-}
-
 impl<const D: usize> Simulation<D> {
     /// Builds a simulation from fluid particles (positions [m], velocities [m/s]) and named
     /// solids. Every particle gets the lattice mass (see `physics::lattice::lattice_mass`).
@@ -193,7 +179,7 @@ impl<const D: usize> Simulation<D> {
                 fields.push(*x, Vector::zeros(), mass, rho0, k as u32 + 1);
             }
         }
-        let plan = plan::plan(plan_inputs(&config, !solids.is_empty(), false));
+        let plan = plan::plan(config.plan_inputs(!solids.is_empty(), false));
         if plan.contains(&Stage::WallVelocity) {
             // [A12] no-slip walls: the viscous velocity of solids, only where it is used.
             fields.wall_velocity = vec![Vector::zeros(); fields.len()];
@@ -268,7 +254,7 @@ impl<const D: usize> Simulation<D> {
             }
         }
         let moving = motions.iter().any(Option::is_some);
-        self.plan = plan::plan(plan_inputs(&self.config, !self.solid_names.is_empty(), moving));
+        self.plan = plan::plan(self.config.plan_inputs(!self.solid_names.is_empty(), moving));
         self.wall_speed = motions.iter().flatten().map(Sway::max_speed).fold(0.0, f64::max);
         self.motions = motions;
         self.solids_placed_at = None;
