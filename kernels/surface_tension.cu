@@ -19,10 +19,9 @@ __device__ __forceinline__ float cohesion_kernel(float r, float h) {
     return k * (2.0f * s - h3 * h3 / 64.0f);
 }
 
-/// The rest density of particle j: its own with the `multiphase` effect (has_rest), else rho0.
-__device__ __forceinline__ float rest_of(const StepParams& p, const float* rest_density, u32 has_rest,
-                                         u32 j) {
-    return has_rest ? rest_density[j] : p.rho0;
+/// The rest density of particle j: its own with the `multiphase` effect (`p.phases`), else rho0.
+__device__ __forceinline__ float rest_of(const StepParams& p, const float* rest_density, u32 j) {
+    return p.phases == SPH_PHASES_MULTI ? rest_density[j] : p.rho0;
 }
 
 /// [AAT13] eq. (3): n_i = h sum_j (m_j/rho_j) grad W(x_ij) over fluid neighbours (dimensionless,
@@ -31,7 +30,7 @@ __device__ __forceinline__ float rest_of(const StepParams& p, const float* rest_
 SPH_KERNEL(surface_normals)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,
                             const u32* __restrict__ cell_key, const float* __restrict__ pos,
                             const float* __restrict__ mass, const float* __restrict__ density,
-                            const float* __restrict__ rest_density, u32 has_rest,
+                            const float* __restrict__ rest_density,
                             const u32* __restrict__ kind, float* __restrict__ normal) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
@@ -46,7 +45,7 @@ SPH_KERNEL(surface_normals)(u32 n, StepParams p, GridGeometry g, const u32* __re
             float r2 = vdot(d, d);
             if (!(r2 < s.h2)) continue;
             d = pair_offset(d, &r2, i, j, s.h);
-            const float rho_j = rest_volume ? rest_of(p, rest_density, has_rest, j) : density[j];
+            const float rho_j = rest_volume ? rest_of(p, rest_density, j) : density[j];
             sum = vadd(sum, vscale(grad_w_poly6(s, d), mass[j] / rho_j));
         });
     }
@@ -82,13 +81,13 @@ __device__ __forceinline__ float tensile_factor(float w_r, float w_dx) {
 __device__ __forceinline__ void surface_stress(u32 i, const StepParams& p, const GridGeometry& g,
                                                const u32* cell_start, const u32* cell_key,
                                                const float* pos, const float* mass,
-                                               const float* rest_density, u32 has_rest,
+                                               const float* rest_density,
                                                const u32* kind, const float* normal, float* acc) {
     const Smoothing s = smoothing(p.h);
     const float w_dx = w_poly6(s, p.spacing * p.spacing);
     const vec_t xi = vload(pos, i);
     const vec_t n_i = vload(normal, i);
-    const float rho0_i = rest_of(p, rest_density, has_rest, i);
+    const float rho0_i = rest_of(p, rest_density, i);
     const bool bulk_i = surface_weight(sqrtf(vdot(n_i, n_i))) == 0.0f;
     vec_t sum = vzero();
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
@@ -104,7 +103,7 @@ __device__ __forceinline__ void surface_stress(u32 i, const StepParams& p, const
         const float tensile = tensile_factor(w_poly6(s, r2), w_dx);
         const vec_t t = vadd(stress_along(p.surface_tension_sigma, p.h, n_i, grad),
                              stress_along(p.surface_tension_sigma, p.h, n_j, grad));
-        const float rho0_j = rest_of(p, rest_density, has_rest, j);
+        const float rho0_j = rest_of(p, rest_density, j);
         sum = vadd(sum, vscale(t, mass[j] * tensile / (rho0_i * rho0_j)));
     });
     vstore(acc, i, vadd(vload(acc, i), sum));
@@ -116,13 +115,13 @@ __device__ __forceinline__ void surface_stress(u32 i, const StepParams& p, const
 SPH_KERNEL(surface_tension)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,
                             const u32* __restrict__ cell_key, const float* __restrict__ pos,
                             const float* __restrict__ mass, const float* __restrict__ density,
-                            const float* __restrict__ rest_density, u32 has_rest,
+                            const float* __restrict__ rest_density,
                             const u32* __restrict__ kind, const float* __restrict__ normal,
                             float* __restrict__ acc) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] != SPH_FLUID) return;
     if (p.surface_tension_model == SPH_SURFACE_STRESS) {
-        surface_stress(i, p, g, cell_start, cell_key, pos, mass, rest_density, has_rest, kind, normal,
+        surface_stress(i, p, g, cell_start, cell_key, pos, mass, rest_density, kind, normal,
                        acc);
         return;
     }

@@ -1,7 +1,7 @@
 //! The `density` stage (eq. 18, both kernels, one phase and [HA06] several) and
 //! `equation_of_state` (eq. 19), on every backend, against brute-force sums.
 
-use crate::setup::{DX, RHO0, SUM_ORDER, Under, add_strays, backends, by_id, in_id_order, neighbours, scene};
+use crate::setup::{DX, RHO0, SUM_ORDER, add_strays, backends, by_id, in_id_order, neighbours, scene};
 use sph::fields::{FLUID, Fields};
 use sph::model::params::StepParams;
 use sph::physics::density::{DensityKernel, density_kernel};

@@ -20,7 +20,6 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         let Some(normal) = self.normal.as_mut() else {
             return;
         };
-        let has_rest = u32::from(params.phases == Phases::Multi);
         let rest = match params.phases {
             // The kernel reads no rest density then; any f32 buffer stands in.
             Phases::Single => &self.f.density,
@@ -42,7 +41,6 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.mass,
                 &self.f.density,
                 rest,
-                has_rest,
                 &self.f.kind,
                 normal
             )
@@ -57,7 +55,6 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             return;
         };
         let n = self.n as u32;
-        let has_rest = u32::from(params.phases == Phases::Multi);
         let rest = match params.phases {
             // The kernel reads no rest density then; any f32 buffer stands in.
             Phases::Single => &self.f.density,
@@ -79,7 +76,6 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.mass,
                 &self.f.density,
                 rest,
-                has_rest,
                 &self.f.kind,
                 normal,
                 &mut self.f.acceleration
