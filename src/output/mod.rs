@@ -24,6 +24,7 @@ pub mod surface_series;
 pub mod vtk_type;
 pub mod vtp;
 pub mod vtu;
+pub mod vtu_read;
 mod xml;
 
 use std::fs::{self, File};
