@@ -4,8 +4,8 @@
 //!   lines inlined, as `KERNEL_SOURCES` in `$OUT_DIR/kernels.rs` (`backend::cuda::sources`): the
 //!   CUDA backend compiles them at run time with NVRTC, so no file of the source tree is needed.
 //! - With `--features cuda`, compiles the same kernels as C++ with the host shim of
-//!   `kernels/shim/` (once per dimension) into a static library, so tests can run every kernel on
-//!   the CPU and compare it with the rayon stage it mirrors (`tests/cuda_shim.rs`).
+//!   `kernels/shim/` (once per dimension) into a static library, so the CUDA backend runs on the
+//!   CPU (`backend::cuda::shim`, `tests/stages`, `tests/cuda_parity.rs`, `tests/cuda_shim.rs`).
 //! - Generates from `kernels/launch.table` the CUDA backend's launchers (cudarc and host shim,
 //!   `$OUT_DIR/launch.rs`) and the shim's C++ launchers (`$OUT_DIR/shim_exports.inc`):
 //!   `build/kernel_table.rs`.
