@@ -1,10 +1,12 @@
 //! The backend a [`Simulation`] runs its stages on: choosing it, syncing with it, its memory
 //! and per-stage timing.
 
+use super::stage::Stage;
 use super::{Simulation, StepError};
 use crate::backend::cpu::CpuBackend;
 use crate::backend::{Backend, BackendError, BackendKind};
 use crate::fields::Fields;
+use crate::model::ForceTerms;
 use crate::model::params::StepParams;
 
 impl<const D: usize> Simulation<D> {
@@ -97,15 +99,24 @@ impl<const D: usize> Simulation<D> {
     pub fn time_sweeps(&mut self, count: usize) -> Result<f64, StepError> {
         let step = self.clock.step;
         let params = self.step_params();
-        let terms = crate::model::ForceTerms {
-            viscosity: self.config.viscosity.is_some(),
-            artificial_viscosity: self.config.artificial_viscosity.is_some(),
-            rotating_frame: self.config.angular_velocity.is_some(),
-        };
+        // The plan's own force terms and surface-tension stages, so the sweep is the one a step
+        // runs (every plan has one force stage: `solver::plan`).
+        let terms = self
+            .plan
+            .iter()
+            .find_map(|s| match s {
+                Stage::Forces(terms) => Some(*terms),
+                _ => None,
+            })
+            .unwrap_or(ForceTerms {
+                viscosity: false,
+                artificial_viscosity: false,
+                rotating_frame: false,
+            });
+        let surface_tension = self.plan.iter().any(|s| matches!(s, Stage::SurfaceNormals(_)));
         let (bk, f) = (&mut self.backend, &mut self.fields);
         bk.sort_by_cell(f, params.h)
             .map_err(|source| StepError::Grid { step, source })?;
-        let surface_tension = self.config.surface_tension.is_some();
         let sweep = |bk: &mut Box<dyn Backend<D> + Send>, f: &mut Fields<D>| {
             bk.density(f, &params);
             bk.equation_of_state(f, &params);
