@@ -81,7 +81,11 @@ pub struct StateExtremes {
     /// Mean deficit over fluid particles, as `mean |ρ − ρ0|/ρ0 − mean compression` (equal to
     /// the mean of `max(ρ0 − ρ, 0)/ρ0` but for rounding; both backends form it so).
     pub mean_surface_deficit: f64,
-    /// First particle (current order) with a non-finite field, and the field's name.
+    /// When a fluid particle's speed, acceleration or density error is not finite (the cheap
+    /// trigger both backends test): the first particle (current order, fluid or solid) with a
+    /// non-finite position, velocity, acceleration, density or pressure, and that field's name.
+    /// A non-finite pressure or position alone does not trigger it: pressure comes from the
+    /// density (19) or the correction, and the next sort refuses a non-finite position.
     pub non_finite: Option<(usize, &'static str)>,
     /// First fluid particle (current order) outside the domain box.
     pub escaped: Option<usize>,
@@ -104,8 +108,10 @@ pub trait Backend<const D: usize> {
     fn holds_state(&self) -> bool {
         false
     }
-    /// Copies the backend's state into `fields`: every field, in the backend's current order.
-    /// Nothing to do for a backend that works on `fields` itself.
+    /// Copies the backend's state into `fields`: every field, in the backend's current order,
+    /// but the step-start copies of SSP-RK3 (`position_start`, `velocity_start`), which a
+    /// device keeps as its own scratch (they come back empty). Nothing to do for a backend
+    /// that works on `fields` itself.
     fn download(&mut self, _fields: &mut Fields<D>) -> Result<(), BackendError> {
         Ok(())
     }
@@ -180,7 +186,8 @@ pub trait Backend<const D: usize> {
     fn state_extremes(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> StateExtremes;
     /// Semi-implicit (symplectic) Euler: `u += a dt`, then `x += u dt`, fluid only; `dt` [s].
     fn integrate(&mut self, fields: &mut Fields<D>, dt: f32);
-    /// SSP-RK3: remembers `x^n`, `u^n` in `Fields::position_start`, `velocity_start`.
+    /// SSP-RK3: remembers `x^n`, `u^n` (in `Fields::position_start`, `velocity_start` on the
+    /// CPU; in device memory on CUDA, see [`Backend::download`]).
     fn store_step_start(&mut self, fields: &mut Fields<D>);
     /// One Shu–Osher stage, fluid only: `x ← a x^n + b (x + dt u)`, `u ← a u^n + b (u + dt a)`
     /// with the acceleration of the force stage; `dt` [s].
