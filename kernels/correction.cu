@@ -22,7 +22,7 @@ __device__ __forceinline__ double correction_density_error(float rho, float rho0
 
 /// Eq. (24) with note 6: out[0] = bits of the largest fluid compression `max(rho - rho0, 0)/rho0`
 /// (`correction::compression`), out[1] = of the largest `correction::residual` (|e| where p > 0,
-/// else max(e, 0)). Computed in f64 as the CPU, rounded to f32 for the atomic. `rho0_i` is `rho0`,
+/// else max(e, 0); NaN, which `max_bits` puts above every number, when e or p is NaN). Computed in f64 as the CPU, rounded to f32 for the atomic. `rho0_i` is `rho0`,
 /// or `rest[i]` with `MULTIPHASE`.
 template <bool MULTIPHASE>
 __device__ __forceinline__ void correction_error_body(u32 n, float rho0,
@@ -35,7 +35,9 @@ __device__ __forceinline__ void correction_error_body(u32 n, float rho0,
     if (i >= n || kind[i] != SPH_FLUID) return;
     const double e = correction_density_error(density[i], MULTIPHASE ? rest[i] : rho0);
     const double compression = e > 0.0 ? e : 0.0;  // f64::max(e, 0): NaN gives 0
-    const double residual = pressure[i] > 0.0f ? fabs(e) : compression;
+    // `correction::residual`: NaN when e or the pressure is (x != x), never read as converged.
+    const float p_i = pressure[i];
+    const double residual = (e != e || p_i != p_i) ? e + (double)p_i : (p_i > 0.0f ? fabs(e) : compression);
     // Read before the atomic: the maxima settle within a few blocks, after which almost every
     // thread skips its atomic (a stale read only costs an atomic that changes nothing).
     const int bc = max_bits((float)compression), br = max_bits((float)residual);

@@ -80,6 +80,13 @@ pub fn max_or_nan(a: f64, b: f64) -> f64 {
     }
 }
 
+/// `max(x, 0)`, but NaN stays NaN (`f64::max` would drop it): for a maximum whose NaN must
+/// reach the caller, such as the correction's residual.
+#[inline(always)]
+pub fn non_negative_or_nan(x: f64) -> f64 {
+    if x.is_nan() { x } else { x.max(0.0) }
+}
+
 /// Sums `term(i)` per group: `term` returns the group (`< groups`) and the value, or `None` to
 /// skip item `i`. Same fixed-chunk order as [`sum_in_order`], so thread-count independent.
 pub fn sum_by_group<F>(len: usize, groups: usize, term: F) -> Vec<[f64; 3]>

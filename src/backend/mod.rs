@@ -46,7 +46,8 @@ pub struct CorrectionError {
     /// Eq. (24) with note 6: largest `max(ρ − ρ0, 0)/ρ0` over fluid particles.
     pub compression: f64,
     /// Largest `physics::correction::residual`: the compression, and the expansion of particles
-    /// that still carry pressure. The loop runs until it is below `δ`.
+    /// that still carry pressure. The loop runs until it is below `δ`. NaN when a fluid
+    /// particle's density or pressure is NaN, so such a state ends the loop with an error.
     pub residual: f64,
 }
 

@@ -41,11 +41,18 @@ pub fn pressure_increment(rho: Real, rho0: Real, p: Real, k: Real) -> Real {
 /// carries pressure but sits below `ρ0` has too much of it; stopping on compression alone would
 /// leave that excess to push its neighbours apart step after step (measured: a resting block
 /// with dt = 5e-3 s reached 7.6 m/s in 0.2 s). Where `p = 0` (free surface) only compression
-/// counts, as note 6 requires.
+/// counts, as note 6 requires. NaN when the density error or the pressure is NaN: a state that
+/// is not a number must stop the loop with an error, never read as converged.
 #[inline(always)]
 pub fn residual(rho: Real, rho0: Real, p: Real) -> f64 {
     let e = (f64::from(rho) - f64::from(rho0)) / f64::from(rho0);
-    if p > 0.0 { e.abs() } else { e.max(0.0) }
+    if e.is_nan() || p.is_nan() {
+        f64::NAN
+    } else if p > 0.0 {
+        e.abs()
+    } else {
+        e.max(0.0)
+    }
 }
 
 /// The compression measure of (24) with note 6: `max(ρ − ρ0, 0)/ρ0` (dimensionless).

@@ -262,6 +262,25 @@ impl<const D: usize> Simulation<D> {
         report
     }
 
+    /// [`StepError::NonFinite`] for the first particle with a non-finite field
+    /// (`Backend::state_extremes`), if any.
+    fn non_finite_error(&mut self, params: &StepParams<D>) -> Result<Option<StepError>, StepError> {
+        let (step, time) = (self.clock.step, self.clock.time);
+        let Some((i, quantity)) = self.backend.state_extremes(&self.fields, params).non_finite else {
+            return Ok(None);
+        };
+        // Name the particle from the backend's own state (device order for CUDA).
+        self.fields_stale = self.backend.holds_state();
+        self.sync_fields()
+            .map_err(|source| StepError::Backend { step, source })?;
+        Ok(Some(StepError::NonFinite {
+            step,
+            time,
+            particle: self.fields.id[i],
+            quantity,
+        }))
+    }
+
     /// Positions changed: the grid and the density are stale.
     fn moved(&mut self) {
         self.grid_fresh = false;
@@ -522,6 +541,13 @@ impl<const D: usize> Simulation<D> {
         }
         s.unconverged_stages += 1;
         let residual = error.residual;
+        if residual.is_nan() {
+            // A state that is not a number (`physics::correction::residual`): name the particle,
+            // as the state guards would.
+            if let Some(e) = self.non_finite_error(params)? {
+                return Err(e);
+            }
+        }
         if strict || !residual.is_finite() {
             return Err(StepError::Unconverged {
                 step: self.clock.step,

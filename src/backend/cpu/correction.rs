@@ -5,7 +5,7 @@ use super::CpuBackend;
 use super::forces::{fill_pressure_terms, fill_volume_pressure_terms};
 use crate::backend::{CorrectionError, Sweep};
 use crate::fields::{FLUID, Fields};
-use crate::math::{Real, Vector, max_each_in_order, max_or_nan};
+use crate::math::{Real, Vector, max_each_in_order, max_or_nan, non_negative_or_nan};
 use crate::model::params::StepParams;
 use crate::physics::{
     correction,
@@ -32,7 +32,7 @@ impl<const D: usize> CpuBackend<D> {
         });
         CorrectionError {
             compression: compression.max(0.0),
-            residual: residual.max(0.0),
+            residual: non_negative_or_nan(residual),
         }
     }
 

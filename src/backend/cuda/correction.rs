@@ -139,7 +139,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         match record(&mut self.error, "copying the residual", out) {
             Some(v) => CorrectionError {
                 compression: max_from_bits(v[0]),
-                residual: max_from_bits(v[1]),
+                residual: max_from_bits_or_nan(v[1]),
             },
             None => failed,
         }

@@ -11,7 +11,7 @@
 //! as those of the CPU backend.
 
 use super::compile::{arch_for, compile_all};
-use super::extremes::{DeviceExtremes, max_from_bits, sweep};
+use super::extremes::{DeviceExtremes, max_from_bits, max_from_bits_or_nan, sweep};
 use super::grid::GridGeometry;
 use super::launch::{Buffer, DeviceFault, FORCES, Gpu, KERNEL_NAMES, Launch, Memory};
 use crate::backend::{

@@ -146,6 +146,14 @@ pub fn max_from_bits(bits: i32) -> f64 {
     f64::from(f32::from_bits(bits as u32)).max(0.0)
 }
 
+/// A maximum kept as float bits (as [`max_from_bits`]) whose NaN stays NaN: the correction's
+/// residual, NaN when a fluid particle's density or pressure is (`physics::correction::residual`),
+/// as the CPU's `math::non_negative_or_nan`.
+pub fn max_from_bits_or_nan(bits: i32) -> f64 {
+    let x = f64::from(f32::from_bits(bits as u32));
+    if x.is_nan() { x } else { x.max(0.0) }
+}
+
 /// `CpuBackend::correct_positions`' choice of one scale for all displacements from the largest
 /// `|Δx|` (bits from `correction_displacement`): `max_step / largest` when that exceeds
 /// `max_step` [m], else 1. Launch `apply_displacement` with `sweep.scale as f32` (exact).
