@@ -21,6 +21,7 @@ mod correction;
 mod density;
 mod forces;
 mod integrate;
+mod solid_forces;
 mod sort_by_cell;
 mod state_extremes;
 mod surface_tension;
