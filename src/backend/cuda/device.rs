@@ -128,6 +128,8 @@ pub struct CudaBackend<const D: usize, K: Launch<D> = Gpu> {
     /// Per solid acceleration `d''` (`D` floats), uploaded by `wall_pressure`; zeros while
     /// nothing moves.
     wall_acc: K::Buf<f32>,
+    /// Whether `wall_acc` holds accelerations of the last `wall_pressure` (else zeros).
+    wall_acc_set: bool,
     /// Surface normals [AAT13] (`D` floats per particle), allocated by the first
     /// `surface_normals` (only scenes with the `surface_tension` effect run it). Recomputed after
     /// every sort before use, so the sort does not gather it.
@@ -256,6 +258,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             solid_reference: None,
             solid_motion: zeros_f32(2 * D * solids)?,
             wall_acc: zeros_f32(D * solids)?,
+            wall_acc_set: false,
             n,
             domain: (params.domain_min, params.domain_max),
             f,

@@ -58,7 +58,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         from_step_start: bool,
     ) -> KeepOutReport {
         let mut report = KeepOutReport::none(solids);
-        if boxes.is_empty() || solids == 0 || self.error.is_some() {
+        if boxes.is_empty() || self.error.is_some() {
             return report;
         }
         // Upload the boxes only when they changed (moving solids): min, max, velocity, solid.
@@ -71,8 +71,16 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             }
             self.keep_out_host = host;
         }
-        if self.keep_out_out.len() < 4 * solids {
-            let r = self.dev.alloc_zeros::<f64>(4 * solids);
+        // One slot per solid a box names (the kernel writes to its box's slot unchecked), of which
+        // the first `solids` give impulses, as on the CPU; pushes count in every slot.
+        let slots = boxes
+            .iter()
+            .map(|b| b.solid as usize + 1)
+            .max()
+            .unwrap_or(0)
+            .max(solids);
+        if self.keep_out_out.len() < 4 * slots {
+            let r = self.dev.alloc_zeros::<f64>(4 * slots);
             match record(&mut self.error, "allocating the guard's sums", r) {
                 Some(b) => self.keep_out_out = b,
                 None => return report,
@@ -103,8 +111,8 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         );
         let out = self.dev.download(&self.keep_out_out);
         if let Some(v) = record(&mut self.error, "copying the guard's sums", out) {
+            report.pushes = (0..slots).map(|s| v[4 * s] as u64).sum();
             for (s, slot) in report.impulse.iter_mut().enumerate() {
-                report.pushes += v[4 * s] as u64;
                 slot.copy_from_slice(&v[4 * s + 1..4 * s + 4]);
             }
         }

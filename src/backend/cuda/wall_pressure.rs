@@ -11,7 +11,13 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         wall_acceleration: &[Vector<D>],
     ) {
         // Moving walls: their accelerations go up with each call (a few floats); while nothing
-        // moves the buffer keeps its zeros and nothing is copied.
+        // moves the buffer keeps its zeros and nothing is copied. An empty list after a full one
+        // means walls at rest again (as the CPU reads it): the buffer goes back to zeros.
+        if wall_acceleration.is_empty() && self.wall_acc_set && self.error.is_none() {
+            let r = self.dev.zero(&mut self.wall_acc);
+            record(&mut self.error, "clearing the walls' accelerations", r);
+            self.wall_acc_set = false;
+        }
         if !wall_acceleration.is_empty() && self.error.is_none() {
             if wall_acceleration.len() * D > self.wall_acc.len() {
                 self.error = Some(device_error(
@@ -22,6 +28,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             }
             let r = self.dev.write(floats(wall_acceleration), &mut self.wall_acc);
             record(&mut self.error, "uploading the walls' accelerations", r);
+            self.wall_acc_set = true;
         }
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
