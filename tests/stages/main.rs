@@ -16,8 +16,10 @@ mod common;
 
 mod setup;
 
+mod anderson_reference;
 mod boundary;
 mod correction;
+mod correction_reference;
 mod density;
 mod forces;
 mod integrate;

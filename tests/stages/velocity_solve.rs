@@ -11,21 +11,21 @@
 //! (it holds no particle data; its own test solves a linear system): everything per particle and
 //! every dot product is written here.
 
-use crate::correction::{
-    EPS, check_error, reference_displacements, reference_error, snapshot, stiffness, two_phases,
+use crate::anderson_reference::Mixing;
+use crate::correction_reference::{
+    EPS, check_error, reference_displacements, reference_error, rest, snapshot, stiffness, two_phases,
     wall_increment,
 };
 use crate::setup::{DX, Rng, SUM_ORDER, Under, backends, in_id_order, neighbours, scene};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::model::params::StepParams;
-use sph::physics::correction::pressure_increment;
 use sph::physics::density::{
     DensityKernel, DensityWeight, SURFACE_DENSITY_RATIO, density_kernel_gradient, velocity_solve_base,
 };
 use sph::physics::lattice::lattice_spiky_scale;
 use sph::physics::multiphase::Phases;
-use sph::solver::anderson::{AndersonState, WINDOW};
+use sph::solver::anderson::WINDOW;
 
 /// The solve's `τ` [s]: about 1 % of ρ0 from velocities of 1 m/s over dx = 1 cm.
 const TAU: f32 = 1.0e-4;
@@ -159,11 +159,6 @@ fn check_predicted<const D: usize>(
     (worst, effects)
 }
 
-/// Rest density `ρ0_i` of particle `i` of `f` [kg/m³].
-fn rest<const D: usize>(f: &Fields<D>, p: &StepParams<D>, i: usize) -> f32 {
-    p.phases.rest_density(&f.rest_density, i, p.rho0)
-}
-
 fn check_predicted_density<const D: usize>(seed: u64, kernel: DensityKernel, phases: Phases) {
     let (mut f, p) = solve_scene::<D>(seed, kernel, phases);
     // Masses ±20 %, so that `m_j` cannot pass for `m_i`.
@@ -212,131 +207,6 @@ fn predicted_density_is_the_continuity_sum_for_both_kernels_and_phase_models() {
             check_predicted_density::<2>(0x2468_ace0_1357_9bdf, kernel, phases);
             check_predicted_density::<3>(0x1357_9bdf_2468_ace0, kernel, phases);
         }
-    }
-}
-
-/// The mixing's reference (`solver::anderson`): the window's differences by id, the previous
-/// iterate with its `f = g(P) − P`, and bounds of how far the backends' Gram matrix may be from
-/// this one (their f64 sums of the same exact products in another order: at most
-/// `2 (n − 1) 2⁻⁵³ Σ|terms|` apart).
-struct Mixing {
-    state: AndersonState,
-    dp: Vec<Vec<f32>>,
-    df: Vec<Vec<f32>>,
-    gram_error: [[f64; WINDOW]; WINDOW],
-    previous: Vec<f32>,
-    previous_f: Vec<f32>,
-}
-
-/// Bound of two f64 sums of `n` terms in different orders, relative to `Σ|terms|`.
-fn order64(n: usize) -> f64 {
-    2.0 * n as f64 * f64::EPSILON / 2.0
-}
-
-impl Mixing {
-    fn new(n: usize) -> Self {
-        Self {
-            state: AndersonState::default(),
-            dp: vec![vec![0.0; n]; WINDOW],
-            df: vec![vec![0.0; n]; WINDOW],
-            gram_error: [[0.0; WINDOW]; WINDOW],
-            previous: Vec::new(),
-            previous_f: Vec::new(),
-        }
-    }
-
-    /// `Σ a_i b_i` in f64 and its order bound.
-    fn dot(a: &[f32], b: &[f32]) -> (f64, f64) {
-        let (mut sum, mut abs) = (0.0f64, 0.0f64);
-        for (&x, &y) in a.iter().zip(b) {
-            let t = f64::from(x) * f64::from(y);
-            sum += t;
-            abs += t.abs();
-        }
-        (sum, order64(a.len()) * abs)
-    }
-
-    /// One sweep on `f` (id order: the pressure `P`, the predicted density): `f = g(P) − P`
-    /// (`pressure_increment`, 0 for solids), the newest differences and the window's `γ`, then
-    /// fluid `max(P + f − Σ γ_l (ΔP_l + Δf_l), 0)` in f32 in slot order. Returns the mixed
-    /// pressures, each one's tolerance, and the plain projected Jacobi iterate `max(P + f, 0)`.
-    /// The tolerance: `δγ ≤ |G⁻¹| (e_rhs + E_G |γ|)` to first order (the columns of `G⁻¹` from
-    /// `AndersonState::coefficients` of unit vectors, with its Tikhonov term), plus one f32
-    /// rounding of `γ`, times `|ΔP_l + Δf_l|`; and the roundings of the `3 held + 1` f32
-    /// operations, of the magnitudes they add.
-    fn mix<const D: usize>(
-        &mut self,
-        f: &Fields<D>,
-        p: &StepParams<D>,
-        k: f32,
-    ) -> (Vec<f32>, Vec<f64>, Vec<f32>) {
-        let n = f.len();
-        let fluid = |i: usize| f.kind[i] == FLUID;
-        let r: Vec<f32> = (0..n)
-            .map(|i| {
-                if fluid(i) {
-                    pressure_increment(f.density[i], rest(f, p, i), f.pressure[i], k)
-                } else {
-                    0.0
-                }
-            })
-            .collect();
-        let state = &mut self.state;
-        if state.has_previous {
-            let s = state.next;
-            for i in 0..n {
-                self.dp[s][i] = f.pressure[i] - self.previous[i];
-                self.df[s][i] = r[i] - self.previous_f[i];
-            }
-            let valid = (state.held + 1).min(WINDOW);
-            let mut row = [0.0; WINDOW];
-            for l in 0..valid {
-                let (dot, error) = Self::dot(&self.df[s], &self.df[l]);
-                row[l] = dot;
-                self.gram_error[s][l] = error;
-                self.gram_error[l][s] = error;
-            }
-            state.push(&row);
-        }
-        let held = state.held;
-        let (mut rhs, mut rhs_error) = ([0.0; WINDOW], [0.0; WINDOW]);
-        for l in 0..held {
-            (rhs[l], rhs_error[l]) = Self::dot(&self.df[l], &r);
-        }
-        let gamma64 = state.coefficients(&rhs);
-        let mut dgamma = [0.0f64; WINDOW];
-        for l in 0..held {
-            let mut unit = [0.0; WINDOW];
-            unit[l] = 1.0;
-            let column = state.coefficients(&unit);
-            let e = rhs_error[l]
-                + (0..held)
-                    .map(|m| self.gram_error[l][m] * gamma64[m].abs())
-                    .sum::<f64>();
-            for (d, c) in dgamma.iter_mut().zip(column) {
-                *d += c.abs() * e;
-            }
-        }
-        let gamma = gamma64.map(|g| g as f32);
-        state.has_previous = true;
-        let (mut mixed, mut tol, mut jacobi) = (f.pressure.clone(), vec![0.0f64; n], f.pressure.clone());
-        for i in (0..n).filter(|&i| fluid(i)) {
-            let mut m = f.pressure[i] + r[i];
-            let mut magnitude = f64::from(f.pressure[i].abs() + r[i].abs());
-            jacobi[i] = m.max(0.0);
-            for l in 0..held {
-                let (a, b) = (self.dp[l][i], self.df[l][i]);
-                m -= gamma[l] * (a + b);
-                let size = f64::from(a.abs() + b.abs());
-                magnitude += f64::from(gamma[l]).abs() * size;
-                tol[i] += (dgamma[l] + EPS * gamma64[l].abs()) * size;
-            }
-            mixed[i] = m.max(0.0);
-            tol[i] += (3 * held + 2) as f64 * EPS * magnitude;
-        }
-        self.previous.clone_from(&f.pressure);
-        self.previous_f = r;
-        (mixed, tol, jacobi)
     }
 }
 
