@@ -4,7 +4,10 @@
 //! several), `wall_velocity` ([A12] eqs. 22–23), `move_solids` (`boundary::motion`) and
 //! `keep_out` (`boundary::keep_out`, nearest face and entry face).
 
-use crate::setup::{DX, RHO0, Rng, SUM_ORDER, add_strays, backends, by_id, in_id_order, neighbours, scene};
+use crate::setup::{
+    DX, Rng, SUM_ORDER, add_strays, backends, by_id, in_id_order, neighbours, scene, use_density_kernel,
+    use_phases,
+};
 use sph::backend::WallModel;
 use sph::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use sph::boundary::motion::{SolidKinematics, SolidReference};
@@ -12,7 +15,6 @@ use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::model::params::StepParams;
 use sph::physics::density::{DensityKernel, density_kernel};
-use sph::physics::lattice::lattice_spiky_scale;
 use sph::physics::multiphase::Phases;
 use sph::physics::rotating_frame::centrifugal_acceleration;
 
@@ -108,21 +110,8 @@ type WallCase = (WallModel, bool, bool);
 fn check_wall_pressure<const D: usize>(seed: u64, kernel: DensityKernel, phases: Phases) {
     let (mut f, mut p) = scene::<D>(seed);
     add_strays(&mut f, &p, seed ^ 0x5151);
-    p.density_kernel = kernel;
-    p.density_spiky_scale = match kernel {
-        DensityKernel::Poly6 => 0.0,
-        DensityKernel::ScaledSpiky => lattice_spiky_scale(&p.smoothing(), f64::from(DX)) as f32,
-    };
-    p.phases = phases;
-    if phases == Phases::Multi {
-        // Every third particle (solids too) eight times lighter, as in a light layer.
-        f.rest_density = (0..f.len())
-            .map(|i| if f.id[i] % 3 == 0 { RHO0 / 8.0 } else { RHO0 })
-            .collect();
-        for i in 0..f.len() {
-            f.mass[i] *= f.rest_density[i] / RHO0;
-        }
-    }
+    use_density_kernel(&mut p, kernel);
+    use_phases(&mut f, &mut p, phases, false);
     let r = in_id_order(&f);
     let solids: Vec<usize> = (0..r.len()).filter(|&i| r.kind[i] != FLUID).collect();
     let mut cases: Vec<(WallCase, Vec<(f64, f64)>)> = Vec::new();

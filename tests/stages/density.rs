@@ -1,12 +1,14 @@
 //! The `density` stage (eq. 18, both kernels, one phase and [HA06] several) and
 //! `equation_of_state` (eq. 19), on every backend, against brute-force sums.
 
-use crate::setup::{DX, RHO0, SUM_ORDER, add_strays, backends, by_id, in_id_order, neighbours, scene};
+use crate::setup::{
+    RHO0, SUM_ORDER, add_strays, backends, by_id, in_id_order, neighbours, scene, use_density_kernel,
+    use_phases,
+};
 use sph::fields::{FLUID, Fields};
 use sph::model::params::StepParams;
 use sph::physics::density::{DensityKernel, density_kernel};
 use sph::physics::eos;
-use sph::physics::lattice::lattice_spiky_scale;
 use sph::physics::multiphase::Phases;
 
 /// Eq. (18) by brute force, and the sum of its terms' magnitudes, for fluid particle `i` of `f`
@@ -32,21 +34,8 @@ fn reference_density<const D: usize>(f: &Fields<D>, p: &StepParams<D>, i: usize)
 fn check_density<const D: usize>(seed: u64, density_kernel: DensityKernel, phases: Phases) {
     let (mut f, mut p) = scene::<D>(seed);
     add_strays(&mut f, &p, seed ^ 0x5151);
-    p.density_kernel = density_kernel;
-    p.density_spiky_scale = match density_kernel {
-        DensityKernel::Poly6 => 0.0,
-        DensityKernel::ScaledSpiky => lattice_spiky_scale(&p.smoothing(), f64::from(DX)) as f32,
-    };
-    p.phases = phases;
-    if phases == Phases::Multi {
-        // Two phases: every third particle eight times lighter, as a light layer would be.
-        f.rest_density = (0..f.len())
-            .map(|i| if f.id[i] % 3 == 0 { RHO0 / 8.0 } else { RHO0 })
-            .collect();
-        for i in 0..f.len() {
-            f.mass[i] *= f.rest_density[i] / RHO0;
-        }
-    }
+    use_density_kernel(&mut p, density_kernel);
+    use_phases(&mut f, &mut p, phases, false);
     let reference = in_id_order(&f);
     for under in backends() {
         let (out, ()) = under.run(&f, &p, |b, f| b.density(f, &p));

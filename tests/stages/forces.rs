@@ -3,8 +3,8 @@
 //! eqs. 22–23) and without, on every backend, against brute-force sums.
 
 use crate::setup::{
-    RHO0, SUM_ORDER, add_strays, all_force_terms, assert_close, backends, by_id, in_id_order, neighbours,
-    norm, scene,
+    SUM_ORDER, add_strays, all_force_terms, assert_close, backends, by_id, in_id_order, neighbours, norm,
+    scene, use_phases,
 };
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
@@ -92,16 +92,7 @@ fn reference_acceleration<const D: usize>(
 fn forces_scene<const D: usize>(seed: u64, phases: Phases, no_slip: bool) -> (Fields<D>, StepParams<D>) {
     let (mut f, mut p) = scene::<D>(seed);
     add_strays(&mut f, &p, seed ^ 0x5151);
-    p.phases = phases;
-    if phases == Phases::Multi {
-        f.rest_density = (0..f.len())
-            .map(|i| if f.id[i] % 3 == 0 { RHO0 / 8.0 } else { RHO0 })
-            .collect();
-        for i in 0..f.len() {
-            f.mass[i] *= f.rest_density[i] / RHO0;
-            f.density[i] *= f.rest_density[i] / RHO0;
-        }
-    }
+    use_phases(&mut f, &mut p, phases, true);
     if !no_slip {
         f.wall_velocity.clear();
     }

@@ -8,6 +8,7 @@ use sph::math::Vector;
 use sph::model::params::StepParams;
 use sph::model::{ForceTerms, SurfaceTensionModel};
 use sph::physics::density::DensityKernel;
+use sph::physics::lattice::lattice_spiky_scale;
 use sph::physics::multiphase::Phases;
 
 /// Relative tolerance of a neighbour sum against the sum of its terms' magnitudes. Two orders of
@@ -266,6 +267,35 @@ pub fn swap_particles<const D: usize>(f: &mut Fields<D>, a: usize, b: usize) {
     }
     if !f.rest_density.is_empty() {
         f.rest_density.swap(a, b);
+    }
+}
+
+/// Sets the kernel of (18): poly6, or the spiky one scaled for the lattice
+/// (`physics::lattice::lattice_spiky_scale`).
+pub fn use_density_kernel<const D: usize>(p: &mut StepParams<D>, kernel: DensityKernel) {
+    p.density_kernel = kernel;
+    p.density_spiky_scale = match kernel {
+        DensityKernel::Poly6 => 0.0,
+        DensityKernel::ScaledSpiky => lattice_spiky_scale(&p.smoothing(), f64::from(DX)) as f32,
+    };
+}
+
+/// Makes `phases` the plan's; with [`Phases::Multi`] ([HA06]) every third particle by id
+/// (solids too) is eight times lighter, as in a light layer: its rest density and mass, and
+/// with `densities` its density too.
+pub fn use_phases<const D: usize>(f: &mut Fields<D>, p: &mut StepParams<D>, phases: Phases, densities: bool) {
+    p.phases = phases;
+    if phases == Phases::Multi {
+        f.rest_density = (0..f.len())
+            .map(|i| if f.id[i] % 3 == 0 { RHO0 / 8.0 } else { RHO0 })
+            .collect();
+        for i in 0..f.len() {
+            let ratio = f.rest_density[i] / RHO0;
+            f.mass[i] *= ratio;
+            if densities {
+                f.density[i] *= ratio;
+            }
+        }
     }
 }
 

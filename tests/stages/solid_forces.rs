@@ -4,7 +4,7 @@
 //! against brute-force sums of `boundary::solid_force::force_on_solid` over every solid
 //! particle and its fluid neighbours.
 
-use crate::setup::{RHO0, SOLIDS, SUM_ORDER, add_strays, backends, in_id_order, neighbours, scene};
+use crate::setup::{SOLIDS, SUM_ORDER, add_strays, backends, in_id_order, neighbours, scene, use_phases};
 use sph::backend::SolidForceSource;
 use sph::boundary::solid_force::force_on_solid;
 use sph::fields::{FLUID, Fields};
@@ -144,17 +144,7 @@ fn reference_forces<const D: usize>(
 fn check_solid_forces<const D: usize>(seed: u64, source: SolidForceSource, phases: Phases) {
     let (mut f, mut p) = scene::<D>(seed);
     add_strays(&mut f, &p, seed ^ 0x5151);
-    p.phases = phases;
-    if phases == Phases::Multi {
-        // Every third particle eight times lighter, as in a light layer.
-        f.rest_density = (0..f.len())
-            .map(|i| if f.id[i] % 3 == 0 { RHO0 / 8.0 } else { RHO0 })
-            .collect();
-        for i in 0..f.len() {
-            f.mass[i] *= f.rest_density[i] / RHO0;
-            f.density[i] *= f.rest_density[i] / RHO0;
-        }
-    }
+    use_phases(&mut f, &mut p, phases, true);
     let r = in_id_order(&f);
     let params = source.params(&p);
     let pressure: Vec<(f32, f64)> = match source {
