@@ -9,26 +9,36 @@
 //! - Generates from `kernels/launch.table` the CUDA backend's launchers (cudarc and host shim,
 //!   `$OUT_DIR/launch.rs`) and the shim's C++ launchers (`$OUT_DIR/shim_exports.inc`):
 //!   `build/kernel_table.rs`.
+//! - Generates from `kernels/pair_terms.table` the force stage's optional pair terms: their Rust
+//!   vocabulary (`$OUT_DIR/pair_terms.rs`, `model::pair_terms`) and CUDA mirror
+//!   (`$OUT_DIR/pair_coefficients.cuh`, `$OUT_DIR/pair_terms_sum.cuh`): `build/pair_terms.rs`.
 use std::fs;
 use std::path::{Path, PathBuf};
 
 #[path = "build/kernel_table.rs"]
 mod kernel_table;
+#[path = "build/pair_terms.rs"]
+mod pair_terms;
 
-/// `source` with every `#include "name"` of a file beside it replaced by that file's text
-/// (recursively, each header once, as `#pragma once` would).
-fn inline_includes(dir: &Path, source: &str, seen: &mut Vec<String>) -> String {
+/// `source` with every `#include "name"` of a file beside it or generated into `$OUT_DIR`
+/// (`dirs`, searched in order) replaced by that file's text (recursively, each header once, as
+/// `#pragma once` would).
+fn inline_includes(dirs: &[&Path], source: &str, seen: &mut Vec<String>) -> String {
     let mut out = String::new();
     for line in source.lines() {
         let trimmed = line.trim();
         if let Some(rest) = trimmed.strip_prefix("#include \"") {
             let name = rest.trim_end_matches('"').to_string();
             if !seen.contains(&name) {
-                let path = dir.join(&name);
+                let path = dirs
+                    .iter()
+                    .map(|d| d.join(&name))
+                    .find(|p| p.exists())
+                    .unwrap_or_else(|| panic!("kernels: no header {name}"));
                 let text = fs::read_to_string(&path)
                     .unwrap_or_else(|e| panic!("kernels: cannot read {}: {e}", path.display()));
                 seen.push(name);
-                out.push_str(&inline_includes(dir, &text, seen));
+                out.push_str(&inline_includes(dirs, &text, seen));
             }
             continue;
         }
@@ -46,6 +56,20 @@ fn main() {
     let kernels = manifest.join("kernels");
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-changed=kernels");
+    println!("cargo::rerun-if-changed=build");
+    let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets it"));
+    let terms = pair_terms::parse(
+        &fs::read_to_string(kernels.join("pair_terms.table")).expect("kernels/pair_terms.table"),
+    );
+    fs::write(out.join("pair_terms.rs"), pair_terms::rust(&terms)).expect("writable OUT_DIR");
+    let (coefficients, sum) = pair_terms::cuda(&terms);
+    fs::write(out.join("pair_coefficients.cuh"), coefficients).expect("writable OUT_DIR");
+    fs::write(out.join("pair_terms_sum.cuh"), sum).expect("writable OUT_DIR");
+    let table = fs::read_to_string(kernels.join("launch.table")).expect("kernels/launch.table");
+    let entries = kernel_table::parse(&table, terms.len());
+    for (name, text) in kernel_table::entries(&entries) {
+        fs::write(out.join(name), text).expect("writable OUT_DIR");
+    }
     let mut names: Vec<PathBuf> = fs::read_dir(&kernels)
         .expect("kernels/ exists")
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -59,17 +83,13 @@ fn main() {
     for path in &names {
         println!("cargo::rerun-if-changed={}", path.display());
         let text = fs::read_to_string(path).expect("readable kernel");
-        let source = inline_includes(&kernels, &text, &mut Vec::new());
+        let source = inline_includes(&[&kernels, &out], &text, &mut Vec::new());
         let stem = path.file_stem().expect("file name").to_string_lossy();
         generated.push_str(&format!("    ({stem:?}, {source:?}),\n"));
     }
     generated.push_str("];\n");
-    let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets it"));
     fs::write(out.join("kernels.rs"), generated).expect("writable OUT_DIR");
 
-    println!("cargo::rerun-if-changed=build");
-    let table = fs::read_to_string(kernels.join("launch.table")).expect("kernels/launch.table");
-    let entries = kernel_table::parse(&table);
     let (launch, externs) = kernel_table::rust(&entries);
     fs::write(out.join("launch.rs"), launch).expect("writable OUT_DIR");
     fs::write(out.join("shim_externs.rs"), externs).expect("writable OUT_DIR");

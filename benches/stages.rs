@@ -44,6 +44,7 @@ use criterion::{
 use sph::backend::cpu::CpuBackend;
 use sph::backend::{Backend, ForceTerms, SolidForceSource, WallModel};
 use sph::fields::Fields;
+use sph::model::pair_terms::{PairTerm, PairTerms};
 use sph::output::Encoding;
 use sph::output::vtu::{Frame, write_vtu};
 use sph::physics::lattice::{correction_stiffness, lattice_gradient_moment};
@@ -344,13 +345,11 @@ fn stages(c: &mut Criterion) {
     let mut column = Prepared::<3>::new(&COLUMN_3D, &[]);
     let mut dam = Prepared::<2>::new(&DAM_2D, &[]);
     let pressure_only = ForceTerms {
-        viscosity: false,
-        artificial_viscosity: false,
+        pair: PairTerms::NONE,
         rotating_frame: false,
     };
     let with_viscosity = ForceTerms {
-        viscosity: true,
-        artificial_viscosity: false,
+        pair: PairTerms::NONE.with(PairTerm::Viscosity),
         rotating_frame: false,
     };
 

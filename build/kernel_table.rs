@@ -30,6 +30,47 @@ pub struct Entry {
     /// Thread count expression: an argument name, a literal, or `a/b` rounded up.
     pub threads: String,
     pub args: Vec<Arg>,
+    /// A generated family (`body=NAME`): the device template every entry calls, and each
+    /// entry's template arguments, in `kernels` order.
+    pub body: Option<(String, Vec<String>)>,
+}
+
+/// The entries of a generated family `name{terms}{rotating}{phases}`: each placeholder in turn
+/// (the first fastest) takes its values, giving the entry's name and template arguments:
+/// `{terms}` the pair-term sets `_t0 .. _t(2^terms - 1)` (`u32` bits, `model::pair_terms`),
+/// `{rotating}` none and `_r` (`bool`), `{phases}` none and `_mp` (`bool`, [HA06]).
+fn expand(pattern: &str, pair_terms: usize) -> Vec<(String, String)> {
+    let mut out = vec![(String::new(), Vec::<String>::new())];
+    let mut rest = pattern;
+    while let Some(open) = rest.find('{') {
+        let close = rest[open..]
+            .find('}')
+            .map(|c| open + c)
+            .unwrap_or_else(|| panic!("kernels/launch.table: unclosed `{{` in `{pattern}`"));
+        let literal = &rest[..open];
+        let values: Vec<(String, String)> = match &rest[open + 1..close] {
+            "terms" => (0..1u32 << pair_terms)
+                .map(|b| (format!("_t{b}"), format!("{b}u")))
+                .collect(),
+            "rotating" => vec![(String::new(), "false".into()), ("_r".into(), "true".into())],
+            "phases" => vec![(String::new(), "false".into()), ("_mp".into(), "true".into())],
+            other => panic!("kernels/launch.table: unknown placeholder `{{{other}}}`"),
+        };
+        // Earlier placeholders vary fastest: the new one is the outer loop.
+        let mut next = Vec::new();
+        for (suffix, arg) in &values {
+            for (name, args) in &out {
+                let mut args = args.clone();
+                args.push(arg.clone());
+                next.push((format!("{name}{literal}{suffix}"), args));
+            }
+        }
+        out = next;
+        rest = &rest[close + 1..];
+    }
+    out.into_iter()
+        .map(|(name, args)| (format!("{name}{rest}"), args.join(", ")))
+        .collect()
 }
 
 fn element(name: &str) -> &'static str {
@@ -68,8 +109,9 @@ fn arg_type(text: &str) -> ArgType {
     }
 }
 
-/// Parses the table: `#` comments, lines continued while they start with white space.
-pub fn parse(text: &str) -> Vec<Entry> {
+/// Parses the table: `#` comments, lines continued while they start with white space;
+/// `pair_terms` is the number of terms of `kernels/pair_terms.table` (`{terms}`).
+pub fn parse(text: &str, pair_terms: usize) -> Vec<Entry> {
     let mut lines: Vec<String> = Vec::new();
     for line in text.lines() {
         let content = line.split('#').next().unwrap_or("");
@@ -86,10 +128,10 @@ pub fn parse(text: &str) -> Vec<Entry> {
             lines.push(content.trim().to_string());
         }
     }
-    lines.iter().map(|l| parse_line(l)).collect()
+    lines.iter().map(|l| parse_line(l, pair_terms)).collect()
 }
 
-fn parse_line(line: &str) -> Entry {
+fn parse_line(line: &str, pair_terms: usize) -> Entry {
     let open = line
         .find('(')
         .unwrap_or_else(|| panic!("kernels/launch.table: no `(` in `{line}`"));
@@ -111,14 +153,30 @@ fn parse_line(line: &str) -> Entry {
         })
         .collect();
     let mut threads = None;
+    let mut body_name = None;
     let mut words: Vec<&str> = Vec::new();
     for w in head.split_whitespace() {
-        match w.strip_prefix("threads=") {
-            Some(expr) => threads = Some(expr.to_string()),
-            None => words.push(w),
+        if let Some(expr) = w.strip_prefix("threads=") {
+            threads = Some(expr.to_string());
+        } else if let Some(name) = w.strip_prefix("body=") {
+            body_name = Some(name.to_string());
+        } else {
+            words.push(w);
         }
     }
+    let mut body = None;
     let (method, kernels) = match words.iter().position(|w| *w == "=") {
+        Some(1) if words.len() == 3 && words[2].contains('{') => {
+            let generated = expand(words[2], pair_terms);
+            let name = body_name
+                .take()
+                .unwrap_or_else(|| panic!("kernels/launch.table: `{}` needs `body=`", words[0]));
+            body = Some((name, generated.iter().map(|(_, a)| a.clone()).collect()));
+            (
+                words[0].to_string(),
+                generated.into_iter().map(|(n, _)| n).collect(),
+            )
+        }
         Some(1) => (
             words[0].to_string(),
             words[2..].iter().map(|w| w.to_string()).collect(),
@@ -136,12 +194,47 @@ fn parse_line(line: &str) -> Entry {
         .first()
         .map(|a| a.name.clone())
         .expect("a kernel has arguments");
+    assert!(
+        body_name.is_none(),
+        "kernels/launch.table: `body=` is for a family with placeholders, in `{line}`"
+    );
     Entry {
         method,
         kernels,
         threads: threads.unwrap_or(first),
         args,
+        body,
     }
+}
+
+/// `$OUT_DIR/entries_<family>.cuh` for each generated family: one kernel per entry, calling
+/// the family's device template with the entry's arguments (included at the end of the
+/// family's `.cu`).
+pub fn entries(entries: &[Entry]) -> Vec<(String, String)> {
+    let mut files = Vec::new();
+    for e in entries {
+        let Some((body, templates)) = &e.body else {
+            continue;
+        };
+        let mut s =
+            String::from("// Generated by build.rs from kernels/launch.table; do not edit.\n#pragma once\n");
+        let params: Vec<String> = e
+            .args
+            .iter()
+            .map(|a| format!("{} {}", c_type(a.ty, true), a.name))
+            .collect();
+        let pass: Vec<&str> = e.args.iter().map(|a| a.name.as_str()).collect();
+        for (k, t) in e.kernels.iter().zip(templates) {
+            let _ = writeln!(
+                s,
+                "SPH_KERNEL({k})({}) {{\n    {body}<{t}>({});\n}}",
+                params.join(", "),
+                pass.join(", ")
+            );
+        }
+        files.push((format!("entries_{}.cuh", e.method), s));
+    }
+    files
 }
 
 /// The thread count as Rust (`usize`).
@@ -195,6 +288,26 @@ fn c_element(e: &str) -> &'static str {
         "i32" => "int",
         "f64" => "double",
         _ => "Extremes",
+    }
+}
+
+/// An argument's C++ type: in a kernel's signature (`kernel`: the structs by value, buffers
+/// `__restrict__`), or in a shim launcher's (the structs by pointer).
+fn c_type(ty: ArgType, kernel: bool) -> String {
+    match ty {
+        ArgType::Scalar("u32") => "u32".to_string(),
+        ArgType::Scalar("i32") => "int".to_string(),
+        ArgType::Scalar(_) => "float".to_string(),
+        ArgType::Params if kernel => "StepParams".to_string(),
+        ArgType::Params => "const StepParams*".to_string(),
+        ArgType::Grid if kernel => "GridGeometry".to_string(),
+        ArgType::Grid => "const GridGeometry*".to_string(),
+        ArgType::Buffer { element, write } => format!(
+            "{}{}*{}",
+            if write { "" } else { "const " },
+            c_element(element),
+            if kernel { " __restrict__" } else { "" }
+        ),
     }
 }
 
@@ -430,16 +543,7 @@ pub fn cpp(entries: &[Entry]) -> String {
             .args
             .iter()
             .map(|a| {
-                let ty = match a.ty {
-                    ArgType::Scalar("u32") => "u32".to_string(),
-                    ArgType::Scalar("i32") => "int".to_string(),
-                    ArgType::Scalar(_) => "float".to_string(),
-                    ArgType::Params => "const StepParams*".to_string(),
-                    ArgType::Grid => "const GridGeometry*".to_string(),
-                    ArgType::Buffer { element, write } => {
-                        format!("{}{}*", if write { "" } else { "const " }, c_element(element))
-                    }
-                };
+                let ty = c_type(a.ty, false);
                 // Suffixed: a parameter named as a kernel (`density`) would hide it.
                 format!("{ty} {}_", a.name)
             })

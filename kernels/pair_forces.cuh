@@ -3,6 +3,8 @@
 // `physics::artificial_viscosity` and `boundary::solid_force`, shared by `forces.cu`,
 // `solid_forces.cu` and `correction.cu`. Every formula keeps its twin's order of f32 operations,
 // so one pair term is bitwise equal on both sides; only the order of the neighbour sums differs.
+// The optional pair terms (`kernels/pair_terms.table`) each have a twin here taking a `Pair`;
+// their sum `add_pair_terms<TERMS>` is generated (`pair_terms_sum.cuh`).
 #pragma once
 
 #include "sph.cuh"
@@ -35,24 +37,43 @@ __device__ __forceinline__ vec_t artificial_viscous_acceleration(float alpha, fl
     return vscale(grad_w, -m_j * pi);
 }
 
-/// Force [N] (per unit depth in 2D) on solid particle s from fluid particle f: m_s times the pair
-/// accelerations from the solid's side, with the solid's velocity u_s (zero for a fixed solid,
-/// d'(t) for a moving one) in the artificial viscosity and `uv_s` in (17) (its no-slip velocity,
-/// [A12] eqs. 22-23, or u_s), (17) scaled by `p.viscosity_scale`. `offset = x_s - x_f`, `r2` its
-/// squared length, `grad_w` the scaled spiky gradient. Twin of `solid_force::force_on_solid`.
-__device__ __forceinline__ vec_t force_on_solid(const StepParams& p, float m_s, float p_s, float rho_s,
-                                                float m_f, float p_f, float rho_f, vec_t offset,
-                                                float r2, vec_t u_s, vec_t u_f, vec_t uv_s,
-                                                vec_t grad_w, float laplacian_w) {
-    vec_t a = pressure_acceleration(p_s, rho_s, p_f, rho_f, m_f, grad_w);
-    if (p.mu > 0.0f) {
-        const float mu = p.mu * p.viscosity_scale;
-        a = vadd(a, viscous_acceleration(mu, uv_s, u_f, rho_s, rho_f, m_f, laplacian_w));
-    }
-    if (p.alpha > 0.0f) {
-        vec_t u_sf = vsub(u_s, u_f);
-        a = vadd(a, artificial_viscous_acceleration(p.alpha, p.c, p.h, offset, r2, u_sf, rho_s, rho_f,
-                                                    m_f, grad_w));
-    }
-    return vscale(a, m_s);
+/// Twin of `physics::pair::Pair`: particle i and neighbour j as every optional pair term sees
+/// them. `x_ij` [m] (after `pair_offset`), `r2 = |x_ij|^2`, `r = |x_ij|`; `u_i`, `u_j` the
+/// velocities [m/s]; `viscous_u_i`, `viscous_u_j` the velocities of (17) (a solid's no-slip
+/// velocity, [A12] eqs. 22-23); `grad_w` the scaled spiky gradient; `s` the kernels.
+struct Pair {
+    vec_t x_ij;
+    float r2, r;
+    vec_t u_i, u_j, viscous_u_i, viscous_u_j;
+    float rho_i, rho_j, m_j;
+    vec_t grad_w;
+    Smoothing s;
+};
+
+/// [M92] between the pair's particles. Twin of `artificial_viscosity::pair_acceleration`.
+__device__ __forceinline__ vec_t artificial_viscosity_pair(const StepParams& p, const Pair& c) {
+    const vec_t u_ij = vsub(c.u_i, c.u_j);
+    return artificial_viscous_acceleration(p.pair.alpha, p.c, p.h, c.x_ij, c.r2, u_ij, c.rho_i, c.rho_j,
+                                           c.m_j, c.grad_w);
+}
+
+/// Eq. (17) with the lattice's Laplacian moment undone (`physics::lattice`). Twin of
+/// `viscosity::pair_acceleration`.
+__device__ __forceinline__ vec_t viscosity_pair(const StepParams& p, const Pair& c) {
+    const float mu = p.pair.mu * p.viscosity_scale;
+    return viscous_acceleration(mu, c.viscous_u_i, c.viscous_u_j, c.rho_i, c.rho_j, c.m_j,
+                                laplacian_w_viscosity(c.s, c.r));
+}
+
+#include "pair_terms_sum.cuh"
+
+/// Force [N] (per unit depth in 2D) on solid particle s from fluid particle f: m_s times the
+/// pressure acceleration (16) and the pair terms of `TERMS` from the solid's side (`c.u_i` the
+/// solid's velocity u_s, zero for a fixed solid and d'(t) for a moving one; `c.viscous_u_i` its
+/// no-slip velocity or u_s). Twin of `solid_force::force_on_solid`.
+template <u32 TERMS>
+__device__ __forceinline__ vec_t force_on_solid(const StepParams& p, float m_s, float p_s, float p_f,
+                                                const Pair& c) {
+    vec_t a = pressure_acceleration(p_s, c.rho_i, p_f, c.rho_j, c.m_j, c.grad_w);
+    return vscale(add_pair_terms<TERMS>(a, p, c), m_s);
 }

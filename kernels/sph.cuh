@@ -60,13 +60,14 @@ __device__ __forceinline__ float vdot(vec_t a, vec_t b) {
     return s;
 }
 
+#include "pair_coefficients.cuh"
+
 /// Mirror of `model::params::StepParams<D>` (`#[repr(C)]`), SI units.
 struct StepParams {
     float h;                        // kernel support [m]
     float rho0;                     // rest density [kg/m^3]
     float c2;                       // C^2 of eq. (19) [m^2/s^2]
-    float mu;                       // dynamic viscosity, eq. (17) [Pa s]
-    float alpha;                    // artificial viscosity coefficient
+    PairCoefficients pair;          // the pair terms' coefficients (kernels/pair_terms.table)
     float c;                        // sound speed [m/s]
     float pressure_gradient_scale;  // 1/kappa of the spiky gradient in eq. (16)
     float gravity[D];               // [m/s^2]

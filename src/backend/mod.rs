@@ -12,13 +12,14 @@ use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::Vector;
+use crate::model::pair_terms::PairTerms;
 use params::StepParams;
 
 /// Which forces on solids `Backend::solid_forces` sums.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SolidForceSource {
-    /// Pressure (16), viscosity (17) and artificial viscosity of the force stage.
-    Forces,
+    /// Pressure (16) and the force stage's optional pair terms (`ForceTerms::pair`).
+    Forces(PairTerms),
     /// The pressure increments `δp` of the current correction sweep (eqs. 23–24), at the
     /// positions the sweep starts from: the sweep's impulse on the solids is this force times
     /// `τ` and the sweep's `scale` (`Backend::correct_positions`).
@@ -26,16 +27,12 @@ pub enum SolidForceSource {
 }
 
 impl SolidForceSource {
-    /// The parameters the force on solids is summed with: the correction moves particles by
-    /// pressure alone, so its source has no viscous terms.
-    pub fn params<const D: usize>(self, params: &StepParams<D>) -> StepParams<D> {
+    /// The pair terms the force on solids is summed with: the correction moves particles by
+    /// pressure alone, so its source has none.
+    pub fn pair_terms(self) -> PairTerms {
         match self {
-            SolidForceSource::Forces => *params,
-            SolidForceSource::Correction => StepParams {
-                mu: 0.0,
-                alpha: 0.0,
-                ..*params
-            },
+            SolidForceSource::Forces(terms) => terms,
+            SolidForceSource::Correction => PairTerms::NONE,
         }
     }
 }

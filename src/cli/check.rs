@@ -161,13 +161,17 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
             effects.join(", ")
         }
     );
-    let viscosity = scene.viscosity.is_some();
+    let pair_terms: Vec<&str> = scene.pair_terms.iter().map(|(t, _)| t.label()).collect();
     let plan = crate::solver::plan::plan(crate::run::plan_inputs(&scene));
     let names: Vec<&str> = plan.iter().map(|s| s.name()).collect();
     println!(
         "  plan             {}{}",
         names.join(" → "),
-        if viscosity { " (forces with viscosity)" } else { "" }
+        if pair_terms.is_empty() {
+            String::new()
+        } else {
+            format!(" (forces with {})", pair_terms.join(", "))
+        }
     );
     let skipped = skipped_references(&scene);
     for probe in scene.probes.iter().filter(|p| p.reference.is_some()) {

@@ -79,11 +79,14 @@ fn effect(scene: &Scene, e: Effect) -> String {
                 format!("gravity g = {g} m/s^2")
             }
         }
-        Effect::Viscosity => format!("viscosity mu = {} Pa s", scene.viscosity.unwrap_or(0.0)),
-        Effect::ArtificialViscosity => format!(
-            "artificial_viscosity alpha = {}",
-            scene.artificial_viscosity.unwrap_or(0.0)
-        ),
+        Effect::Pair(term) => {
+            let unit = match term.unit() {
+                "" => String::new(),
+                u => format!(" {u}"),
+            };
+            let value = scene.pair_terms.get(term).unwrap_or(0.0);
+            format!("{} {} = {value}{unit}", term.name(), term.symbol())
+        }
         Effect::RotatingFrame => format!(
             "rotating_frame Omega = {} rad/s about the axis through {} m: Coriolis and centrifugal force",
             vector(&scene.angular_velocity.unwrap_or_default()),

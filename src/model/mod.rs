@@ -3,30 +3,31 @@
 //! solver, which builds the plan, and the backends, which run it, import it from here; so do the
 //! scene and the boundary code, without depending on a backend.
 
+pub mod pair_terms;
 pub mod params;
 
+use crate::physics::multiphase::Phases;
+use pair_terms::PairTerms;
 use serde::Deserialize;
 
 /// Which terms the force stage computes; a term a scene does not ask for is compiled out
-/// (the CPU backend monomorphises the force loop on these flags).
+/// (the CPU backend monomorphises the force loop on them, the CUDA backend launches the entry
+/// compiled for them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ForceTerms {
-    /// Eq. (17), the viscous force.
-    pub viscosity: bool,
-    /// Monaghan's artificial viscosity ([M92]).
-    pub artificial_viscosity: bool,
+    /// The optional per-pair terms besides the pressure force (16) (`kernels/pair_terms.table`).
+    pub pair: PairTerms,
     /// Coriolis and centrifugal forces of a rotating frame ([B67] §3.2,
     /// `physics::rotating_frame`).
     pub rotating_frame: bool,
 }
 
 impl ForceTerms {
-    /// The term set as a number in `0..8`: `viscosity + 2 artificial_viscosity + 4
-    /// rotating_frame`, for tables indexed by term set.
-    pub fn index(self) -> usize {
-        usize::from(self.viscosity)
-            + 2 * usize::from(self.artificial_viscosity)
-            + 4 * usize::from(self.rotating_frame)
+    /// The entry of the generated `forces` family (`kernels/launch.table`,
+    /// `forces{terms}{rotating}{phases}`) for these terms and `phases`.
+    pub fn entry(self, phases: Phases) -> usize {
+        self.pair.bits() as usize
+            + PairTerms::SETS * (usize::from(self.rotating_frame) + 2 * usize::from(phases == Phases::Multi))
     }
 }
 

@@ -3,6 +3,7 @@
 //! `kernels/sph.cuh`.
 
 use super::SurfaceTensionModel;
+use super::pair_terms::PairCoefficients;
 use crate::math::{Real, Vector};
 use crate::physics::density::{DensityKernel, DensityWeight};
 use crate::physics::multiphase::Phases;
@@ -18,10 +19,9 @@ pub struct StepParams<const D: usize> {
     pub rho0: Real,
     /// Squared sound speed `C²` [m²/s²] of eq. (19).
     pub c2: Real,
-    /// Dynamic viscosity `μ` [Pa s] of eq. (17); 0 when the scene has no viscosity.
-    pub mu: Real,
-    /// Artificial-viscosity coefficient `α` ([M92]); 0 when the scene has no such effect.
-    pub alpha: Real,
+    /// The coefficients of the force stage's optional pair terms (`kernels/pair_terms.table`);
+    /// which terms a stage evaluates is the plan's `ForceTerms`, never these values.
+    pub pair: PairCoefficients,
     /// Sound speed `C` [m/s] (used by the artificial viscosity).
     pub c: Real,
     /// `1/κ`: scale of the spiky gradient in the pressure force (16), see

@@ -9,7 +9,9 @@
 //! References: [M92] J. J. Monaghan, "Smoothed particle hydrodynamics", Annu. Rev. Astron.
 //! Astrophys. 30, 543–574 (1992), eq. (4.1).
 
+use super::pair::{Pair, ViscousMedium};
 use crate::math::{Real, Vector};
+use crate::model::params::StepParams;
 
 /// [M92] eq. (4.1): acceleration [m/s²] of `i` due to `j`, `−m_j Π_ij ∇W_ij`, with
 /// `Π_ij = −α C μ_ij / ρ̄_ij`, `μ_ij = ĥ u_ij·x_ij / (r² + 0.01 ĥ²)` for approaching particles
@@ -54,4 +56,27 @@ pub fn artificial_viscous_acceleration<const D: usize>(
 /// one in shear, so the step is the safer one.
 pub fn equivalent_viscosity(alpha: f64, c: f64, h: f64, dimension: usize) -> f64 {
     alpha * c * 0.5 * h / (2.0 * (dimension as f64 + 2.0))
+}
+
+/// [`artificial_viscous_acceleration`] between the pair's particles, with `α = params.pair.alpha`
+/// (the `artificial_viscosity` line of `kernels/pair_terms.table`).
+#[inline(always)]
+pub fn pair_acceleration<const D: usize>(params: &StepParams<D>, pair: &Pair<'_, D>) -> Vector<D> {
+    let u_ij = pair.u_i - pair.u_j;
+    artificial_viscous_acceleration(
+        params.pair.alpha,
+        params.c,
+        params.h,
+        pair.x_ij,
+        &u_ij,
+        pair.rho_i,
+        pair.rho_j,
+        pair.m_j,
+        pair.grad_w,
+    )
+}
+
+/// The step limit's viscosity [m²/s] of coefficient `alpha`: [`equivalent_viscosity`].
+pub fn step_viscosity(alpha: f64, medium: &ViscousMedium) -> f64 {
+    equivalent_viscosity(alpha, medium.sound_speed, medium.h, medium.dimension)
 }

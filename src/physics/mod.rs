@@ -13,6 +13,7 @@ pub mod eos;
 pub mod gravity;
 pub mod lattice;
 pub mod multiphase;
+pub mod pair;
 pub mod pressure;
 pub mod rotating_frame;
 pub mod surface_stress;

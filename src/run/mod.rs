@@ -97,16 +97,7 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
         h: scene.smoothing_length,
         rho0: scene.rho0,
         sound_speed: scene.sound_speed,
-        viscosity: if scene.has(Effect::Viscosity) {
-            scene.viscosity
-        } else {
-            None
-        },
-        artificial_viscosity: if scene.has(Effect::ArtificialViscosity) {
-            scene.artificial_viscosity
-        } else {
-            None
-        },
+        pair_terms: scene.pair_terms,
         gravity: if scene.has(Effect::Gravity) {
             scene.gravity.as_deref().map(vector)
         } else {

@@ -6,14 +6,16 @@
 //! infinite particle mass, a sound speed flushed to 0). Each value must be 0 (where 0 is
 //! allowed) or have a magnitude in [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`]; so must the derived
 //! scales: the particle mass `ρ0 dx^D`, the pressure scale `ρ0 C²`, the acoustic acceleration
-//! `C²/h`, the artificial viscosity's `α C`, the kinematic viscosity `μ/ρ0` and the speed
-//! gravity gives over the run, `|g| T`. The kernels' normalisation constants (up to
+//! `C²/h`, each pair term's equivalent kinematic viscosity in each phase (`μ/ρ0` for the
+//! viscosity, `α C h/(4(D+2))` for the artificial viscosity) and the speed gravity gives over
+//! the run, `|g| T`. The kernels' normalisation constants (up to
 //! `h^-(D+6)`, `smoothing::Smoothing::new`) are stored as f32 and must be normal f32 numbers.
 //! Coordinates (domain, boxes, rotation centre) may be 0 or tiny but not above the largest
 //! magnitude.
 
 use super::validate::{RawProblem, num};
 use super::{KeyPath, Scene};
+use crate::physics::pair::ViscousMedium;
 use crate::smoothing::Smoothing;
 
 /// The smallest non-zero magnitude of a scene value or derived scale (SI units): 1e-30. The
@@ -132,11 +134,8 @@ pub(crate) fn check(scene: &Scene) -> Vec<RawProblem> {
     m.value(pp.k("spacing"), scene.spacing, Rule::Positive);
     m.value(fp.k("rho0"), scene.rho0, Rule::Positive);
     m.value(fp.k("sound_speed"), scene.sound_speed, Rule::Positive);
-    if let Some(mu) = scene.viscosity {
-        m.value(fp.k("viscosity"), mu, Rule::ZeroOr);
-    }
-    if let Some(alpha) = scene.artificial_viscosity {
-        m.value(fp.k("artificial_viscosity"), alpha, Rule::ZeroOr);
+    for (term, coefficient) in scene.pair_terms.iter() {
+        m.value(fp.k(term.name()), coefficient, Rule::ZeroOr);
     }
     if let Some(g) = &scene.gravity {
         m.values(fp.k("gravity"), g, Rule::ZeroOr);
@@ -208,12 +207,24 @@ fn derived_scales(m: &mut Magnitudes, scene: &Scene) {
             "Pa",
             &[(rho_key.clone(), *rho0), (fp.k("sound_speed"), c)],
         );
-        if let Some(mu) = scene.viscosity.filter(|&mu| mu > 0.0) {
+        // Each pair term's equivalent kinematic viscosity in this phase (the step limit's).
+        let medium = ViscousMedium {
+            sound_speed: c,
+            h,
+            dimension: scene.dimension,
+            lightest_rho0: *rho0,
+            viscosity_scale: 1.0,
+        };
+        for (term, coefficient) in scene.pair_terms.iter().filter(|(_, v)| *v > 0.0) {
             m.derived(
-                &format!("kinematic viscosity viscosity / {rho_key}"),
-                mu / rho0,
+                &format!("kinematic viscosity of fluid.{} with {rho_key}", term.name()),
+                term.step_viscosity(coefficient, &medium),
                 "m^2/s",
-                &[(fp.k("viscosity"), mu), (rho_key.clone(), *rho0)],
+                &[
+                    (fp.k(term.name()), coefficient),
+                    (rho_key.clone(), *rho0),
+                    (fp.k("sound_speed"), c),
+                ],
             );
         }
     }
@@ -223,14 +234,6 @@ fn derived_scales(m: &mut Magnitudes, scene: &Scene) {
         "m/s^2",
         &[(fp.k("sound_speed"), c), (pp.k("spacing"), dx)],
     );
-    if let Some(alpha) = scene.artificial_viscosity.filter(|&a| a > 0.0) {
-        m.derived(
-            "artificial viscosity artificial_viscosity * sound_speed",
-            alpha * c,
-            "m/s",
-            &[(fp.k("artificial_viscosity"), alpha), (fp.k("sound_speed"), c)],
-        );
-    }
     if let Some(g) = &scene.gravity {
         let norm = g.iter().map(|x| x * x).sum::<f64>().sqrt();
         if norm > 0.0 {

@@ -71,10 +71,9 @@ pub struct Scene {
     pub rho0: f64,
     /// Numerical speed of sound c0 \[m/s\].
     pub sound_speed: f64,
-    /// Dynamic viscosity \[Pa s\]; `Some` iff [`Effect::Viscosity`] is enabled.
-    pub viscosity: Option<f64>,
-    /// Artificial-viscosity coefficient alpha; `Some` iff [`Effect::ArtificialViscosity`] is on.
-    pub artificial_viscosity: Option<f64>,
+    /// The force stage's optional pair terms with their coefficients (`kernels/pair_terms.table`):
+    /// a term is on iff its [`Effect::Pair`] is enabled.
+    pub pair_terms: crate::model::pair_terms::PairTermSettings,
     /// Gravitational acceleration \[m/s^2\]; `Some` iff [`Effect::Gravity`] is enabled.
     pub gravity: Option<Vec<f64>>,
     /// Gravity ramp-in time \[s\] (0 = full gravity from t = 0).

@@ -9,8 +9,8 @@
 //!
 //! The step is estimated with the solver's own rule ([`crate::solver::timestep::choose`]) from
 //! the scene's values: the sound speed (`wcsph` only; the corrected solver has no acoustic
-//! limit), the viscous limit of the physical viscosity (divided by its lattice moment, as the
-//! solver does) plus the artificial viscosity's equivalent viscosity, the force limit of
+//! limit), the viscous limit of the pair terms' equivalent viscosities (`PairTerm::step_viscosity`,
+//! the physical viscosity divided by its lattice moment, as the solver does), the force limit of
 //! gravity, a fixed `solver.dt`, and as flow speed the largest of the fluid boxes' initial
 //! speeds, the moving walls' speeds and the shallow-water speed `sqrt(|g| H)` of the tallest
 //! fluid box (`H` its extent along gravity). At run time the flow decides the speed; the
@@ -20,8 +20,9 @@
 use super::magnitude::short;
 use super::validate::RawProblem;
 use super::{KeyPath, Scene, SolverKind};
-use crate::physics::artificial_viscosity::equivalent_viscosity;
+use crate::model::pair_terms::PairTerm;
 use crate::physics::lattice::lattice_laplacian_moment;
+use crate::physics::pair::ViscousMedium;
 use crate::smoothing::Smoothing;
 use crate::solver::timestep::{self, TimeStepInputs, TimeStepLimit};
 
@@ -109,8 +110,8 @@ struct Estimate {
     dt: f64,
     limit: TimeStepLimit,
     inputs: TimeStepInputs,
-    /// The physical viscosity's share of `inputs.kinematic_viscosity` [m²/s].
-    physical_viscosity: f64,
+    /// Each pair term's share of `inputs.kinematic_viscosity` [m²/s], in table order.
+    viscosities: Vec<(PairTerm, f64)>,
 }
 
 /// The step [`timestep::choose`] takes with the scene's values (see the module documentation).
@@ -146,11 +147,19 @@ fn estimate(scene: &Scene) -> Estimate {
         .iter()
         .filter_map(|b| b.rho0)
         .fold(scene.rho0, f64::min);
-    let physical_viscosity = match scene.viscosity {
-        Some(mu) if mu > 0.0 => mu / lightest / laplacian_moment(d, h, dx, scene.rho0),
-        _ => 0.0,
+    // Each pair term's equivalent kinematic viscosity, as the solver bounds its step.
+    let medium = ViscousMedium {
+        sound_speed: scene.sound_speed,
+        h,
+        dimension: d,
+        lightest_rho0: lightest,
+        viscosity_scale: 1.0 / laplacian_moment(d, h, dx, scene.rho0),
     };
-    let artificial = equivalent_viscosity(scene.artificial_viscosity.unwrap_or(0.0), scene.sound_speed, h, d);
+    let viscosities: Vec<(PairTerm, f64)> = scene
+        .pair_terms
+        .iter()
+        .map(|(term, c)| (term, term.step_viscosity(c, &medium)))
+        .collect();
     let inputs = TimeStepInputs {
         h,
         sound_speed: match scene.solver.kind {
@@ -160,7 +169,7 @@ fn estimate(scene: &Scene) -> Estimate {
         cfl: scene.cfl,
         max_speed: speed,
         max_acceleration: g,
-        kinematic_viscosity: physical_viscosity + artificial,
+        kinematic_viscosity: scene.pair_terms.step_viscosity(&medium),
         fixed: scene.dt,
         remaining: f64::INFINITY,
     };
@@ -169,7 +178,7 @@ fn estimate(scene: &Scene) -> Estimate {
         dt,
         limit,
         inputs,
-        physical_viscosity,
+        viscosities,
     }
 }
 
@@ -235,20 +244,27 @@ fn limit_key(scene: &Scene, e: &Estimate) -> (KeyPath, String) {
             format!("force limit 0.25 sqrt(h / |g|), h = {} m", short(i.h)),
         ),
         TimeStepLimit::Viscosity => {
-            let artificial = i.kinematic_viscosity - e.physical_viscosity;
-            let key = if artificial > e.physical_viscosity {
-                fp.k("artificial_viscosity")
-            } else {
-                fp.k("viscosity")
-            };
+            // The term that contributes most names the key.
+            let largest =
+                e.viscosities
+                    .iter()
+                    .fold(None, |best: Option<(PairTerm, f64)>, &(t, nu)| match best {
+                        Some((_, b)) if b >= nu => best,
+                        _ => Some((t, nu)),
+                    });
+            let key = fp.k(largest.map_or("viscosity", |(t, _)| t.name()));
+            let parts: Vec<String> = e
+                .viscosities
+                .iter()
+                .map(|(t, nu)| format!("fluid.{} ({} m^2/s)", t.name(), short(*nu)))
+                .collect();
             (
                 key,
                 format!(
-                    "viscous limit 0.125 (h/2)^2 / nu, h = {} m, nu = {} m^2/s from fluid.viscosity ({} m^2/s) and fluid.artificial_viscosity with fluid.sound_speed ({} m^2/s)",
+                    "viscous limit 0.125 (h/2)^2 / nu, h = {} m, nu = {} m^2/s from {}",
                     short(i.h),
                     short(i.kinematic_viscosity),
-                    short(e.physical_viscosity),
-                    short(artificial)
+                    parts.join(" and ")
                 ),
             )
         }

@@ -4,18 +4,18 @@
 //! names the key. Values here are unchecked; see [`super::validate()`] for the
 //! rules and [`super::Scene`] for the resolved, validated form.
 
+use crate::model::pair_terms::{PairTerm, with_pair_term_keys};
 use serde::Deserialize;
 
 /// A physical effect switched on in a scene (`effects = [...]`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Effect {
     /// Body force `fluid.gravity` \[m/s^2\], optionally ramped in over `fluid.gravity_ramp` \[s\].
     Gravity,
-    /// Physical viscosity with dynamic viscosity `fluid.viscosity` \[Pa s\].
-    Viscosity,
-    /// Monaghan's artificial viscosity with coefficient `fluid.artificial_viscosity` (alpha).
-    ArtificialViscosity,
+    /// An optional pair term of the force stage (`kernels/pair_terms.table`), named as the
+    /// term, with its coefficient under the same key in `[fluid]`: `viscosity` (eq. 17, dynamic
+    /// viscosity \[Pa s\]), `artificial_viscosity` ([M92], alpha).
+    Pair(PairTerm),
     /// Coriolis and centrifugal forces of a frame rotating at `fluid.angular_velocity`
     /// \[rad/s\] about the axis through `fluid.rotation_centre` \[m\]
     /// (`physics::rotating_frame`).
@@ -32,16 +32,40 @@ pub enum Effect {
 }
 
 impl Effect {
+    /// Every effect, in the order `sph plan` and error messages list them.
+    pub fn all() -> Vec<Effect> {
+        let mut all = vec![Effect::Gravity];
+        all.extend(PairTerm::ALL.map(Effect::Pair));
+        all.extend([Effect::RotatingFrame, Effect::SurfaceTension, Effect::Multiphase]);
+        all
+    }
+
     /// The name used in scene files (`"gravity"`, `"viscosity"`).
     pub fn name(self) -> &'static str {
         match self {
             Effect::Gravity => "gravity",
-            Effect::Viscosity => "viscosity",
-            Effect::ArtificialViscosity => "artificial_viscosity",
+            Effect::Pair(term) => term.name(),
             Effect::RotatingFrame => "rotating_frame",
             Effect::SurfaceTension => "surface_tension",
             Effect::Multiphase => "multiphase",
         }
+    }
+
+    /// The effect named `name` in a scene file.
+    pub fn from_name(name: &str) -> Option<Effect> {
+        Effect::all().into_iter().find(|e| e.name() == name)
+    }
+}
+
+impl<'de> Deserialize<'de> for Effect {
+    /// An effect's name; anything else is serde's `unknown variant` error listing the names.
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        static NAMES: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
+        Effect::from_name(&name).ok_or_else(|| {
+            let names = NAMES.get_or_init(|| Effect::all().into_iter().map(Effect::name).collect());
+            serde::de::Error::unknown_variant(&name, names)
+        })
     }
 }
 
@@ -154,7 +178,9 @@ pub struct ParticlesFile {
     pub smoothing_length: Option<f64>,
 }
 
-/// `[fluid]`: material constants and body force.
+with_pair_term_keys! {
+/// `[fluid]`: material constants and body force; one key per optional pair term of the force
+/// stage (`kernels/pair_terms.table`), its coefficient, required iff its effect is on.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FluidFile {
@@ -162,11 +188,6 @@ pub struct FluidFile {
     pub rho0: f64,
     /// Numerical speed of sound \[m/s\], > 0.
     pub sound_speed: f64,
-    /// Dynamic viscosity \[Pa s\], >= 0; required iff the `viscosity` effect is on.
-    pub viscosity: Option<f64>,
-    /// Artificial-viscosity coefficient alpha (dimensionless), >= 0; required iff the
-    /// `artificial_viscosity` effect is on.
-    pub artificial_viscosity: Option<f64>,
     /// Gravitational acceleration \[m/s^2\]; required iff the `gravity` effect is on.
     pub gravity: Option<Vec<f64>>,
     /// Time over which gravity is ramped in \[s\], >= 0; only with the `gravity` effect.
@@ -185,6 +206,7 @@ pub struct FluidFile {
     /// The surface-tension model, `"surface_stress"` (default) or `"akinci"`; only with the
     /// `surface_tension` effect.
     pub surface_tension_model: Option<crate::model::SurfaceTensionModel>,
+}
 }
 
 /// `fluid.angular_velocity`: a number (2D, about the out-of-plane axis) or a vector.

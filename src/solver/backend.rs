@@ -6,7 +6,6 @@ use super::{Simulation, StepError};
 use crate::backend::cpu::CpuBackend;
 use crate::backend::{Backend, BackendError, BackendKind};
 use crate::fields::Fields;
-use crate::model::ForceTerms;
 use crate::model::params::StepParams;
 
 impl<const D: usize> Simulation<D> {
@@ -99,31 +98,44 @@ impl<const D: usize> Simulation<D> {
     pub fn time_sweeps(&mut self, count: usize) -> Result<f64, StepError> {
         let step = self.clock.step;
         let params = self.step_params();
-        // The plan's own force terms and surface-tension stages, so the sweep is the one a step
-        // runs (every plan has one force stage: `solver::plan`).
-        let terms = self
+        // The plan's own force and surface-tension stages, in plan order, so the sweep is the
+        // one a step runs.
+        let stages: Vec<Stage> = self
             .plan
             .iter()
-            .find_map(|s| match s {
-                Stage::Forces(terms) => Some(*terms),
-                _ => None,
+            .filter(|s| {
+                matches!(
+                    s,
+                    Stage::Forces(_) | Stage::SurfaceNormals(_) | Stage::SurfaceTension(_)
+                )
             })
-            .unwrap_or(ForceTerms {
-                viscosity: false,
-                artificial_viscosity: false,
-                rotating_frame: false,
-            });
-        let surface_tension = self.plan.iter().any(|s| matches!(s, Stage::SurfaceNormals(_)));
+            .copied()
+            .collect();
         let (bk, f) = (&mut self.backend, &mut self.fields);
         bk.sort_by_cell(f, params.h)
             .map_err(|source| StepError::Grid { step, source })?;
         let sweep = |bk: &mut Box<dyn Backend<D> + Send>, f: &mut Fields<D>| {
             bk.density(f, &params);
             bk.equation_of_state(f, &params);
-            bk.forces(f, &params, terms);
-            if surface_tension {
-                bk.surface_normals(f, &params);
-                bk.surface_tension(f, &params);
+            for stage in &stages {
+                match *stage {
+                    Stage::Forces(terms) => bk.forces(f, &params, terms),
+                    Stage::SurfaceNormals(model) => {
+                        let params = StepParams {
+                            surface_tension_model: model,
+                            ..params
+                        };
+                        bk.surface_normals(f, &params);
+                    }
+                    Stage::SurfaceTension(model) => {
+                        let params = StepParams {
+                            surface_tension_model: model,
+                            ..params
+                        };
+                        bk.surface_tension(f, &params);
+                    }
+                    _ => {}
+                }
             }
         };
         sweep(bk, f);

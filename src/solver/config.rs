@@ -5,6 +5,7 @@ use super::escape;
 use super::plan::PlanInputs;
 use crate::math::Vector;
 use crate::model::SurfaceTensionModel;
+use crate::model::pair_terms::PairTermSettings;
 
 /// The time integrator (scene `solver.integrator`, in `snake_case`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, serde::Deserialize)]
@@ -104,10 +105,9 @@ pub struct SimConfig<const D: usize> {
     pub rho0: f64,
     /// Sound speed `C` [m/s] of eq. (19).
     pub sound_speed: f64,
-    /// Dynamic viscosity `μ` [Pa s]; `None` when the scene has no viscosity effect.
-    pub viscosity: Option<f64>,
-    /// Artificial-viscosity coefficient `α`; `None` when the scene has no such effect.
-    pub artificial_viscosity: Option<f64>,
+    /// The force stage's optional pair terms the scene switches on, with their coefficients
+    /// (`kernels/pair_terms.table`).
+    pub pair_terms: PairTermSettings,
     /// Gravity `g` [m/s²]; `None` when the scene has no gravity effect.
     pub gravity: Option<Vector<D>>,
     /// Time over which gravity is ramped in [s] (0 = none).
@@ -142,8 +142,7 @@ impl<const D: usize> SimConfig<D> {
     /// (`Simulation::params_at`).
     pub fn plan_inputs(&self, solids: bool, moving_solids: bool) -> PlanInputs {
         PlanInputs {
-            viscosity: self.viscosity.is_some(),
-            artificial_viscosity: self.artificial_viscosity.is_some(),
+            pair_terms: self.pair_terms.terms(),
             rotating_frame: self.angular_velocity.is_some(),
             surface_tension: self.surface_tension.map(|s| s.model),
             solids,

@@ -59,7 +59,7 @@ pub enum StepError {
     #[error(
         "step {step}, t = {time:e} s: the time step dt = {dt:e} s ({limit} limit) does not advance \
          the time in f64 (end time {end_time:e} s), so the run cannot finish; check solver.dt, \
-         solver.cfl, fluid.sound_speed, fluid.viscosity and fluid.artificial_viscosity"
+         solver.cfl, fluid.sound_speed and the [fluid] coefficients of the viscous pair terms"
     )]
     Stalled {
         /// Step number.

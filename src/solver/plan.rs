@@ -5,15 +5,14 @@
 use super::Integrator;
 use super::stage::{SolidsAt, Stage, SubStage};
 use crate::fields::Field;
+use crate::model::pair_terms::{PairTerm, PairTerms};
 use crate::model::{ForceTerms, SurfaceTensionModel, WallModel};
 
 /// What the plan depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PlanInputs {
-    /// The scene lists the `viscosity` effect.
-    pub viscosity: bool,
-    /// The scene lists the `artificial_viscosity` effect.
-    pub artificial_viscosity: bool,
+    /// The optional pair terms of the force stage the scene lists among its effects.
+    pub pair_terms: PairTerms,
     /// The scene lists the `rotating_frame` effect.
     pub rotating_frame: bool,
     /// The scene lists the `surface_tension` effect: its model.
@@ -51,14 +50,13 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         } else {
             WallModel::ExtrapolatedOrSummed
         }));
-        if inputs.viscosity {
+        if inputs.pair_terms.contains(PairTerm::Viscosity) {
             // [A12] eqs. (22)-(23): no-slip walls for the viscous force (17).
             plan.push(Stage::WallVelocity);
         }
     }
     plan.push(Stage::Forces(ForceTerms {
-        viscosity: inputs.viscosity,
-        artificial_viscosity: inputs.artificial_viscosity,
+        pair: inputs.pair_terms,
         rotating_frame: inputs.rotating_frame,
     }));
     if let Some(model) = inputs.surface_tension {
@@ -66,7 +64,8 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         plan.extend([Stage::SurfaceNormals(model), Stage::SurfaceTension(model)]);
     }
     if inputs.solids {
-        plan.push(Stage::SolidForces);
+        // The reaction of the force stage's pair terms.
+        plan.push(Stage::SolidForces(inputs.pair_terms));
     }
     plan.push(Stage::TimeStep);
     plan.push(match inputs.integrator {
@@ -112,8 +111,7 @@ mod tests {
 
     fn inputs() -> PlanInputs {
         PlanInputs {
-            viscosity: false,
-            artificial_viscosity: false,
+            pair_terms: PairTerms::NONE,
             rotating_frame: false,
             surface_tension: None,
             solids: false,
@@ -145,7 +143,7 @@ mod tests {
     fn plan_omits_what_the_scene_does_not_ask_for() {
         let bare = plan(inputs());
         assert!(!bare.iter().any(|s| matches!(s, Stage::WallPressure(_))));
-        assert!(!bare.contains(&Stage::SolidForces));
+        assert!(!bare.iter().any(|s| matches!(s, Stage::SolidForces(_))));
         assert!(!bare.contains(&Stage::Correction));
         assert!(!bare.iter().any(|s| matches!(s, Stage::MoveSolids(_))));
         assert!(
@@ -154,13 +152,12 @@ mod tests {
                 .any(|s| matches!(s, Stage::SurfaceNormals(_) | Stage::SurfaceTension(_)))
         );
         assert!(bare.contains(&Stage::Forces(ForceTerms {
-            viscosity: false,
-            artificial_viscosity: false,
+            pair: PairTerms::NONE,
             rotating_frame: false,
         })));
+        let all = PairTerm::ALL.into_iter().fold(PairTerms::NONE, PairTerms::with);
         let full = plan(PlanInputs {
-            viscosity: true,
-            artificial_viscosity: true,
+            pair_terms: all,
             rotating_frame: true,
             solids: true,
             ..inputs()
@@ -177,17 +174,20 @@ mod tests {
         );
         assert!(
             !plan(PlanInputs {
-                viscosity: true,
+                pair_terms: PairTerms::NONE.with(PairTerm::Viscosity),
                 ..inputs()
             })
             .contains(&Stage::WallVelocity),
             "no solids, no wall velocity"
         );
         assert!(full.contains(&Stage::Forces(ForceTerms {
-            viscosity: true,
-            artificial_viscosity: true,
+            pair: all,
             rotating_frame: true,
         })));
+        assert!(
+            full.contains(&Stage::SolidForces(all)),
+            "the reaction of the same terms"
+        );
     }
 
     #[test]

@@ -10,6 +10,7 @@ use crate::boundary::motion::{SolidKinematics, SolidReference, Sway};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::model::SurfaceTensionModel;
+use crate::model::pair_terms::PairTerm;
 use crate::model::params::StepParams;
 use crate::physics::density::DensityWeight;
 use crate::physics::gravity::gravity_at;
@@ -135,7 +136,7 @@ impl<const D: usize> Simulation<D> {
             DensityWeight::POLY6
         };
         let stiffness = correction_stiffness(&kernel, config.spacing, config.rho0, kappa, density_weight);
-        let viscosity_scale = if config.viscosity.is_some() {
+        let viscosity_scale = if config.pair_terms.get(PairTerm::Viscosity).is_some() {
             (1.0 / lattice_laplacian_moment(&kernel, config.spacing, config.rho0)) as Real
         } else {
             1.0
@@ -481,8 +482,7 @@ impl<const D: usize> Simulation<D> {
             h: c.h as Real,
             rho0: c.rho0 as Real,
             c2: (c.sound_speed * c.sound_speed) as Real,
-            mu: c.viscosity.unwrap_or(0.0) as Real,
-            alpha: c.artificial_viscosity.unwrap_or(0.0) as Real,
+            pair: c.pair_terms.coefficients(),
             c: c.sound_speed as Real,
             pressure_gradient_scale: self.pressure_gradient_scale,
             gravity: g,

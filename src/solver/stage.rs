@@ -12,6 +12,7 @@
 //! inside a stage: the correction loop and the no-penetration guard.
 
 use crate::fields::Field;
+use crate::model::pair_terms::{PairTerm, PairTerms};
 use crate::model::{ForceTerms, SurfaceTensionModel, WallModel};
 use Field::{
     Acceleration, Density, Id, Kind, Mass, Normal, Position, PositionStart, Pressure, Velocity,
@@ -56,8 +57,9 @@ pub enum Stage {
     /// (`physics::surface_stress`, [LNSZZ94], [M00a]) or [AAT13] eqs. (1)–(5). Only with the
     /// `surface_tension` effect.
     SurfaceTension(SurfaceTensionModel),
-    /// Fig. 4: force of the fluid on each named solid. Only in scenes with solids.
-    SolidForces,
+    /// Fig. 4: force of the fluid on each named solid, the reaction of the pressure force and of
+    /// these pair terms (the force stage's). Only in scenes with solids.
+    SolidForces(PairTerms),
     /// Time step from the state (or the scene's fixed step), and the state guards.
     TimeStep,
     /// Symplectic Euler update of velocity and position.
@@ -81,7 +83,7 @@ impl Stage {
             Stage::Forces(_) => "forces",
             Stage::SurfaceNormals(_) => "surface_normals",
             Stage::SurfaceTension(_) => "surface_tension",
-            Stage::SolidForces => "solid_forces",
+            Stage::SolidForces(_) => "solid_forces",
             Stage::TimeStep => "time_step",
             Stage::Integrate => "integrate",
             Stage::RkStage => "rk_stage",
@@ -90,39 +92,39 @@ impl Stage {
     }
 
     /// What the stage implements: the PAPER.md equation (or the source) it follows.
-    pub fn equation(&self) -> &'static str {
-        match self {
+    pub fn equation(&self) -> String {
+        let text = match self {
             Stage::MoveSolids(_) => "x0 + d(t)",
             Stage::SortByCell => "section 3",
             Stage::Density => "(18)",
             Stage::EquationOfState => "(19)",
             Stage::WallPressure(_) => "[A12] (27)",
             Stage::WallVelocity => "[A12] (22)-(23)",
-            Stage::Forces(terms) => [
-                "(15): (16), (6)",
-                "(15): (16), (17), (6)",
-                "(15): (16), [M92], (6)",
-                "(15): (16), (17), [M92], (6)",
-                "(15): (16), (6), [B67] 3.2",
-                "(15): (16), (17), (6), [B67] 3.2",
-                "(15): (16), [M92], (6), [B67] 3.2",
-                "(15): (16), (17), [M92], (6), [B67] 3.2",
-            ][terms.index()],
+            Stage::Forces(terms) => {
+                let mut parts = vec!["(16)"];
+                parts.extend(terms.pair.iter().map(PairTerm::equation));
+                parts.push("(6)");
+                if terms.rotating_frame {
+                    parts.push("[B67] 3.2");
+                }
+                return format!("(15): {}", parts.join(", "));
+            }
             Stage::SurfaceNormals(SurfaceTensionModel::SurfaceStress) => "[AAT13] (3), m/rho0",
             Stage::SurfaceNormals(SurfaceTensionModel::Akinci) => "[AAT13] (3)",
             Stage::SurfaceTension(SurfaceTensionModel::SurfaceStress) => "[LNSZZ94], [M00a]",
             Stage::SurfaceTension(SurfaceTensionModel::Akinci) => "[AAT13] (1)-(5)",
-            Stage::SolidForces => "Fig. 4",
+            Stage::SolidForces(_) => "Fig. 4",
             Stage::TimeStep => "CFL, [M92], [MFZ97]",
             Stage::Integrate => "(15)",
             Stage::RkStage => "(15), note 8",
             Stage::Correction => "(23)-(24)",
-        }
+        };
+        text.to_string()
     }
 
     /// What the stage computes, in words.
-    pub fn description(&self) -> &'static str {
-        match self {
+    pub fn description(&self) -> String {
+        let text = match self {
             Stage::MoveSolids(SolidsAt::StageStart) => "moving solids to where they are at the stage's start",
             Stage::MoveSolids(SolidsAt::StageResult) => {
                 "moving solids to where they are at the stage's result"
@@ -137,16 +139,15 @@ impl Stage {
             Stage::WallVelocity => {
                 "no-slip walls: solid velocity in (17) is 2 u_wall minus the fluid's Shepard average"
             }
-            Stage::Forces(terms) => [
-                "acceleration: pressure force, body force",
-                "acceleration: pressure force, viscosity, body force",
-                "acceleration: pressure force, artificial viscosity, body force",
-                "acceleration: pressure force, viscosity, artificial viscosity, body force",
-                "acceleration: pressure force, body force, Coriolis and centrifugal force",
-                "acceleration: pressure force, viscosity, body force, Coriolis and centrifugal force",
-                "acceleration: pressure force, artificial viscosity, body force, Coriolis and centrifugal force",
-                "acceleration: pressure force, viscosity, artificial viscosity, body force, Coriolis and centrifugal force",
-            ][terms.index()],
+            Stage::Forces(terms) => {
+                let mut parts = vec!["pressure force"];
+                parts.extend(terms.pair.iter().map(PairTerm::label));
+                parts.push("body force");
+                if terms.rotating_frame {
+                    parts.push("Coriolis and centrifugal force");
+                }
+                return format!("acceleration: {}", parts.join(", "));
+            }
             Stage::SurfaceNormals(SurfaceTensionModel::SurfaceStress) => {
                 "colour gradient h grad c = h sum (m/rho0) grad W over fluid neighbours (fluid)"
             }
@@ -159,14 +160,15 @@ impl Stage {
             Stage::SurfaceTension(SurfaceTensionModel::Akinci) => {
                 "acceleration += cohesion and curvature forces of fluid neighbours, gamma from sigma (fluid)"
             }
-            Stage::SolidForces => "force of the fluid on each named solid: the forces stage's pair terms",
+            Stage::SolidForces(_) => "force of the fluid on each named solid: the forces stage's pair terms",
             Stage::TimeStep => {
                 "time step from sound, flow, forces and viscosity; state guards (first integrator stage only)"
             }
             Stage::Integrate => "symplectic Euler: u += a dt, then x += u dt (fluid)",
             Stage::RkStage => "one SSP-RK3 stage (the first also stores x^n, u^n)",
             Stage::Correction => "position correction loop, until the compression is below delta",
-        }
+        };
+        text.to_string()
     }
 
     /// The particle fields the stage reads.
@@ -178,7 +180,7 @@ impl Stage {
             Stage::EquationOfState => &[Density, Kind],
             Stage::WallPressure(_) => &[Position, Density, Pressure, Mass, Kind],
             Stage::WallVelocity => &[Position, Velocity, Kind],
-            Stage::Forces(terms) if terms.viscosity || terms.artificial_viscosity || terms.rotating_frame => {
+            Stage::Forces(terms) if terms.pair != PairTerms::NONE || terms.rotating_frame => {
                 &[Position, Velocity, Density, Pressure, Mass, Kind]
             }
             Stage::Forces(_) => &[Position, Density, Pressure, Mass, Kind],
@@ -190,7 +192,7 @@ impl Stage {
             Stage::SurfaceTension(SurfaceTensionModel::Akinci) => {
                 &[Position, Density, Mass, Kind, Normal, Acceleration]
             }
-            Stage::SolidForces => &[Position, Velocity, Density, Pressure, Mass, Kind],
+            Stage::SolidForces(_) => &[Position, Velocity, Density, Pressure, Mass, Kind],
             Stage::TimeStep => &[Position, Velocity, Acceleration, Density, Kind],
             Stage::Integrate => &[Velocity, Acceleration, Kind],
             Stage::RkStage => &[
@@ -213,7 +215,11 @@ impl Stage {
     pub fn reads_in(&self, plan: &[Stage], multiphase: bool) -> Vec<Field> {
         let mut fields = self.reads().to_vec();
         let no_slip = plan.contains(&Stage::WallVelocity);
-        let reader = matches!(self, Stage::Forces(t) if t.viscosity) || *self == Stage::SolidForces;
+        let reader = match self {
+            Stage::Forces(t) => t.pair.contains(PairTerm::Viscosity),
+            Stage::SolidForces(t) => t.contains(PairTerm::Viscosity),
+            _ => false,
+        };
         if no_slip && reader {
             fields.push(WallVelocity);
         }
@@ -235,7 +241,7 @@ impl Stage {
             Stage::Forces(_) => &[Acceleration],
             Stage::SurfaceNormals(_) => &[Normal],
             Stage::SurfaceTension(_) => &[Acceleration],
-            Stage::SolidForces | Stage::TimeStep => &[],
+            Stage::SolidForces(_) | Stage::TimeStep => &[],
             Stage::Integrate => &[Position, Velocity],
             Stage::RkStage => &[Position, Velocity, PositionStart, VelocityStart],
             Stage::Correction => &[Position, Velocity, Density, Pressure],
@@ -336,7 +342,7 @@ impl Stage {
                 description: "the summed branch reads the wall's number density; (27) uses each fluid neighbour's own density",
                 reads_rest_density: false,
             }),
-            Stage::Forces(_) | Stage::SolidForces => Some(MP_PRESSURE),
+            Stage::Forces(_) | Stage::SolidForces(_) => Some(MP_PRESSURE),
             Stage::TimeStep => Some(MP_ERROR),
             Stage::SurfaceNormals(SurfaceTensionModel::SurfaceStress)
             | Stage::SurfaceTension(SurfaceTensionModel::SurfaceStress) => Some(MultiphaseVariant {

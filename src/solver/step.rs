@@ -23,6 +23,7 @@ use super::{Correction, Simulation, StepError, StepReport};
 use crate::backend::{SolidForceSource, StateExtremes};
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::model::params::StepParams;
+use crate::physics::pair::ViscousMedium;
 
 /// Largest displacement of one correction sweep, in units of the particle spacing.
 pub const MAX_SWEEP_STEP: f64 = 0.1;
@@ -131,8 +132,9 @@ impl<const D: usize> Simulation<D> {
                         };
                         bk.surface_tension(f, &params) // surface stress or [AAT13]
                     }
-                    Stage::SolidForces => {
-                        let part = bk.solid_forces(f, &params, solids, SolidForceSource::Forces); // Fig. 4
+                    Stage::SolidForces(terms) => {
+                        let source = SolidForceSource::Forces(terms);
+                        let part = bk.solid_forces(f, &params, solids, source); // Fig. 4
                         add_force(&mut solid_force, &part, integrator.force_weights()[k]);
                     }
                     Stage::TimeStep => {
@@ -339,17 +341,14 @@ impl<const D: usize> Simulation<D> {
             // A moving wall sweeps through the fluid like a flow of its speed.
             max_speed: e.max_speed.max(self.wall_speed),
             max_acceleration: e.max_acceleration,
-            // (17) acts with mu/lambda (`physics::lattice::lattice_laplacian_moment`): the
-            // operator's stiffness, which bounds the explicit step, is that of nu/lambda; the
-            // lightest phase has the largest mu/rho0 (`Simulation::with_phases`).
-            kinematic_viscosity: c.viscosity.unwrap_or(0.0) / self.lightest_rho0
-                * f64::from(self.viscosity_scale)
-                + crate::physics::artificial_viscosity::equivalent_viscosity(
-                    c.artificial_viscosity.unwrap_or(0.0),
-                    c.sound_speed,
-                    c.h,
-                    D,
-                ),
+            // Each pair term's equivalent kinematic viscosity (`PairTerm::step_viscosity`).
+            kinematic_viscosity: c.pair_terms.step_viscosity(&ViscousMedium {
+                sound_speed: c.sound_speed,
+                h: c.h,
+                dimension: D,
+                lightest_rho0: self.lightest_rho0,
+                viscosity_scale: f64::from(self.viscosity_scale),
+            }),
             fixed: c.dt,
             remaining: end_time - time,
         });

@@ -221,7 +221,9 @@ fn check_refuses_values_that_overflow_in_use() {
 fn a_stalled_step_stops_the_run() {
     let valid = sph::scene::load_scene(&dam_break(), &["solver.end_time=0.01".into()]).unwrap();
     let mut zero = valid.clone();
-    zero.artificial_viscosity = Some(1e308);
+    zero.pair_terms = zero
+        .pair_terms
+        .with(sph::model::pair_terms::PairTerm::ArtificialViscosity, 1e308);
     let mut tiny = valid.clone();
     tiny.dt = Some(1e-300);
     for (scene, what) in [(zero, "zero step"), (tiny, "tiny fixed step")] {

@@ -656,8 +656,11 @@ fn large_dt_adapts(file: &str) {
     let path = format!("{}/scenes/hard/{file}", env!("CARGO_MANIFEST_DIR"));
     let scene = load_scene(Path::new(&path), &["solver.dt=1e-4".into()]).expect("hard scene");
     let bound = scene.smoothing_length / scene.sound_speed;
-    let viscous =
-        0.125 * (0.5 * scene.smoothing_length).powi(2) * scene.rho0 / scene.viscosity.expect("viscous");
+    let viscous = 0.125 * (0.5 * scene.smoothing_length).powi(2) * scene.rho0
+        / scene
+            .pair_terms
+            .get(sph::model::pair_terms::PairTerm::Viscosity)
+            .expect("viscous");
     assert!(
         viscous < bound,
         "the scene must put the viscous limit below h / C"

@@ -210,8 +210,7 @@ fn config<const D: usize>(
         rho0: RHO0,
         // The corrected solver does not use (19): a real sound speed adds no stiffness (note 5).
         sound_speed: 1500.0,
-        viscosity: None,
-        artificial_viscosity: None,
+        pair_terms: sph::model::pair_terms::PairTermSettings::none(),
         gravity: gravity.then(|| {
             let mut g = Vector::<D>::zeros();
             g[D - 1] = -G as Real;

@@ -188,8 +188,9 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             h: 2.0 * dx,
             rho0: 1000.0,
             sound_speed: 20.0,
-            viscosity: Some(0.05),
-            artificial_viscosity: Some(0.1),
+            pair_terms: sph::model::pair_terms::PairTermSettings::none()
+                .with(sph::model::pair_terms::PairTerm::Viscosity, 0.05)
+                .with(sph::model::pair_terms::PairTerm::ArtificialViscosity, 0.1),
             gravity: None,
             gravity_ramp: 0.0,
             angular_velocity: None,

@@ -186,7 +186,11 @@ fn errors(sets: &[&str]) -> Vec<(f64, f64)> {
     let scene = scene(sets);
     let (f, nu) = (
         body_force(&scene),
-        scene.viscosity.expect("viscosity") / scene.rho0,
+        scene
+            .pair_terms
+            .get(sph::model::pair_terms::PairTerm::Viscosity)
+            .expect("viscosity")
+            / scene.rho0,
     );
     let u0 = f * WIDTH * WIDTH / (8.0 * nu);
     let errors: Vec<(f64, f64)> = profiles(&scene)
@@ -233,7 +237,11 @@ fn lattice_calibration_and_no_slip_walls_remove_the_curvature_and_slip_errors() 
     let scene = scene(&[]);
     let (f, nu) = (
         body_force(&scene),
-        scene.viscosity.expect("viscosity") / scene.rho0,
+        scene
+            .pair_terms
+            .get(sph::model::pair_terms::PairTerm::Viscosity)
+            .expect("viscosity")
+            / scene.rho0,
     );
     let u0 = f * WIDTH * WIDTH / (8.0 * nu);
     let h = scene.smoothing_length;
@@ -332,7 +340,11 @@ fn artificial_viscosity_has_no_single_lattice_scale() {
 #[test]
 fn artificial_viscosity_is_not_a_shear_viscosity() {
     let reference = scene(&[]);
-    let nu = reference.viscosity.expect("viscosity") / reference.rho0;
+    let nu = reference
+        .pair_terms
+        .get(sph::model::pair_terms::PairTerm::Viscosity)
+        .expect("viscosity")
+        / reference.rho0;
     let f = body_force(&reference);
     let u0 = f * WIDTH * WIDTH / (8.0 * nu);
     let (c, h) = (reference.sound_speed, reference.smoothing_length);
@@ -346,7 +358,11 @@ fn artificial_viscosity_is_not_a_shear_viscosity() {
         )
         .replace("viscosity = 10.0", &format!("artificial_viscosity = {alpha}"));
     let scene = parse_scene(&text, &path, &[]).expect("the artificial-viscosity variant is valid");
-    assert_eq!(scene.viscosity, None, "no (17) in this variant");
+    assert_eq!(
+        scene.pair_terms.get(sph::model::pair_terms::PairTerm::Viscosity),
+        None,
+        "no (17) in this variant"
+    );
     let all = profiles(&scene);
     let mid = all[0].u.len() / 2;
     let (at_02, at_06) = (all[3].u[mid], all[4].u[mid]);

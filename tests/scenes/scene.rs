@@ -95,14 +95,17 @@ fn valid_2d_scene_parses_with_resolved_values() {
     let s = parse(VALID_2D).unwrap();
     assert_eq!(s.name.as_deref(), Some("dam_break_2d"));
     assert_eq!(s.dimension, 2);
-    assert!(s.has(Effect::Gravity) && s.has(Effect::Viscosity));
+    assert!(s.has(Effect::Gravity) && s.has(Effect::Pair(sph::model::pair_terms::PairTerm::Viscosity)));
     assert_eq!(s.spacing, 0.01);
     assert!(
         (s.smoothing_length - 0.02).abs() < F64_FEW_OPERATIONS,
         "h = ratio * dx"
     );
     assert_eq!(s.wall_layers(), 2);
-    assert_eq!(s.viscosity, Some(1.0e-3));
+    assert_eq!(
+        s.pair_terms.get(sph::model::pair_terms::PairTerm::Viscosity),
+        Some(1.0e-3)
+    );
     assert_eq!(s.gravity, Some(vec![0.0, -9.81]));
     assert_eq!(s.gravity_ramp, 0.1);
     assert_eq!(s.solver.kind, SolverKind::Wcsph);
@@ -125,9 +128,12 @@ fn valid_2d_scene_parses_with_resolved_values() {
 fn valid_3d_scene_parses_with_smoothing_length() {
     let s = parse(VALID_3D).unwrap();
     assert_eq!(s.dimension, 3);
-    assert!(s.has(Effect::Gravity) && !s.has(Effect::Viscosity));
+    assert!(s.has(Effect::Gravity) && !s.has(Effect::Pair(sph::model::pair_terms::PairTerm::Viscosity)));
     assert_eq!(s.smoothing_length, 0.1, "h given directly");
-    assert_eq!(s.viscosity, None);
+    assert_eq!(
+        s.pair_terms.get(sph::model::pair_terms::PairTerm::Viscosity),
+        None
+    );
     assert_eq!(s.gravity_ramp, 0.0);
     assert_eq!(s.dt, Some(1e-4));
     assert_eq!(s.cfl, 0.3);
@@ -275,6 +281,40 @@ fn viscosity_without_effect() {
     let p = with_key(&ps, "fluid.viscosity");
     assert_eq!(line(p), line_of(&text, "viscosity = 1.0e-3", 0));
     assert!(p.reason.contains("not enabled"), "{}", p.reason);
+}
+
+/// Every pair term of `kernels/pair_terms.table` is read from the scene by its name: its
+/// effect needs its `[fluid]` key, a negative coefficient is refused, and the resolved scene
+/// carries it.
+#[test]
+fn every_pair_term_is_an_effect_with_its_fluid_key() {
+    use sph::model::pair_terms::PairTerm;
+    for term in PairTerm::ALL {
+        let name = term.name();
+        let effects = format!("effects = [\"gravity\", \"{name}\"]");
+        let base = edit(VALID_2D, "effects = [\"gravity\", \"viscosity\"]", &effects);
+        let base = edit(&base, "viscosity = 1.0e-3", &format!("{name} = 0.25"));
+        let scene = parse(&base).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(scene.has(Effect::Pair(term)), "{name}");
+        assert_eq!(scene.pair_terms.get(term), Some(0.25), "{name}");
+        assert_eq!(scene.pair_terms.terms().iter().collect::<Vec<_>>(), vec![term]);
+
+        let missing = edit(&base, &format!("{name} = 0.25\n"), "");
+        let ps = problems(parse(&missing));
+        let p = with_key(&ps, &format!("fluid.{name}"));
+        assert!(p.reason.contains("required because effect"), "{}", p.reason);
+
+        let negative = edit(&base, &format!("{name} = 0.25"), &format!("{name} = -1.0"));
+        let ps = problems(parse(&negative));
+        with_key(&ps, &format!("fluid.{name}"));
+    }
+    let unknown = edit(VALID_2D, "\"viscosity\"]", "\"viscosty\"]");
+    let ps = problems(parse(&unknown));
+    assert!(
+        ps.iter()
+            .any(|p| p.reason.contains("viscosty") && p.reason.contains("artificial_viscosity")),
+        "an unknown effect lists the known ones: {ps:#?}"
+    );
 }
 
 #[test]

@@ -9,6 +9,7 @@ use crate::setup::{
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::model::ForceTerms;
+use sph::model::pair_terms::PairTerm;
 use sph::model::params::StepParams;
 use sph::physics::artificial_viscosity::artificial_viscous_acceleration;
 use sph::physics::multiphase::{self, Phases};
@@ -60,20 +61,28 @@ fn reference_acceleration<const D: usize>(
                 &grad,
             ),
         });
-        if terms.artificial_viscosity {
+        if terms.pair.contains(PairTerm::ArtificialViscosity) {
             let u_ij = u_i - f.velocity[j];
             add(artificial_viscous_acceleration(
-                p.alpha, p.c, p.h, &d, &u_ij, rho_i, rho_j, m_j, &grad,
+                p.pair.alpha,
+                p.c,
+                p.h,
+                &d,
+                &u_ij,
+                rho_i,
+                rho_j,
+                m_j,
+                &grad,
             ));
         }
-        if terms.viscosity {
+        if terms.pair.contains(PairTerm::Viscosity) {
             let u_j = match f.wall_velocity.get(j) {
                 Some(wall) if f.kind[j] != FLUID => *wall,
                 _ => f.velocity[j],
             };
             let lap = kernel.laplacian_w_viscosity(r);
             add(viscous_acceleration(
-                p.mu * p.viscosity_scale,
+                p.pair.mu * p.viscosity_scale,
                 &u_i,
                 &u_j,
                 rho_i,
@@ -136,35 +145,19 @@ fn check_forces<const D: usize>(seed: u64, phases: Phases, no_slip: bool) {
             ..p
         };
         variants.push(("gravity (6)", all(&reference, &weightless, terms)));
-        for (on, name, without) in [
-            (
-                terms.viscosity,
-                "viscosity (17)",
-                ForceTerms {
-                    viscosity: false,
-                    ..terms
-                },
-            ),
-            (
-                terms.artificial_viscosity,
-                "artificial viscosity",
-                ForceTerms {
-                    artificial_viscosity: false,
-                    ..terms
-                },
-            ),
-            (
-                terms.rotating_frame,
-                "rotating frame",
-                ForceTerms {
-                    rotating_frame: false,
-                    ..terms
-                },
-            ),
-        ] {
-            if on {
-                variants.push((name, all(&reference, &p, without)));
-            }
+        for term in terms.pair.iter() {
+            let without = ForceTerms {
+                pair: terms.pair.without(term),
+                ..terms
+            };
+            variants.push((term.label(), all(&reference, &p, without)));
+        }
+        if terms.rotating_frame {
+            let without = ForceTerms {
+                rotating_frame: false,
+                ..terms
+            };
+            variants.push(("rotating frame", all(&reference, &p, without)));
         }
         if phases == Phases::Multi {
             let single = StepParams {
@@ -173,12 +166,13 @@ fn check_forces<const D: usize>(seed: u64, phases: Phases, no_slip: bool) {
             };
             variants.push(("[HA06] volume form", all(&reference, &single, terms)));
         }
-        if no_slip && terms.viscosity {
+        let viscous = terms.pair.contains(PairTerm::Viscosity);
+        if no_slip && viscous {
             let mut slip = reference.clone();
             slip.wall_velocity.clear();
             variants.push(("no-slip wall velocity", all(&slip, &p, terms)));
         }
-        if !no_slip && terms.viscosity {
+        if !no_slip && viscous {
             let mut still = reference.clone();
             for i in (0..n).filter(|&i| still.kind[i] != FLUID) {
                 still.velocity[i] = Vector::zeros();

@@ -5,6 +5,7 @@ use sph::backend::Backend;
 use sph::backend::cpu::CpuBackend;
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
+use sph::model::pair_terms::{PairTerm, PairTermSettings, PairTerms};
 use sph::model::params::StepParams;
 use sph::model::{ForceTerms, SurfaceTensionModel};
 use sph::physics::density::DensityKernel;
@@ -192,8 +193,10 @@ pub fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         h: 2.0 * DX,
         rho0: RHO0,
         c2: 40.0 * 40.0,
-        mu: 1.0,
-        alpha: 0.3,
+        pair: PairTermSettings::none()
+            .with(PairTerm::Viscosity, 1.0)
+            .with(PairTerm::ArtificialViscosity, 0.3)
+            .coefficients(),
         c: 40.0,
         pressure_gradient_scale: 1.05,
         gravity,
@@ -299,12 +302,11 @@ pub fn use_phases<const D: usize>(f: &mut Fields<D>, p: &mut StepParams<D>, phas
     }
 }
 
-/// Every term set, in `ForceTerms::index` order.
+/// Every term set: each set of pair terms, without and with the rotating frame.
 pub fn all_force_terms() -> impl Iterator<Item = ForceTerms> {
-    (0..8).map(|k| ForceTerms {
-        viscosity: k & 1 != 0,
-        artificial_viscosity: k & 2 != 0,
-        rotating_frame: k & 4 != 0,
+    (0..2 * PairTerms::SETS).map(|k| ForceTerms {
+        pair: PairTerms::from_bits((k % PairTerms::SETS) as u32),
+        rotating_frame: k >= PairTerms::SETS,
     })
 }
 

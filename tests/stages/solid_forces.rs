@@ -1,17 +1,19 @@
 //! The `solid_forces` stage (Fig. 4) on every backend, for both sources (the force stage's
-//! pressures with (16), (17) and the artificial viscosity; the correction's increments `δp` of
-//! eqs. 23–24 with `μ = α = 0`) and both phase models ([HA06] volume-form pressure term),
-//! against brute-force sums of `boundary::solid_force::force_on_solid` over every solid
-//! particle and its fluid neighbours.
+//! pressures with (16) and every pair term; the correction's increments `δp` of eqs. 23–24
+//! with none) and both phase models ([HA06] volume-form pressure term), against brute-force sums
+//! of each term's physics function over every solid particle and its fluid neighbours.
 
 use crate::setup::{SOLIDS, SUM_ORDER, add_strays, backends, in_id_order, neighbours, scene, use_phases};
 use sph::backend::SolidForceSource;
-use sph::boundary::solid_force::force_on_solid;
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
+use sph::model::pair_terms::{PairTerm, PairTerms};
 use sph::model::params::StepParams;
+use sph::physics::artificial_viscosity::artificial_viscous_acceleration;
 use sph::physics::correction::pressure_increment;
 use sph::physics::multiphase::{self, Phases};
+use sph::physics::pressure::pressure_acceleration;
+use sph::physics::viscosity::viscous_acceleration;
 
 /// Stiffness `k` [m²/s²] of the correction sweep: with densities within 1 % of ρ0, increments
 /// of the order of the scene's pressures.
@@ -70,20 +72,21 @@ enum Variant {
     OwnVelocity,
 }
 
-/// The force [N] on each solid by brute force, and its tolerance per axis: each solid
-/// particle's f32 sum of pair terms is within [`SUM_ORDER`] of the sum of the magnitudes of
-/// its pressure, viscous and artificial-viscous parts (the f64 sums over particles add
-/// nothing comparable), plus the pressures' own tolerances through the pressure part.
+/// The force [N] on each solid by brute force, and its tolerance per axis: `m_s` times the
+/// pressure term (16) (or [HA06]'s volume form) and each pair term of `terms` from the solid's
+/// side, each evaluated by its physics function; each solid particle's f32 sum of pair terms is
+/// within [`SUM_ORDER`] of the sum of the magnitudes of its parts (the f64 sums over particles
+/// add nothing comparable), plus the pressures' own tolerances through the pressure part.
 fn reference_forces<const D: usize>(
     f: &Fields<D>,
     p: &StepParams<D>,
+    terms: PairTerms,
     pressure: &[(f32, f64)],
     variant: Variant,
 ) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
     let kernel = p.smoothing();
     let multi = p.phases == Phases::Multi;
     let (mut force, mut tol) = (vec![[0.0f64; 3]; SOLIDS], vec![[0.0f64; 3]; SOLIDS]);
-    let only = |mu: f32, alpha: f32| StepParams { mu, alpha, ..*p };
     for s in (0..f.len()).filter(|&s| f.kind[s] != FLUID) {
         let slot = f.kind[s] as usize - 1;
         let viscous_u = match variant {
@@ -95,21 +98,8 @@ fn reference_forces<const D: usize>(
                 continue;
             }
             let grad = kernel.grad_w_spiky(&d, r) * p.pressure_gradient_scale;
-            let lap = kernel.laplacian_w_viscosity(r);
             let ((p_s, tol_s), (p_j, tol_j)) = (pressure[s], pressure[j]);
             let (m_s, rho_s, m_j, rho_j) = (f.mass[s], f.density[s], f.mass[j], f.density[j]);
-            let term = |params: &StepParams<D>, p_s: f32, p_j: f32| {
-                force_on_solid(
-                    params,
-                    [m_s, p_s, rho_s],
-                    [m_j, p_j, rho_j],
-                    &d,
-                    [&f.velocity[s], &f.velocity[j]],
-                    viscous_u,
-                    &grad,
-                    lap,
-                )
-            };
             // [HA06]: the volume-form pressure term, `−(p_s V_s² + p_j V_j²) ∇W`.
             let (pressure_part, sensitivity) = if multi {
                 let (q_s, q_j) = (
@@ -122,19 +112,40 @@ fn reference_forces<const D: usize>(
             } else {
                 let v = |rho: f32| f64::from(m_s) * f64::from(m_j) / f64::from(rho).powi(2);
                 (
-                    term(&only(0.0, 0.0), p_s, p_j),
+                    pressure_acceleration(p_s, rho_s, p_j, rho_j, m_j, &grad) * m_s,
                     v(rho_s) * tol_s + v(rho_j) * tol_j,
                 )
             };
-            let (p_s, p_j) = if multi { (0.0, 0.0) } else { (p_s, p_j) };
-            let pair = term(p, p_s, p_j) + if multi { pressure_part } else { Vector::zeros() };
-            let viscous = term(&only(p.mu, 0.0), 0.0, 0.0);
-            let artificial = term(&only(0.0, p.alpha), 0.0, 0.0);
+            let parts: Vec<Vector<D>> = terms
+                .iter()
+                .map(|term| match term {
+                    PairTerm::ArtificialViscosity => {
+                        let u_sj = f.velocity[s] - f.velocity[j];
+                        artificial_viscous_acceleration(
+                            p.pair.alpha,
+                            p.c,
+                            p.h,
+                            &d,
+                            &u_sj,
+                            rho_s,
+                            rho_j,
+                            m_j,
+                            &grad,
+                        ) * m_s
+                    }
+                    PairTerm::Viscosity => {
+                        let lap = kernel.laplacian_w_viscosity(r);
+                        let mu = p.pair.mu * p.viscosity_scale;
+                        viscous_acceleration(mu, viscous_u, &f.velocity[j], rho_s, rho_j, m_j, lap) * m_s
+                    }
+                })
+                .collect();
+            let pair = parts.iter().fold(pressure_part, |sum, part| sum + part);
             for k in 0..D {
                 force[slot][k] += f64::from(pair[k]);
-                let parts = [pressure_part[k], viscous[k], artificial[k]].map(|x| f64::from(x.abs()));
-                tol[slot][k] +=
-                    SUM_ORDER * parts.iter().sum::<f64>() + sensitivity * f64::from(grad[k].abs());
+                let magnitude: f64 = parts.iter().map(|x| f64::from(x[k].abs())).sum();
+                tol[slot][k] += SUM_ORDER * (f64::from(pressure_part[k].abs()) + magnitude)
+                    + sensitivity * f64::from(grad[k].abs());
             }
         }
     }
@@ -146,12 +157,12 @@ fn check_solid_forces<const D: usize>(seed: u64, source: SolidForceSource, phase
     add_strays(&mut f, &p, seed ^ 0x5151);
     use_phases(&mut f, &mut p, phases, true);
     let r = in_id_order(&f);
-    let params = source.params(&p);
+    let terms = source.pair_terms();
     let pressure: Vec<(f32, f64)> = match source {
-        SolidForceSource::Forces => r.pressure.iter().map(|&x| (x, 0.0)).collect(),
+        SolidForceSource::Forces(_) => r.pressure.iter().map(|&x| (x, 0.0)).collect(),
         SolidForceSource::Correction => reference_increments(&r, &p),
     };
-    let (want, tol) = reference_forces(&r, &params, &pressure, Variant::Stage);
+    let (want, tol) = reference_forces(&r, &p, terms, &pressure, Variant::Stage);
     let what = format!("{D}D {source:?} {phases:?}");
     // Each term moves some solid's force far beyond the tolerance, so none passes vacuously.
     let effect = |(other, _): (Vec<[f64; 3]>, Vec<[f64; 3]>)| {
@@ -163,41 +174,29 @@ fn check_solid_forces<const D: usize>(seed: u64, source: SolidForceSource, phase
     let no_pressure = vec![(0.0, 0.0); r.len()];
     let mut effects = vec![(
         "pressure",
-        effect(reference_forces(&r, &params, &no_pressure, Variant::Stage)),
+        effect(reference_forces(&r, &p, terms, &no_pressure, Variant::Stage)),
     )];
-    if source == SolidForceSource::Forces {
-        let without = |mu: f32, alpha: f32| StepParams { mu, alpha, ..params };
+    for term in terms.iter() {
+        let without = terms.without(term);
         effects.push((
-            "viscosity",
-            effect(reference_forces(
-                &r,
-                &without(0.0, p.alpha),
-                &pressure,
-                Variant::Stage,
-            )),
+            term.label(),
+            effect(reference_forces(&r, &p, without, &pressure, Variant::Stage)),
         ));
-        effects.push((
-            "artificial viscosity",
-            effect(reference_forces(
-                &r,
-                &without(p.mu, 0.0),
-                &pressure,
-                Variant::Stage,
-            )),
-        ));
+    }
+    if terms.contains(PairTerm::Viscosity) {
         effects.push((
             "wall velocity",
-            effect(reference_forces(&r, &params, &pressure, Variant::OwnVelocity)),
+            effect(reference_forces(&r, &p, terms, &pressure, Variant::OwnVelocity)),
         ));
     }
     if phases == Phases::Multi {
         let single = StepParams {
             phases: Phases::Single,
-            ..params
+            ..p
         };
         effects.push((
             "volume form",
-            effect(reference_forces(&r, &single, &pressure, Variant::Stage)),
+            effect(reference_forces(&r, &single, terms, &pressure, Variant::Stage)),
         ));
     }
     for (term, e) in &effects {
@@ -246,7 +245,9 @@ fn check_solid_forces<const D: usize>(seed: u64, source: SolidForceSource, phase
 
 #[test]
 fn solid_forces_are_the_brute_force_pair_sums_for_both_sources_and_phase_models() {
-    for source in [SolidForceSource::Forces, SolidForceSource::Correction] {
+    // Every pair term on for the force stage's source; none for the correction's.
+    let all = PairTerm::ALL.into_iter().fold(PairTerms::NONE, PairTerms::with);
+    for source in [SolidForceSource::Forces(all), SolidForceSource::Correction] {
         for phases in [Phases::Single, Phases::Multi] {
             check_solid_forces::<2>(0xdead_beef_cafe_f00d, source, phases);
             check_solid_forces::<3>(0x0bad_c0de_1357_9bdf, source, phases);

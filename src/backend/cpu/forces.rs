@@ -6,13 +6,13 @@ use crate::fields::{FLUID, Fields};
 use crate::grid::Grid;
 use crate::math::{Real, Vector};
 use crate::model::ForceTerms;
+use crate::model::pair_terms::{add_pair_terms, with_pair_terms};
 use crate::model::params::StepParams;
 use crate::physics::{
-    artificial_viscosity::artificial_viscous_acceleration,
     multiphase::{self, Phases},
+    pair::Pair,
     pressure::{pressure_acceleration_from_terms, pressure_term},
     rotating_frame::rotating_frame_acceleration,
-    viscosity::viscous_acceleration,
 };
 use rayon::prelude::*;
 
@@ -59,37 +59,19 @@ fn fluid_acceleration_for<const D: usize, const MULTIPHASE: bool>(
     if f.kind[i] != FLUID {
         return Vector::zeros();
     }
-    match (terms.viscosity, terms.artificial_viscosity, terms.rotating_frame) {
-        (false, false, false) => {
-            fluid_acceleration::<D, false, false, false, MULTIPHASE>(grid, f, params, q, i)
-        }
-        (true, false, false) => {
-            fluid_acceleration::<D, true, false, false, MULTIPHASE>(grid, f, params, q, i)
-        }
-        (false, true, false) => {
-            fluid_acceleration::<D, false, true, false, MULTIPHASE>(grid, f, params, q, i)
-        }
-        (true, true, false) => fluid_acceleration::<D, true, true, false, MULTIPHASE>(grid, f, params, q, i),
-        (false, false, true) => {
-            fluid_acceleration::<D, false, false, true, MULTIPHASE>(grid, f, params, q, i)
-        }
-        (true, false, true) => fluid_acceleration::<D, true, false, true, MULTIPHASE>(grid, f, params, q, i),
-        (false, true, true) => fluid_acceleration::<D, false, true, true, MULTIPHASE>(grid, f, params, q, i),
-        (true, true, true) => fluid_acceleration::<D, true, true, true, MULTIPHASE>(grid, f, params, q, i),
-    }
+    with_pair_terms!(terms.pair.bits(), TERMS => if terms.rotating_frame {
+        fluid_acceleration::<D, TERMS, true, MULTIPHASE>(grid, f, params, q, i)
+    } else {
+        fluid_acceleration::<D, TERMS, false, MULTIPHASE>(grid, f, params, q, i)
+    })
 }
 
-/// Eqs. (15)–(17) and (6) for fluid particle `i`, monomorphised on the optional terms: viscosity
-/// (17), artificial viscosity ([M92]) and the rotating frame ([B67] §3.2); with `MULTIPHASE` the
-/// pressure force is [HA06]'s volume form (`physics::multiphase`) and `terms` hold `p V²`.
+/// Eqs. (15)–(17) and (6) for fluid particle `i`, monomorphised on the optional terms: the pair
+/// terms of `TERMS` (`model::pair_terms`, summed in table order after the pressure force) and the
+/// rotating frame ([B67] §3.2); with `MULTIPHASE` the pressure force is [HA06]'s volume form
+/// (`physics::multiphase`) and `terms` hold `p V²`.
 #[inline(always)]
-fn fluid_acceleration<
-    const D: usize,
-    const VISCOUS: bool,
-    const ARTIFICIAL: bool,
-    const ROTATING: bool,
-    const MULTIPHASE: bool,
->(
+fn fluid_acceleration<const D: usize, const TERMS: u32, const ROTATING: bool, const MULTIPHASE: bool>(
     grid: &Grid<D>,
     fields: &Fields<D>,
     params: &StepParams<D>,
@@ -98,8 +80,6 @@ fn fluid_acceleration<
 ) -> Vector<D> {
     let kernel = params.smoothing();
     let (q_i, rho_i, u_i) = (terms[i], fields.density[i], fields.velocity[i]);
-    // Eq. (17) with the lattice's Laplacian moment undone (`physics::lattice`).
-    let mu = params.mu * params.viscosity_scale;
     let mut a = params.gravity; // eq. (6)
     if ROTATING {
         // [B67] §3.2: Coriolis and centrifugal.
@@ -122,30 +102,26 @@ fn fluid_acceleration<
         } else {
             a += pressure_acceleration_from_terms(q_i, terms[j], m_j, &grad);
         }
-        if ARTIFICIAL {
-            let u_ij = u_i - fields.velocity[j];
-            a += artificial_viscous_acceleration(
-                params.alpha,
-                params.c,
-                params.h,
-                &d,
-                &u_ij,
-                rho_i,
-                rho_j,
-                m_j,
-                &grad,
-            );
-        }
-        if VISCOUS {
-            let lap = kernel.laplacian_w_viscosity(r);
+        let u_j = &fields.velocity[j];
+        let pair = Pair {
+            x_ij: &d,
+            r,
+            u_i: &u_i,
+            u_j,
+            viscous_u_i: &u_i,
             // A solid carries its no-slip velocity ([A12] eqs. 22-23) where the scene has one.
-            let u_j = if fields.kind[j] == FLUID {
-                &fields.velocity[j]
+            viscous_u_j: if fields.kind[j] == FLUID {
+                u_j
             } else {
-                fields.wall_velocity.get(j).unwrap_or(&fields.velocity[j])
-            };
-            a += viscous_acceleration(mu, &u_i, u_j, rho_i, rho_j, m_j, lap);
-        }
+                fields.wall_velocity.get(j).unwrap_or(u_j)
+            },
+            rho_i,
+            rho_j,
+            m_j,
+            grad_w: &grad,
+            kernel: &kernel,
+        };
+        add_pair_terms::<D, TERMS>(&mut a, params, &pair);
     });
     a
 }

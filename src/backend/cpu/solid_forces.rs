@@ -7,8 +7,10 @@ use crate::backend::SolidForceSource;
 use crate::boundary::solid_force::force_on_solid;
 use crate::fields::{FLUID, Fields};
 use crate::math::{Vector, sum_by_group, to_xyz};
+use crate::model::pair_terms::with_pair_terms;
 use crate::model::params::StepParams;
 use crate::physics::multiphase::{self, Phases};
+use crate::physics::pair::Pair;
 
 impl<const D: usize> CpuBackend<D> {
     pub(super) fn solid_forces(
@@ -21,10 +23,10 @@ impl<const D: usize> CpuBackend<D> {
         let kernel = params.smoothing();
         let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
         let f = fields;
-        // The correction moves particles by pressure alone: its own pressures, no viscous terms.
-        let params = source.params(params);
+        // The correction moves particles by pressure alone: its own pressures, no pair terms.
+        let terms = source.pair_terms();
         let pressure = match source {
-            SolidForceSource::Forces => &f.pressure,
+            SolidForceSource::Forces(_) => &f.pressure,
             SolidForceSource::Correction => &self.delta_p,
         };
         if pressure.len() != f.len() {
@@ -37,7 +39,7 @@ impl<const D: usize> CpuBackend<D> {
             fill_volume_pressure_terms(&mut self.pressure_terms, pressure, &f.mass, &f.density);
         }
         let q = &self.pressure_terms;
-        sum_by_group(f.len(), solids, |s| {
+        with_pair_terms!(terms.bits(), TERMS => sum_by_group(f.len(), solids, |s| {
             let kind = f.kind[s];
             if kind == FLUID || self.is_dry(s) {
                 return None;
@@ -49,27 +51,31 @@ impl<const D: usize> CpuBackend<D> {
                 }
                 let r = r2.sqrt();
                 let grad = kernel.grad_w_spiky(&d, r) * params.pressure_gradient_scale;
-                let (p_s, p_j) = if multiphase {
-                    (0.0, 0.0)
+                let pressures = if multiphase {
+                    [0.0, 0.0]
                 } else {
-                    (pressure[s], pressure[j])
+                    [pressure[s], pressure[j]]
                 };
-                let mut pair = force_on_solid(
-                    &params,
-                    [f.mass[s], p_s, f.density[s]],
-                    [f.mass[j], p_j, f.density[j]],
-                    &d,
-                    [&f.velocity[s], &f.velocity[j]],
-                    f.wall_velocity.get(s).unwrap_or(&f.velocity[s]),
-                    &grad,
-                    kernel.laplacian_w_viscosity(r),
-                );
+                let pair = Pair {
+                    x_ij: &d,
+                    r,
+                    u_i: &f.velocity[s],
+                    u_j: &f.velocity[j],
+                    viscous_u_i: f.wall_velocity.get(s).unwrap_or(&f.velocity[s]),
+                    viscous_u_j: &f.velocity[j],
+                    rho_i: f.density[s],
+                    rho_j: f.density[j],
+                    m_j: f.mass[j],
+                    grad_w: &grad,
+                    kernel: &kernel,
+                };
+                let mut pair = force_on_solid::<D, TERMS>(params, f.mass[s], pressures, &pair);
                 if multiphase {
                     pair += multiphase::pressure_acceleration(q[s], q[j], 1.0, &grad);
                 }
                 force += pair;
             });
             Some((kind as usize - 1, to_xyz(&force)))
-        })
+        }))
     }
 }

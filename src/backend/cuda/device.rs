@@ -13,7 +13,7 @@
 use super::compile::{arch_for, compile_all};
 use super::extremes::{DeviceExtremes, max_from_bits, max_from_bits_or_nan, sweep};
 use super::grid::GridGeometry;
-use super::launch::{Buffer, DeviceFault, FORCES, Gpu, KERNEL_NAMES, Launch, Memory};
+use super::launch::{Buffer, DeviceFault, Gpu, KERNEL_NAMES, Launch, Memory};
 use crate::backend::{
     Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel,
 };
@@ -22,6 +22,7 @@ use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
+use crate::model::pair_terms::PairTerms;
 use crate::model::params::StepParams;
 use crate::physics::multiphase::Phases;
 use crate::solver::anderson::AndersonState;

@@ -6,8 +6,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
     pub(super) fn launch_forces(&mut self, params: &StepParams<D>, terms: ForceTerms) {
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
-        // One entry per term set, then the same with the [HA06] pressure force.
-        let entry = terms.index() + FORCES.len() / 2 * params.phases as usize;
+        let entry = terms.entry(params.phases);
         launch!(
             self,
             "computing the forces",

@@ -25,19 +25,21 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         if record(&mut self.error, "clearing the solid forces", r).is_none() {
             return zero;
         }
-        let p = source.params(params);
         let pressure = match source {
-            SolidForceSource::Forces => &self.f.pressure,
+            SolidForceSource::Forces(_) => &self.f.pressure,
             SolidForceSource::Correction => &self.delta_p,
         };
         let n = self.n as u32;
+        // The generated family's entry: the pair-term set, then the [HA06] variant
+        // (`solid_forces{terms}{phases}`, kernels/launch.table).
+        let entry = source.pair_terms().bits() as usize + PairTerms::SETS * params.phases as usize;
         // About 8 particles per thread (grid-stride loop in kernels/solid_forces.cu).
         // SAFETY: as in `launch!`; solid_out holds 3 doubles per solid.
         let r = unsafe {
             self.dev.solid_forces(
-                params.phases as usize,
+                entry,
                 n,
-                &p,
+                params,
                 &g.geometry,
                 &g.cell_start,
                 &g.cell_key,

@@ -13,6 +13,8 @@
 
 use std::path::PathBuf;
 
+use crate::model::pair_terms::{CoefficientRule, PairTermSettings};
+
 use super::count::{self, axis_name};
 use super::generate::{fmt_box, intersection, outside_axis, solid_extent};
 use super::schema::{
@@ -235,47 +237,37 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
     let f = &file.fluid;
     let rho0 = c.positive(fp.k("rho0"), f.rho0);
     let sound_speed = c.positive(fp.k("sound_speed"), f.sound_speed);
-    let has_visc = effects.contains(&Effect::Viscosity);
     let has_grav = effects.contains(&Effect::Gravity);
-    let viscosity = match (f.viscosity, has_visc) {
-        (Some(v), true) => c.non_negative(fp.k("viscosity"), v),
-        (None, true) => {
-            c.err(
-                fp.k("viscosity"),
-                "required because effect \"viscosity\" is enabled".into(),
-            );
-            None
+    // The pair terms' coefficients (`kernels/pair_terms.table`): each required iff its effect
+    // is on.
+    let mut pair_terms = PairTermSettings::none();
+    for (term, value) in f.pair_term_coefficients() {
+        let key = fp.k(term.name());
+        let on = effects.contains(&Effect::Pair(term));
+        match (value, on) {
+            (Some(v), true) => {
+                let checked = match term.rule() {
+                    CoefficientRule::NonNegative => c.non_negative(key, v),
+                    CoefficientRule::Positive => c.positive(key, v),
+                };
+                if let Some(v) = checked {
+                    pair_terms = pair_terms.with(term, v);
+                }
+            }
+            (None, true) => c.err(
+                key,
+                format!("required because effect \"{}\" is enabled", term.name()),
+            ),
+            (Some(_), false) => c.err(
+                key,
+                format!(
+                    "given but effect \"{}\" is not enabled (add it to `effects` or remove this key)",
+                    term.name()
+                ),
+            ),
+            (None, false) => {}
         }
-        (Some(_), false) => {
-            c.err(
-                fp.k("viscosity"),
-                "given but effect \"viscosity\" is not enabled (add it to `effects` or remove this key)"
-                    .into(),
-            );
-            None
-        }
-        (None, false) => None,
-    };
-    let has_art = effects.contains(&Effect::ArtificialViscosity);
-    let artificial_viscosity = match (f.artificial_viscosity, has_art) {
-        (Some(v), true) => c.non_negative(fp.k("artificial_viscosity"), v),
-        (None, true) => {
-            c.err(
-                fp.k("artificial_viscosity"),
-                "required because effect \"artificial_viscosity\" is enabled".into(),
-            );
-            None
-        }
-        (Some(_), false) => {
-            c.err(
-                fp.k("artificial_viscosity"),
-                "given but effect \"artificial_viscosity\" is not enabled (add it to `effects` or remove this key)"
-                    .into(),
-            );
-            None
-        }
-        (None, false) => None,
-    };
+    }
     let gravity = match (&f.gravity, has_grav) {
         (Some(g), true) => c.vector(fp.k("gravity"), g, dim),
         (None, true) => {
@@ -496,8 +488,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             smoothing_length: h?,
             rho0: rho0?,
             sound_speed: sound_speed?,
-            viscosity,
-            artificial_viscosity,
+            pair_terms,
             gravity,
             gravity_ramp: gravity_ramp?,
             angular_velocity,
