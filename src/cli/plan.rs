@@ -10,7 +10,7 @@
 use crate::fields::Field;
 use crate::model::SurfaceTensionModel;
 use crate::run::{correction, plan_inputs};
-use crate::scene::{Effect, Scene, load_scene};
+use crate::scene::{Effect, ProbeKind, Scene, load_scene};
 use crate::solver::Integrator;
 use crate::solver::plan::plan;
 use crate::solver::stage::{Stage, SubStage};
@@ -232,9 +232,13 @@ pub fn render(scene: &Scene, origin: &str) -> String {
     let probe_interval = scene.output_interval / 10.0;
     for p in &scene.probes {
         let axis = ["x", "y", "z"].get(p.axis).copied().unwrap_or("?");
-        let what = match p.solid.and_then(|s| scene.solids.get(s)) {
-            Some(s) => format!("{} on {} along {axis}", p.kind.name(), s.name),
-            None => format!("{} along {axis}", p.kind.name()),
+        let point = p.point.as_deref().map(vector).unwrap_or_default();
+        let what = match (p.kind, p.solid.and_then(|s| scene.solids.get(s))) {
+            (_, Some(s)) => format!("{} on {} along {axis}", p.kind.name(), s.name),
+            (ProbeKind::Pressure, None) => format!("pressure at {point} m"),
+            (ProbeKind::Level, None) => format!("level above {point} m along {axis}"),
+            (ProbeKind::Velocity, None) => format!("velocity along {axis} at {point} m"),
+            _ => format!("{} along {axis}", p.kind.name()),
         };
         let _ = writeln!(
             out,

@@ -207,24 +207,37 @@ fn derived_scales(m: &mut Magnitudes, scene: &Scene) {
             "Pa",
             &[(rho_key.clone(), *rho0), (fp.k("sound_speed"), c)],
         );
-        // Each pair term's equivalent kinematic viscosity in this phase (the step limit's).
-        let medium = ViscousMedium {
-            sound_speed: c,
-            h,
-            dimension: scene.dimension,
-            lightest_rho0: *rho0,
-            viscosity_scale: 1.0,
-        };
+        // Each pair term's equivalent kinematic viscosity in this phase (the step limit's),
+        // naming the scene values it depends on.
         for (term, coefficient) in scene.pair_terms.iter().filter(|(_, v)| *v > 0.0) {
+            let nu = |sound_speed: f64, rho: f64| {
+                term.step_viscosity(
+                    coefficient,
+                    &ViscousMedium {
+                        sound_speed,
+                        h,
+                        dimension: scene.dimension,
+                        lightest_rho0: rho,
+                        viscosity_scale: 1.0,
+                    },
+                )
+            };
+            let by_density = nu(c, 2.0 * rho0) != nu(c, *rho0);
+            if !by_density && rho_key != &fp.k("rho0") {
+                continue; // the same in every phase: checked once
+            }
+            let mut factors = vec![(fp.k(term.name()), coefficient)];
+            if by_density {
+                factors.push((rho_key.clone(), *rho0));
+            }
+            if nu(2.0 * c, *rho0) != nu(c, *rho0) {
+                factors.push((fp.k("sound_speed"), c));
+            }
             m.derived(
-                &format!("kinematic viscosity of fluid.{} with {rho_key}", term.name()),
-                term.step_viscosity(coefficient, &medium),
+                &format!("viscosity of {}", term.name()),
+                nu(c, *rho0),
                 "m^2/s",
-                &[
-                    (fp.k(term.name()), coefficient),
-                    (rho_key.clone(), *rho0),
-                    (fp.k("sound_speed"), c),
-                ],
+                &factors,
             );
         }
     }

@@ -197,6 +197,8 @@ pub struct Probe {
     pub origin: f64,
     /// Force probes: index of the measured solid in `Scene::solids`.
     pub solid: Option<usize>,
+    /// Pressure, level and velocity probes: where they measure \[m\], `dimension` entries.
+    pub point: Option<Vec<f64>>,
     /// Reference data to compare with, if any.
     pub reference: Option<ProbeReference>,
 }

@@ -112,6 +112,14 @@ pub enum ProbeKind {
     Front,
     /// The force of the fluid on the solid `solid` along `axis` \[N\] (\[N/m\] in 2D).
     Force,
+    /// The fluid pressure at `point` \[Pa\] (on a solid's surface or inside the fluid), by a
+    /// Shepard-normalised SPH interpolation (`probe::interpolate`).
+    Pressure,
+    /// A wave gauge: the height \[m\] of the free surface above `point` along `axis` (default
+    /// the vertical, the last axis), where the kernel-summed particle volume falls below 1/2.
+    Level,
+    /// The fluid velocity's component along `axis` at `point` \[m/s\].
+    Velocity,
 }
 
 impl ProbeKind {
@@ -120,6 +128,9 @@ impl ProbeKind {
         match self {
             ProbeKind::Front => "front",
             ProbeKind::Force => "force",
+            ProbeKind::Pressure => "pressure",
+            ProbeKind::Level => "level",
+            ProbeKind::Velocity => "velocity",
         }
     }
 }
@@ -370,8 +381,12 @@ pub struct ProbeFile {
     pub name: String,
     /// What is measured.
     pub kind: ProbeKind,
-    /// `"x"`, `"y"` or `"z"`, below `dimension`; default `"x"`.
+    /// `"x"`, `"y"` or `"z"`, below `dimension`; default `"x"` (a level gauge: the last axis,
+    /// the vertical). Not for a pressure probe.
     pub axis: Option<String>,
+    /// Where a pressure, level or velocity probe measures \[m\], `dimension` entries inside the
+    /// domain (a level gauge: the foot of its line, e.g. on the floor).
+    pub point: Option<Vec<f64>>,
     /// Coordinate subtracted from the measurement \[m\], finite; default 0 (front only).
     pub origin: Option<f64>,
     /// Name of the solid whose force is measured (force only, required there).

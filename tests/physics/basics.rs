@@ -5,6 +5,7 @@
 
 use crate::common::tolerance::{CLOCK_SLACK, F32_ACCUMULATION, HYDROSTATIC_PRESSURE, PAIRWISE_MOMENTUM};
 use sph::math::Vector;
+use sph::probe::ProbeLog;
 use sph::run::simulation_from_scene;
 use sph::scene::{load_scene, parse_scene};
 use sph::solver::{SimConfig, Simulation};
@@ -22,7 +23,10 @@ impl Rng {
     }
 }
 
-/// `scenes/hydrostatic_2d.toml`: water H = 0.5 m deep at rest in a 1 m wide tank, run for 5 s.
+/// `scenes/hydrostatic_2d.toml`: water H = 0.5 m deep at rest in a 1 m wide tank, run for 5 s,
+/// with pressure sensors on the left wall's face and in the middle of the tank at three heights,
+/// a level gauge standing on the floor and a velocity probe, recorded by `ProbeLog` every 0.01 s
+/// as a run records them.
 ///
 /// Asserts:
 /// - the floor's mean pressure (vertical force on the floor / tank width, averaged over
@@ -31,11 +35,25 @@ impl Rng {
 ///   below 1 % of sqrt(g H). The start-up is the gravity ramp (1 s) and the rearrangement of the
 ///   square lattice under its own weight, during which interior particles move at up to
 ///   0.04 m/s (measured: 1 s ≤ t ≤ 2.5 s); from t = 2.5 s on the largest speed stays below
-///   0.016 m/s.
+///   0.016 m/s;
+/// - the probes, averaged over 4 s ≤ t ≤ 5 s: the pressure sensors at depths 0.25 m and 0.4 m
+///   read ρ0 g (H − z) within 3 %; the gauge reads H within half a spacing; the velocity probe
+///   reads 0 within 1 % of sqrt(g H). The sensors 0.1 m below the surface are held to 10 %
+///   ([`SHALLOW_SENSOR`], where the solver's pressure itself falls short).
 #[test]
 fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
-    let scene = load_scene(Path::new("scenes/hydrostatic_2d.toml"), &[]).expect("shipped scene");
+    let path = Path::new("scenes/hydrostatic_2d.toml");
+    let mut text = std::fs::read_to_string(path).expect("shipped scene");
+    let heights = [0.1, 0.25, 0.4];
+    for (k, z) in heights.iter().enumerate() {
+        text += &format!("\n[[probe]]\nname = \"wall{k}\"\nkind = \"pressure\"\npoint = [0.0, {z}]\n");
+        text += &format!("\n[[probe]]\nname = \"middle{k}\"\nkind = \"pressure\"\npoint = [0.5, {z}]\n");
+    }
+    text += "\n[[probe]]\nname = \"gauge\"\nkind = \"level\"\npoint = [0.5, 0.0]\n";
+    text += "\n[[probe]]\nname = \"current\"\nkind = \"velocity\"\naxis = \"y\"\npoint = [0.5, 0.25]\n";
+    let scene = parse_scene(&text, "hydrostatic_2d.toml with probes", &[]).expect("scene with probes");
     let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+    let mut log = ProbeLog::create(&scene, None, 0.01).expect("probe log");
     let (g, depth, width, rho0) = (9.81, 0.5, 1.0, 1000.0);
     let floor = sim
         .solid_names()
@@ -56,6 +74,14 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
             impulse += sim.solid_forces()[floor][1] * report.dt;
             duration += report.dt;
         }
+        log.record(
+            sim.clock().time,
+            report.dt,
+            &sim.fields,
+            sim.solid_forces(),
+            false,
+        )
+        .expect("probes recorded");
     }
     let bottom_pressure = -impulse / duration / width;
     let expected = rho0 * g * depth;
@@ -68,7 +94,46 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
         max_speed_at_rest < limit,
         "max speed {max_speed_at_rest:.4} m/s at rest, limit {limit:.4}"
     );
+    let mean = |name: &str| {
+        let k = log.probes().iter().position(|p| p.name == name).expect("probe");
+        let late: Vec<f64> = log
+            .samples(k)
+            .iter()
+            .filter(|(t, _)| *t >= 4.0)
+            .map(|s| s.1)
+            .collect();
+        assert!(late.len() >= 90, "{name}: a sample every 0.01 s");
+        late.iter().sum::<f64>() / late.len() as f64
+    };
+    for (k, z) in heights.iter().enumerate() {
+        let want = rho0 * g * (depth - z);
+        let tolerance = if depth - z < 0.2 { SHALLOW_SENSOR } else { 0.03 };
+        for name in [format!("wall{k}"), format!("middle{k}")] {
+            let got = mean(&name);
+            eprintln!("{name} at z = {z}: {got:.1} Pa, rho0 g (H - z) = {want:.1} Pa");
+            assert!(
+                (got - want).abs() <= tolerance * want,
+                "{name} at z = {z}: {got:.1} Pa, rho0 g (H - z) = {want:.1} Pa"
+            );
+        }
+    }
+    let level = mean("gauge");
+    assert!(
+        (level - depth).abs() <= scene.spacing / 2.0,
+        "level {level:.4} m, H = {depth} m"
+    );
+    let current = mean("current");
+    assert!(current.abs() < limit, "velocity {current:.4} m/s at rest");
 }
+
+/// The tolerance of a pressure sensor 0.1 m (8 dx) below the surface of the resting tank, where
+/// the weakly compressible solver's own pressure falls short of ρ0 g (H − z): measured over
+/// 4–5 s, 3.4 % low in the middle of the tank and 8.3 % low on the wall's face (at 0.25 m and
+/// 0.4 m depth both are within 3 %, at the floor the force within 2 %). The top layers'
+/// summation density is below ρ0 and their pressure clamped at zero (note 6), and next to the
+/// wall the fluid's pressure is lower still; the instrument itself reads a prescribed
+/// hydrostatic state within 0.5 % there (`gauges`).
+const SHALLOW_SENSOR: f64 = 0.10;
 
 /// A 2D dam break: fluid mass and particle count are constant and no particle is lost or
 /// duplicated (the reorder is a permutation).

@@ -8,6 +8,7 @@
 mod common;
 
 mod basics;
+mod gauges;
 mod multiphase;
 mod poiseuille;
 mod rotating_frame;

@@ -5,7 +5,7 @@
 use crate::common::tolerance::{F32_ROUNDING, F64_SUM};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
-use sph::probe::{ProbeLog, compare_samples, measure};
+use sph::probe::{ProbeLog, ProbeSpace, compare_samples, measure};
 use sph::scene::parse_scene;
 
 const SCENE: &str = r#"dimension = 2
@@ -70,8 +70,11 @@ fn front_and_force_are_measured_from_the_state() {
     let f = fields();
     let forces = [[5.0, 6.0, 0.0], [-2.0, 3.0, 0.0]];
     // The solid particle at x = 0.9 is not fluid: the front is 0.7 - 0.1.
-    assert!((measure(&scene.probes[0], &f, &forces) - 0.6).abs() < F32_ROUNDING);
-    assert_eq!(measure(&scene.probes[1], &f, &forces), -2.0);
+    assert!((measure(&scene.probes[0], &ProbeSpace::of(&scene), &f, &forces) - 0.6).abs() < F32_ROUNDING);
+    assert_eq!(
+        measure(&scene.probes[1], &ProbeSpace::of(&scene), &f, &forces),
+        -2.0
+    );
 }
 
 #[test]

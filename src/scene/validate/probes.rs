@@ -15,7 +15,21 @@ pub(super) fn check_probe(
     let path = KeyPath::key("probe").i(i);
     let earlier: Vec<&str> = file.probe.iter().take(i).map(|o| o.name.as_str()).collect();
     let mut ok = check_name(c, path.k("name"), &pf.name, &earlier, "probe");
-    let axis_text = pf.axis.as_deref().unwrap_or("x");
+    let kind = pf.kind;
+    // A level gauge stands along the vertical (the last axis) unless the scene says otherwise.
+    let default_axis = match (kind, dim) {
+        (ProbeKind::Level, Some(3)) => "z",
+        (ProbeKind::Level, _) => "y",
+        _ => "x",
+    };
+    if kind == ProbeKind::Pressure && pf.axis.is_some() {
+        c.err(
+            path.k("axis"),
+            "not with kind = \"pressure\" (a pressure has no axis)".into(),
+        );
+        ok = false;
+    }
+    let axis_text = pf.axis.as_deref().unwrap_or(default_axis);
     let axis = match (["x", "y", "z"].iter().position(|a| *a == axis_text), dim) {
         (Some(a), Some(d)) if a < d => Some(a),
         (Some(_), None) => None,
@@ -62,15 +76,62 @@ pub(super) fn check_probe(
             }
         },
     };
-    if force && pf.origin.is_some() {
+    if kind != ProbeKind::Front && pf.origin.is_some() {
         c.err(path.k("origin"), "only with kind = \"front\"".into());
+        ok = false;
+    }
+    let at_point = matches!(kind, ProbeKind::Pressure | ProbeKind::Level | ProbeKind::Velocity);
+    let point = match (&pf.point, at_point) {
+        (None, false) => Some(None),
+        (Some(_), false) => {
+            c.err(
+                path.k("point"),
+                "only with kind = \"pressure\", \"level\" or \"velocity\"".into(),
+            );
+            None
+        }
+        (None, true) => {
+            c.err(
+                path.k("point"),
+                format!("required with kind = \"{}\": where it measures [m]", kind.name()),
+            );
+            None
+        }
+        (Some(v), true) => c.vector(path.k("point"), v, dim).and_then(|v| {
+            let outside = (0..v.len()).find(|&k| {
+                let (lo, hi) = (file.domain.min.get(k), file.domain.max.get(k));
+                lo.zip(hi).is_some_and(|(lo, hi)| v[k] < *lo || v[k] > *hi)
+            });
+            match outside {
+                Some(k) => {
+                    c.err(
+                        path.k("point").i(k),
+                        format!(
+                            "{} lies outside the domain [{}, {}]",
+                            v[k], file.domain.min[k], file.domain.max[k]
+                        ),
+                    );
+                    None
+                }
+                None => Some(Some(v)),
+            }
+        }),
+    };
+    if at_point && pf.reference.is_some() {
+        c.err(
+            path.k("reference"),
+            format!(
+                "reference data are compared for front and force probes; a {} probe is written to probes.csv and plotted without one",
+                kind.name()
+            ),
+        );
         ok = false;
     }
     let reference = match &pf.reference {
         None => Some(None),
         Some(r) => {
             let rp = path.k("reference");
-            if !has_grav && !force {
+            if !has_grav && kind == ProbeKind::Front {
                 c.err(
                     rp.clone(),
                     "needs effect \"gravity\" (the reference time is T = t sqrt(g / a))".into(),
@@ -153,6 +214,7 @@ pub(super) fn check_probe(
         axis: axis?,
         origin: origin?,
         solid: solid?,
+        point: point?,
         reference: reference?,
     };
     ok.then_some(probe)

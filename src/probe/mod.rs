@@ -10,18 +10,66 @@
 //! each sampling interval (the per-step force of particle methods is noisy). Against a
 //! reference (time [s], force [N], e.g. Yeh & Petroff's column) the comparison is the first
 //! peak: the largest force within the reference's `time_range`, and when it occurs.
+//!
+//! `pressure`, `velocity`: the fluid's pressure [Pa], or its velocity along the axis [m/s], at
+//! the probe's point, interpolated from the fluid particles with Shepard's normalisation;
+//! `level`: a wave gauge, the height [m] of the free surface above the probe's point along the
+//! axis ([`interpolate`] says how each is read). Each is the value at the sampling time.
+
+pub mod interpolate;
 
 use crate::fields::{FLUID, Fields};
+use crate::math::Real;
 use crate::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
 use crate::output::{CsvTable, CsvValue, OutputError, force_unit};
 use crate::scene::{Probe, ProbeKind, ProbeReference, ReferenceLocation, Scene};
+use crate::smoothing::Smoothing;
 use crate::validation::{CurveError, read_column_force, read_surge_front, relative_error};
 use std::path::{Path, PathBuf};
 
-/// Value of one probe on the current state: the front position [m], or the force on its solid
-/// during the last step [N] (`solid_forces` as `Simulation::solid_forces`).
-pub fn measure<const D: usize>(probe: &Probe, fields: &Fields<D>, solid_forces: &[[f64; 3]]) -> f64 {
+/// What a probe's reading depends on besides the particles: the scene's kernel support and
+/// domain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProbeSpace {
+    /// Kernel support radius `h` [m] of the interpolations.
+    pub h: f64,
+    /// Upper corner of the domain [m]: where a level gauge's line ends.
+    pub domain_max: Vec<f64>,
+}
+
+impl ProbeSpace {
+    /// The scene's.
+    pub fn of(scene: &Scene) -> ProbeSpace {
+        ProbeSpace {
+            h: scene.smoothing_length,
+            domain_max: scene.domain.max.clone(),
+        }
+    }
+}
+
+/// Value of one probe on the current state: the front position [m], the force on its solid
+/// during the last step [N] (`solid_forces` as `Simulation::solid_forces`), or the pressure
+/// [Pa], surface height [m] or velocity [m/s] at its point ([`interpolate`]).
+pub fn measure<const D: usize>(
+    probe: &Probe,
+    space: &ProbeSpace,
+    fields: &Fields<D>,
+    solid_forces: &[[f64; 3]],
+) -> f64 {
+    let at_point = |read: &dyn Fn(&Smoothing<D>, &[f64]) -> f64| -> f64 {
+        match (Smoothing::<D>::new(space.h as Real), probe.point.as_deref()) {
+            (Ok(kernel), Some(point)) if point.len() == D => read(&kernel, point),
+            _ => f64::NAN,
+        }
+    };
     match probe.kind {
+        ProbeKind::Pressure => at_point(&|k, x| interpolate::pressure(fields, k, x)),
+        ProbeKind::Velocity => at_point(&|k, x| interpolate::velocity(fields, k, x, probe.axis.min(D - 1))),
+        ProbeKind::Level => at_point(&|k, x| {
+            let axis = probe.axis.min(D - 1);
+            let top = space.domain_max.get(axis).copied().unwrap_or(x[axis]);
+            interpolate::level(fields, k, x, axis, top)
+        }),
         ProbeKind::Front => {
             let axis = probe.axis.min(D - 1);
             let front = (0..fields.len())
@@ -38,18 +86,22 @@ pub fn measure<const D: usize>(probe: &Probe, fields: &Fields<D>, solid_forces: 
 }
 
 /// The column of `probe` in `probes.csv` of a `dimension`-D run: `<name>_m` for a front,
-/// `<name>_N` for a force (`<name>_N_per_m` in 2D: per metre of depth), as
+/// `<name>_N` for a force (`<name>_N_per_m` in 2D: per metre of depth), `<name>_Pa` for a
+/// pressure, `<name>_m` for a level, `<name>_m_per_s` for a velocity, as
 /// [`crate::output::csv`]'s convention has it.
 pub fn column_name(probe: &Probe, dimension: usize) -> String {
     match probe.kind {
-        ProbeKind::Front => format!("{}_m", probe.name),
+        ProbeKind::Front | ProbeKind::Level => format!("{}_m", probe.name),
         ProbeKind::Force => format!("{}_{}", probe.name, force_unit(dimension)),
+        ProbeKind::Pressure => format!("{}_Pa", probe.name),
+        ProbeKind::Velocity => format!("{}_m_per_s", probe.name),
     }
 }
 
 /// Samples of every probe of a scene, and the `probes.csv` they are written to.
 pub struct ProbeLog {
     probes: Vec<Probe>,
+    space: ProbeSpace,
     /// `(t [s], value)` per probe.
     samples: Vec<Vec<(f64, f64)>>,
     table: Option<CsvTable>,
@@ -135,6 +187,7 @@ impl ProbeLog {
             _ => None,
         };
         Ok(Self {
+            space: ProbeSpace::of(scene),
             samples: vec![Vec::new(); probes.len()],
             running: vec![(0.0, 0.0); probes.len()],
             probes,
@@ -144,10 +197,10 @@ impl ProbeLog {
         })
     }
 
-    /// Whether [`ProbeLog::record`] at time `t` [s] reads particle fields (a front probe is
-    /// due), so a device-resident backend must copy them to the host first.
+    /// Whether [`ProbeLog::record`] at time `t` [s] reads particle fields (a probe other than
+    /// a force is due), so a device-resident backend must copy them to the host first.
     pub fn wants_fields(&self, t: f64, now: bool) -> bool {
-        (t >= self.next || now) && self.probes.iter().any(|p| p.kind == ProbeKind::Front)
+        (t >= self.next || now) && self.probes.iter().any(|p| p.kind != ProbeKind::Force)
     }
 
     /// Called after every step of length `dt` [s] ending at `t` [s]: records the probes if a
@@ -165,7 +218,7 @@ impl ProbeLog {
         }
         for (p, run) in self.probes.iter().zip(self.running.iter_mut()) {
             if p.kind == ProbeKind::Force && dt > 0.0 {
-                run.0 += measure(p, fields, solid_forces) * dt;
+                run.0 += measure(p, &self.space, fields, solid_forces) * dt;
                 run.1 += dt;
             }
         }
@@ -182,7 +235,7 @@ impl ProbeLog {
             .map(|(p, run)| {
                 let v = match p.kind {
                     ProbeKind::Force if run.1 > 0.0 => run.0 / run.1,
-                    _ => measure(p, fields, solid_forces),
+                    _ => measure(p, &self.space, fields, solid_forces),
                 };
                 *run = (0.0, 0.0);
                 v
