@@ -1,6 +1,6 @@
-//! The `sph` binary as a child process: the coarse 2D dam break that the run-folder, restart
-//! and kill tests run, and waiting on a running child (for a file, a row count, a status) before
-//! killing or signalling it.
+//! The `sph` binary as a child process: a plain run of a scene, the coarse 2D dam break that
+//! the run-folder, restart and kill tests run, and waiting on a running child (for a file, a row
+//! count, a status) before killing or signalling it.
 
 use std::path::Path;
 use std::process::{Child, Command, ExitStatus};
@@ -23,6 +23,22 @@ pub fn coarse_run(scene: &Path, solver: &str, end: &str) -> Command {
         .args(["--set", "particles.spacing=0.01"])
         .args(["--threads", "1", "--end-time", end]);
     c
+}
+
+/// `sph run SCENE --out OUT` on one thread; panics with its stderr unless it succeeds.
+pub fn run_scene(scene: &Path, out: &Path) {
+    let run = Command::new(SPH)
+        .arg("run")
+        .arg(scene)
+        .args(["--threads", "1", "--out"])
+        .arg(out)
+        .output()
+        .expect("sph run starts");
+    assert!(
+        run.status.success(),
+        "sph run failed: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
 }
 
 /// Polls `done` every millisecond until it holds; panics, saying `what` was awaited, after

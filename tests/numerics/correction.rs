@@ -389,31 +389,69 @@ fn check_case<const D: usize>(case: &Case, wall_tolerance: Option<(f64, f64)>) -
 
     // 4: ΔP = Σ (M g − F_walls) dt.
     let p1 = sim.fluid_momentum();
-    let largest = (0..D)
-        .map(|k| {
-            gravity_impulse[k]
-                .abs()
-                .max(wall_impulse[k].abs())
-                .max((p1[k] - p0[k]).abs())
-        })
-        .fold(0.0, f64::max);
+    let largest = largest_impulse::<D>(p0, p1, gravity_impulse, wall_impulse);
     let tolerance = match (case.walls, wall_tolerance) {
         (false, _) => PAIRWISE_MOMENTUM * mass * speed,
         (true, Some((relative, floor))) => relative * largest + floor * mass * speed,
         (true, None) => return Ok(()),
     };
+    check_balance::<D>(p0, p1, gravity_impulse, wall_impulse, tolerance, "")
+}
+
+/// The largest of the gravity impulse, the wall impulse and the fluid momentum change
+/// `p1 − p0` on any axis: the scale of property 4's tolerance.
+fn largest_impulse<const D: usize>(p0: [f64; 3], p1: [f64; 3], gravity: [f64; 3], wall: [f64; 3]) -> f64 {
+    (0..D)
+        .map(|k| gravity[k].abs().max(wall[k].abs()).max((p1[k] - p0[k]).abs()))
+        .fold(0.0, f64::max)
+}
+
+/// Property 4 on each axis: the fluid momentum change `p1 − p0` is the gravity impulse minus
+/// the wall impulse to `tolerance`; `what` leads the message.
+fn check_balance<const D: usize>(
+    p0: [f64; 3],
+    p1: [f64; 3],
+    gravity: [f64; 3],
+    wall: [f64; 3],
+    tolerance: f64,
+    what: &str,
+) -> Result<(), TestCaseError> {
     for k in 0..D {
         let change = p1[k] - p0[k];
-        let error = (change - (gravity_impulse[k] - wall_impulse[k])).abs();
+        let error = (change - (gravity[k] - wall[k])).abs();
         prop_assert!(
             error <= tolerance,
-            "axis {k}: fluid momentum change {change:.6e}, gravity impulse {:.6e}, wall impulse \
-             {:.6e}: error {error:.3e} > tolerance {tolerance:.3e}",
-            gravity_impulse[k],
-            wall_impulse[k]
+            "{what}axis {k}: fluid momentum change {change:.6e}, gravity impulse {:.6e}, wall \
+             impulse {:.6e}: error {error:.3e} > tolerance {tolerance:.3e}",
+            gravity[k],
+            wall[k]
         );
     }
     Ok(())
+}
+
+/// A lattice block (no jitter) of `n` particles per axis with spacing `dx`, from the origin.
+fn lattice_block<const D: usize>(n: [i64; D], dx: f64) -> Vec<Vector<D>> {
+    let mut x = Vec::new();
+    for_each_index([0; D], n, |idx| x.push(site::<D>(idx, dx)));
+    x
+}
+
+/// Steps `sim` `steps` times: each step succeeds (`what` leads the message) and leaves
+/// properties 1–3 (3 in `inner`).
+fn run_checked<const D: usize>(
+    sim: &mut Simulation<D>,
+    steps: usize,
+    delta: f64,
+    inner: Option<InnerBox<D>>,
+    what: &str,
+) {
+    let count = sim.fields.len();
+    for step in 0..steps {
+        let report = sim.step(f64::INFINITY);
+        assert!(report.is_ok(), "{what}step {step}: {:?}", report.err());
+        expect_ok(check_state(sim, step, delta, count, inner));
+    }
 }
 
 proptest! {
@@ -482,19 +520,13 @@ fn expect_ok(result: Result<(), TestCaseError>) {
 fn resting_block_with_large_step_stays_uncompressed_and_at_rest() {
     let (dx, dt, steps, delta) = (0.01, 5e-3, 100, 1e-4);
     let (width, height) = (20i64, 20i64);
-    let mut x = Vec::new();
-    for_each_index([0, 0], [width, height], |idx| x.push(site::<2>(idx, dx)));
+    let x = lattice_block([width, height], dx);
     let u = vec![Vector::<2>::zeros(); x.len()];
     let config = config::<2>(dx, dt, true, delta, Integrator::Rk3);
     let walls = container([0, 0], [width, height + 5], dx, config.h, true);
     let inner = ([-0.5 * dx, -0.5 * dx], [(width as f64 + 0.5) * dx, 100.0]);
     let mut sim = Simulation::new(config, &x, &u, &[("tank".to_string(), walls)]).expect("valid setup");
-    let count = sim.fields.len();
-    for step in 0..steps {
-        let report = sim.step(f64::INFINITY);
-        assert!(report.is_ok(), "step {step}: {:?}", report.err());
-        expect_ok(check_state(&sim, step, delta, count, Some(inner)));
-    }
+    run_checked(&mut sim, steps, delta, Some(inner), "");
     let speed = max_speed(&sim);
     let limit = 0.05 * (G * height as f64 * dx).sqrt();
     assert!(
@@ -516,19 +548,13 @@ fn resting_block_with_large_step_stays_uncompressed_and_at_rest() {
 fn block_thrown_at_a_wall_stays_inside_the_container() {
     let (dx, dt, steps, delta) = (0.01, 5e-3, 12, 1e-4);
     let n = [12i64, 12];
-    let mut x = Vec::new();
-    for_each_index([0, 0], n, |idx| x.push(site::<2>(idx, dx)));
+    let x = lattice_block(n, dx);
     let u = vec![Vector::<2>::new(1.0, 0.0); x.len()];
     let config = config::<2>(dx, dt, false, delta, Integrator::Rk3);
     let walls = container([-GAP; 2], n.map(|v| v + GAP), dx, config.h, false);
     let inner = ([-1.5 * dx; 2], [13.5 * dx; 2]);
     let mut sim = Simulation::new(config, &x, &u, &[("box".to_string(), walls)]).expect("valid setup");
-    let count = sim.fields.len();
-    for step in 0..steps {
-        let report = sim.step(f64::INFINITY);
-        assert!(report.is_ok(), "step {step}: {:?}", report.err());
-        expect_ok(check_state(&sim, step, delta, count, Some(inner)));
-    }
+    run_checked(&mut sim, steps, delta, Some(inner), "");
 }
 
 /// A block thrown at a wall as above, at the largest fixed step validation accepts for it,
@@ -543,8 +569,7 @@ fn block_thrown_at_a_wall_at_the_largest_accepted_step_stays_inside_with_the_gua
     let dt = sph::scene::validate::CORRECTED_FLOW_FACTOR * h / speed;
     let steps = (0.3 / dt).round() as usize;
     let n = [12i64, 12];
-    let mut x = Vec::new();
-    for_each_index([0, 0], n, |idx| x.push(site::<2>(idx, dx)));
+    let x = lattice_block(n, dx);
     let u = vec![Vector::<2>::new(speed as Real, 0.0); x.len()];
     let config = config::<2>(dx, dt, false, delta, Integrator::Rk3);
     let walls = container([-GAP; 2], n.map(|v| v + GAP), dx, config.h, false);
@@ -560,12 +585,7 @@ fn block_thrown_at_a_wall_at_the_largest_accepted_step_stays_inside_with_the_gua
         0,
     ))
     .expect("the box's walls");
-    let count = sim.fields.len();
-    for step in 0..steps {
-        let report = sim.step(f64::INFINITY);
-        assert!(report.is_ok(), "dt = {dt} s, step {step}: {:?}", report.err());
-        expect_ok(check_state(&sim, step, delta, count, Some(inner)));
-    }
+    run_checked(&mut sim, steps, delta, Some(inner), &format!("dt = {dt} s, "));
 }
 
 /// The momentum balance with walls (module doc) at 3 % of the largest impulse plus 1e-4
@@ -605,8 +625,7 @@ fn check_thrown_block<const D: usize>(
 ) {
     let (dx, delta) = (0.01, 1e-4);
     let n = [size; D];
-    let mut x = Vec::new();
-    for_each_index([0; D], n, |idx| x.push(site::<D>(idx, dx)));
+    let x = lattice_block(n, dx);
     let mut u = Vector::<D>::zeros();
     u[0] = 1.0;
     let u = vec![u; x.len()];
@@ -633,31 +652,22 @@ fn check_thrown_block<const D: usize>(
         speed = speed.max(max_speed(&sim));
     }
     let p1 = sim.fluid_momentum();
-    let largest = (0..D)
-        .map(|k| {
-            gravity_impulse[k]
-                .abs()
-                .max(wall_impulse[k].abs())
-                .max((p1[k] - p0[k]).abs())
-        })
-        .fold(0.0, f64::max);
+    let largest = largest_impulse::<D>(p0, p1, gravity_impulse, wall_impulse);
     let (relative, floor) = THROWN_BLOCK_BALANCE;
     let tolerance = relative * largest + floor * mass * speed;
     assert!(
         wall_impulse[0].abs() > 0.5 * p0[0].abs(),
         "{D}D: the block hit the wall (wall impulse {wall_impulse:?}, initial momentum {p0:?})"
     );
-    for k in 0..D {
-        let change = p1[k] - p0[k];
-        let error = (change - (gravity_impulse[k] - wall_impulse[k])).abs();
-        assert!(
-            error <= tolerance,
-            "{D}D {integrator:?} axis {k}: fluid momentum change {change:.6e}, gravity impulse {:.6e}, \
-             wall impulse {:.6e}: error {error:.3e} > tolerance {tolerance:.3e}",
-            gravity_impulse[k],
-            wall_impulse[k]
-        );
-    }
+    let what = format!("{D}D {integrator:?} ");
+    expect_ok(check_balance::<D>(
+        p0,
+        p1,
+        gravity_impulse,
+        wall_impulse,
+        tolerance,
+        &what,
+    ));
 }
 
 /// Property 4 with walls and gravity, deterministically, over an impact where the correction's

@@ -203,12 +203,19 @@ fn direction() -> impl Strategy<Value = Vec<f64>> {
     prop::collection::vec(-1.0f64..=1.0, 3)
 }
 
-fn symmetric_and_positive<const D: usize>(h: f64, c: &[f64], q: f64) -> Result<(), TestCaseError> {
-    let Some(u) = unit::<D>(c) else { return Ok(()) };
+/// `h` as [`Real`], its kernel, and the point `x` at `q h` along `c` with its mirror `−x`;
+/// `None` when `c` gives no direction.
+fn mirrored<const D: usize>(h: f64, c: &[f64], q: f64) -> Option<(Real, Smoothing<D>, Vector<D>, Vector<D>)> {
+    let u = unit::<D>(c)?;
     let h = h as Real;
-    let k = kernel::<D>(h);
     let x = vector::<D>(&u.map(|v| v * q * f64::from(h)));
-    let minus = -x;
+    Some((h, kernel::<D>(h), x, -x))
+}
+
+fn symmetric_and_positive<const D: usize>(h: f64, c: &[f64], q: f64) -> Result<(), TestCaseError> {
+    let Some((h, k, x, minus)) = mirrored::<D>(h, c, q) else {
+        return Ok(());
+    };
     let (r, rm) = (x.norm(), minus.norm());
     for (name, a, b) in [
         ("w", k.w(x.norm_squared()), k.w(minus.norm_squared())),
@@ -222,11 +229,9 @@ fn symmetric_and_positive<const D: usize>(h: f64, c: &[f64], q: f64) -> Result<(
 }
 
 fn gradients_are_odd<const D: usize>(h: f64, c: &[f64], q: f64) -> Result<(), TestCaseError> {
-    let Some(u) = unit::<D>(c) else { return Ok(()) };
-    let h = h as Real;
-    let k = kernel::<D>(h);
-    let x = vector::<D>(&u.map(|v| v * q * f64::from(h)));
-    let minus = -x;
+    let Some((h, k, x, minus)) = mirrored::<D>(h, c, q) else {
+        return Ok(());
+    };
     let (r, rm) = (x.norm(), minus.norm());
     for (name, g, gm) in [
         ("grad_w", k.grad_w(&x), k.grad_w(&minus)),
@@ -380,56 +385,38 @@ proptest! {
         let m = viscosity_laplacian_second_moment::<3>(h as Real);
         prop_assert!((m / 6.0 - 1.0).abs() < NORMALISATION_TOL, "h = {h}: ∫ r² ∇²W dV = {m}, want 6");
     }
+}
 
-    #[test]
-    fn kernels_are_non_negative_and_even_in_2d(h in h_strategy(), c in direction(), q in 0.0f64..1.5) {
-        symmetric_and_positive::<2>(h, &c, q)?;
-    }
+/// Runs each check as two property tests, in 2D and in 3D, on a random `h`, direction `c` and
+/// `q` in its range, so a check is written once for both dimensions.
+macro_rules! in_2d_and_3d {
+    ($($check:ident, $q:expr => $name_2d:ident, $name_3d:ident;)*) => {
+        proptest! {
+            $(
+                #[test]
+                fn $name_2d(h in h_strategy(), c in direction(), q in $q) {
+                    $check::<2>(h, &c, q)?;
+                }
 
-    #[test]
-    fn kernels_are_non_negative_and_even_in_3d(h in h_strategy(), c in direction(), q in 0.0f64..1.5) {
-        symmetric_and_positive::<3>(h, &c, q)?;
-    }
+                #[test]
+                fn $name_3d(h in h_strategy(), c in direction(), q in $q) {
+                    $check::<3>(h, &c, q)?;
+                }
+            )*
+        }
+    };
+}
 
-    #[test]
-    fn gradients_are_odd_in_2d(h in h_strategy(), c in direction(), q in 0.0f64..1.5) {
-        gradients_are_odd::<2>(h, &c, q)?;
-    }
-
-    #[test]
-    fn gradients_are_odd_in_3d(h in h_strategy(), c in direction(), q in 0.0f64..1.5) {
-        gradients_are_odd::<3>(h, &c, q)?;
-    }
-
-    #[test]
-    fn kernels_vanish_at_and_beyond_support_in_2d(h in h_strategy(), c in direction(), q in 1.00001f64..100.0) {
-        zero_outside_support::<2>(h, &c, q)?;
-    }
-
-    #[test]
-    fn kernels_vanish_at_and_beyond_support_in_3d(h in h_strategy(), c in direction(), q in 1.00001f64..100.0) {
-        zero_outside_support::<3>(h, &c, q)?;
-    }
-
-    #[test]
-    fn kernels_are_finite_near_coincidence_in_2d(h in h_strategy(), c in direction(), q in 0.0f64..=1.0e-6) {
-        finite_near_zero::<2>(h, &c, q)?;
-    }
-
-    #[test]
-    fn kernels_are_finite_near_coincidence_in_3d(h in h_strategy(), c in direction(), q in 0.0f64..=1.0e-6) {
-        finite_near_zero::<3>(h, &c, q)?;
-    }
-
-    #[test]
-    fn gradients_match_finite_differences_in_2d(h in h_strategy(), c in direction(), q in 0.05f64..0.9) {
-        gradients_match_finite_differences::<2>(h, &c, q)?;
-    }
-
-    #[test]
-    fn gradients_match_finite_differences_in_3d(h in h_strategy(), c in direction(), q in 0.05f64..0.9) {
-        gradients_match_finite_differences::<3>(h, &c, q)?;
-    }
+in_2d_and_3d! {
+    symmetric_and_positive, 0.0f64..1.5
+        => kernels_are_non_negative_and_even_in_2d, kernels_are_non_negative_and_even_in_3d;
+    gradients_are_odd, 0.0f64..1.5 => gradients_are_odd_in_2d, gradients_are_odd_in_3d;
+    zero_outside_support, 1.00001f64..100.0
+        => kernels_vanish_at_and_beyond_support_in_2d, kernels_vanish_at_and_beyond_support_in_3d;
+    finite_near_zero, 0.0f64..=1.0e-6
+        => kernels_are_finite_near_coincidence_in_2d, kernels_are_finite_near_coincidence_in_3d;
+    gradients_match_finite_differences, 0.05f64..0.9
+        => gradients_match_finite_differences_in_2d, gradients_match_finite_differences_in_3d;
 }
 
 /// The Cartesian (vector-form) integral of poly6 and spiky, by the midpoint rule.

@@ -2,6 +2,7 @@
 //! the column, and the files the program writes read back through it with their unit-named
 //! columns (`output::csv`'s convention).
 
+use crate::common::scene::tank_2d_with_post;
 use crate::common::scratch;
 use crate::common::tolerance::F32_ROUNDING;
 use sph::bench::{BENCH_COLUMNS, BenchRow, STAGE_COLUMNS, stages_csv, to_csv};
@@ -119,57 +120,11 @@ fn a_ragged_row_names_the_file_line_and_column() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-const PROBE_SCENE: &str = r#"dimension = 2
-effects = ["gravity"]
-
-[domain]
-min = [-0.05, -0.05]
-max = [1.65, 1.0]
-
-[particles]
-spacing = 0.02
-smoothing_ratio = 2.0
-
-[fluid]
-rho0 = 1000.0
-sound_speed = 30.0
-gravity = [0.0, -9.81]
-
-[[fluid_box]]
-min = [0.0, 0.0]
-max = [0.26, 0.5]
-
-[[solid]]
-name = "tank"
-shape = "container"
-min = [0.0, 0.0]
-max = [1.6, 0.8]
-
-[[solid]]
-name = "post"
-shape = "box"
-min = [1.0, 0.0]
-max = [1.1, 0.3]
-
-[solver]
-kind = "wcsph"
-end_time = 1.0
-
-[[probe]]
-name = "front"
-kind = "front"
-
-[[probe]]
-name = "post_force"
-kind = "force"
-solid = "post"
-axis = "x"
-"#;
-
 #[test]
 fn probes_csv_reads_back_with_unit_named_columns() {
     let dir = scratch("probes");
-    let scene = parse_scene(PROBE_SCENE, "csv test", &[]).expect("valid scene");
+    let text = tank_2d_with_post("kind = \"wcsph\"\nend_time = 1.0\n", "");
+    let scene = parse_scene(&text, "csv test", &[]).expect("valid scene");
     let mut f = Fields::<2>::default();
     f.push(Vector::<2>::new(0.3, 0.1), Vector::zeros(), 1.0, 1000.0, FLUID);
     let mut log = ProbeLog::create(&scene, Some(&dir), 0.1).expect("log");
@@ -194,7 +149,7 @@ fn probes_csv_reads_back_with_unit_named_columns() {
     std::fs::remove_dir_all(&dir).unwrap();
 
     // 3D: newtons.
-    let text = PROBE_SCENE
+    let text = text
         .replace("dimension = 2", "dimension = 3")
         .replace("[-0.05, -0.05]", "[-0.05, -0.05, -0.05]")
         .replace("[1.65, 1.0]", "[1.65, 1.0, 0.3]")

@@ -9,7 +9,7 @@
 //! most `2 Δt max(|u|max, |g| Δt)`, while the storage order changes), the `TimeValue` of each
 //! file equals its time in the `.pvd`, and 2D surfaces are line cells, 3D surfaces triangles.
 
-use crate::common::run::SPH as BIN;
+use crate::common::run::{SPH as BIN, run_scene};
 use crate::common::scratch;
 use crate::common::tolerance::F32_ROUNDING;
 use std::collections::HashMap;
@@ -243,21 +243,6 @@ gravity = {g}\n\n[[fluid_box]]\n{fluid}\n\n[[solid]]\nname = \"tank\"\nshape = \
     scene
 }
 
-fn run(scene: &Path, out: &Path) {
-    let run = Command::new(BIN)
-        .arg("run")
-        .arg(scene)
-        .args(["--threads", "1", "--out"])
-        .arg(out)
-        .output()
-        .expect("sph run starts");
-    assert!(
-        run.status.success(),
-        "sph run failed: {}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-}
-
 /// Positions by id of one frame read by vtkio, and its largest speed [m/s].
 fn by_id(read: &Read) -> (HashMap<u32, [f32; 3]>, f64) {
     let ids = u32s(&read.arrays["id"]);
@@ -370,16 +355,16 @@ fn runs_are_read_by_vtkio(dimension: usize) {
     let dir = scratch(&format!("run{dimension}d"));
     let base64 = dir.join("base64");
     let zlib = dir.join("zlib");
-    run(
+    run_scene(
         &dam_break(&dir, dimension, "surface = true\nencoding = \"base64\""),
         &base64,
     );
-    run(&dam_break(&dir, dimension, "surface = true"), &zlib);
+    run_scene(&dam_break(&dir, dimension, "surface = true"), &zlib);
     check_run(&base64, &zlib, dimension);
 
     // Fluid-only frames: the fluid particles of the full frames, with the same ids.
     let fluid = dir.join("fluid");
-    run(
+    run_scene(
         &dam_break(&dir, dimension, "fluid_only = true\nencoding = \"base64\""),
         &fluid,
     );

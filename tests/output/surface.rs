@@ -7,7 +7,7 @@
 //! staircase whose volume is `N dx^D`; the reference is the ball (disc) of that volume, radius
 //! `R_eq = (3 N dx³ / 4π)^(1/3)` (`(N dx² / π)^(1/2)` in 2D), and its area (perimeter).
 
-use crate::common::run::SPH as BIN;
+use crate::common::run::{SPH as BIN, run_scene};
 use crate::common::scratch;
 use sph::math::{Real, Vector};
 use sph::output::PvdSeries;
@@ -395,21 +395,6 @@ fn tiny_scene(dir: &Path, dimension: usize, output: &str) -> PathBuf {
     )
     .expect("scene");
     scene
-}
-
-fn run_scene(scene: &Path, out: &Path) {
-    let run = Command::new(BIN)
-        .arg("run")
-        .arg(scene)
-        .args(["--threads", "1", "--out"])
-        .arg(out)
-        .output()
-        .expect("sph run starts");
-    assert!(
-        run.status.success(),
-        "sph run failed: {}",
-        String::from_utf8_lossy(&run.stderr)
-    );
 }
 
 #[test]

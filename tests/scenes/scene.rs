@@ -5,45 +5,27 @@ use crate::common::tolerance::{F32_ROUNDING, F64_FEW_OPERATIONS};
 use sph::scene as sc;
 
 use crate::common::scene::{
-    GARBAGE, check_result, edit, line, line_of, parse, parse_set, problems, with_key,
+    GARBAGE, Tank2d, check_result, edit, line, line_of, only_problem_at, parse, parse_set, problem_at,
+    problem_with, problems, with_key,
 };
 use proptest::prelude::*;
 use sc::{Effect, Location, SceneError, SolidShape, SolverKind};
 use sph::backend::SurfaceTensionModel;
+use std::sync::LazyLock;
 
-const VALID_2D: &str = r#"name = "dam_break_2d"
-dimension = 2
-effects = ["gravity", "viscosity"]
-
-[domain]
-min = [-0.05, -0.05]
-max = [1.65, 1.0]
-
-[particles]
-spacing = 0.01
-smoothing_ratio = 2.0
-
-[fluid]
-rho0 = 1000.0
-sound_speed = 30.0
-viscosity = 1.0e-3
-gravity = [0.0, -9.81]
-gravity_ramp = 0.1
-
-[[fluid_box]]
-min = [0.0, 0.0]
-max = [0.25, 0.5]
-
-[[solid]]
-name = "tank"
-shape = "container"
-min = [0.0, 0.0]
-max = [1.6, 0.8]
-
-[solver]
-kind = "wcsph"
-end_time = 1.0
-"#;
+/// The shared 2D tank as a dam break: named, with viscosity, a gravity ramp, dx = 0.01 m and a
+/// 0.25 m wide column.
+static VALID_2D: LazyLock<String> = LazyLock::new(|| {
+    Tank2d {
+        head: "name = \"dam_break_2d\"\n",
+        effects: r#"["gravity", "viscosity"]"#,
+        spacing: 0.01,
+        fluid: "viscosity = 1.0e-3\ngravity_ramp = 0.1\n",
+        width: 0.25,
+        ..Tank2d::default()
+    }
+    .text()
+});
 
 const VALID_3D: &str = r#"dimension = 3
 effects = ["gravity"]
@@ -92,7 +74,7 @@ frames = false
 
 #[test]
 fn valid_2d_scene_parses_with_resolved_values() {
-    let s = parse(VALID_2D).unwrap();
+    let s = parse(&VALID_2D).unwrap();
     assert_eq!(s.name.as_deref(), Some("dam_break_2d"));
     assert_eq!(s.dimension, 2);
     assert!(s.has(Effect::Gravity) && s.has(Effect::Pair(sph::model::pair_terms::PairTerm::Viscosity)));
@@ -146,16 +128,13 @@ fn valid_3d_scene_parses_with_smoothing_length() {
 
 #[test]
 fn negative_spacing_names_key_and_line() {
-    let text = edit(VALID_2D, "spacing = 0.01", "spacing = -0.01");
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "particles.spacing");
-    assert_eq!(line(p), line_of(&text, "spacing = -0.01", 0));
-    assert!(p.reason.contains("> 0"), "{}", p.reason);
+    let text = edit(&VALID_2D, "spacing = 0.01", "spacing = -0.01");
+    problem_at(&text, "particles.spacing", "spacing = -0.01", "> 0");
 }
 
 #[test]
 fn unknown_key_is_named_with_line_and_column() {
-    let text = edit(VALID_2D, "spacing = 0.01", "spacng = 0.01");
+    let text = edit(&VALID_2D, "spacing = 0.01", "spacng = 0.01");
     let ps = problems(parse(&text));
     let p = with_key(&ps, "particles.spacng");
     assert_eq!(
@@ -170,72 +149,59 @@ fn unknown_key_is_named_with_line_and_column() {
 
 #[test]
 fn missing_key_names_the_key() {
-    let text = edit(VALID_2D, "end_time = 1.0\n", "");
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "solver.end_time");
-    assert_eq!(line(p), line_of(&text, "[solver]", 0));
-    assert!(p.reason.contains("missing field"), "{}", p.reason);
+    let text = edit(&VALID_2D, "end_time = 1.0\n", "");
+    problem_at(&text, "solver.end_time", "[solver]", "missing field");
 }
 
 #[test]
 fn wrong_type_names_the_key() {
-    let text = edit(VALID_2D, "rho0 = 1000.0", "rho0 = \"heavy\"");
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "fluid.rho0");
-    assert_eq!(line(p), line_of(&text, "rho0", 0));
+    let text = edit(&VALID_2D, "rho0 = 1000.0", "rho0 = \"heavy\"");
+    problem_at(&text, "fluid.rho0", "rho0", "");
 }
 
 #[test]
 fn fluid_outside_domain() {
-    let text = edit(VALID_2D, "max = [0.25, 0.5]", "max = [0.25, 1.5]");
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "fluid_box[0]");
-    assert_eq!(line(p), line_of(&text, "[[fluid_box]]", 0));
-    assert!(p.reason.contains("outside the domain"), "{}", p.reason);
+    let text = edit(&VALID_2D, "max = [0.25, 0.5]", "max = [0.25, 1.5]");
+    let p = problem_at(&text, "fluid_box[0]", "[[fluid_box]]", "outside the domain");
     assert!(p.reason.contains("axis y"), "{}", p.reason);
 }
 
 #[test]
 fn solid_walls_outside_domain() {
     // The container walls (2 layers of 0.01 m) reach x = -0.02 < -0.01.
-    let text = edit(VALID_2D, "min = [-0.05, -0.05]", "min = [-0.01, -0.05]");
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "solid[0]");
-    assert_eq!(line(p), line_of(&text, "[[solid]]", 0));
-    assert!(p.reason.contains("outside the domain"), "{}", p.reason);
+    let text = edit(&VALID_2D, "min = [-0.05, -0.05]", "min = [-0.01, -0.05]");
+    problem_at(&text, "solid[0]", "[[solid]]", "outside the domain");
 }
 
 #[test]
 fn fluid_overlapping_solid_box() {
     let text = format!(
-        "{VALID_2D}\n[[solid]]\nname = \"gate\"\nshape = \"box\"\nmin = [0.2, 0.0]\nmax = [0.3, 0.3]\n"
+        "{}\n[[solid]]\nname = \"gate\"\nshape = \"box\"\nmin = [0.2, 0.0]\nmax = [0.3, 0.3]\n",
+        *VALID_2D
     );
-    let ps = problems(parse(&text));
-    assert_eq!(ps.len(), 1, "{ps:#?}");
-    let p = with_key(&ps, "fluid_box[0]");
-    assert_eq!(line(p), line_of(&text, "[[fluid_box]]", 0));
-    assert!(p.reason.contains("gate"), "{}", p.reason);
+    only_problem_at(&text, "fluid_box[0]", "[[fluid_box]]", "gate");
 }
 
 #[test]
 fn fluid_overlapping_container_wall() {
     // The fluid starts at x = -0.01, inside the 0.02 m thick left wall.
     let text = edit(
-        VALID_2D,
+        &VALID_2D,
         "min = [0.0, 0.0]\nmax = [0.25",
         "min = [-0.01, 0.0]\nmax = [0.25",
     );
-    let ps = problems(parse(&text));
-    assert_eq!(ps.len(), 1, "{ps:#?}");
-    let p = with_key(&ps, "fluid_box[0]");
-    assert_eq!(line(p), line_of(&text, "[[fluid_box]]", 0));
-    assert!(p.reason.contains("walls of container \"tank\""), "{}", p.reason);
+    only_problem_at(
+        &text,
+        "fluid_box[0]",
+        "[[fluid_box]]",
+        "walls of container \"tank\"",
+    );
 }
 
 #[test]
 fn fluid_above_open_container_is_fine_but_not_into_a_lid() {
     // Fluid sticking out of the open top does not touch any wall.
-    let text = edit(VALID_2D, "max = [0.25, 0.5]", "max = [0.25, 0.9]");
+    let text = edit(&VALID_2D, "max = [0.25, 0.5]", "max = [0.25, 0.9]");
     parse(&text).unwrap();
     let closed = edit(
         &text,
@@ -249,38 +215,32 @@ fn fluid_above_open_container_is_fine_but_not_into_a_lid() {
 #[test]
 fn both_smoothing_keys_given() {
     let text = edit(
-        VALID_2D,
+        &VALID_2D,
         "smoothing_ratio = 2.0",
         "smoothing_ratio = 2.0\nsmoothing_length = 0.02",
     );
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "particles.smoothing_length");
-    assert_eq!(line(p), line_of(&text, "smoothing_length", 0));
-    assert!(p.reason.contains("exactly one"), "{}", p.reason);
+    problem_at(
+        &text,
+        "particles.smoothing_length",
+        "smoothing_length",
+        "exactly one",
+    );
 }
 
 #[test]
 fn smoothing_ratio_out_of_range() {
-    let text = edit(VALID_2D, "smoothing_ratio = 2.0", "smoothing_ratio = 0.5");
-    let ps = problems(parse(&text));
-    assert_eq!(
-        line(with_key(&ps, "particles.smoothing_ratio")),
-        line_of(&text, "smoothing_ratio", 0)
-    );
+    let text = edit(&VALID_2D, "smoothing_ratio = 2.0", "smoothing_ratio = 0.5");
+    problem_at(&text, "particles.smoothing_ratio", "smoothing_ratio", "");
 }
 
 #[test]
 fn viscosity_without_effect() {
     let text = edit(
-        VALID_2D,
+        &VALID_2D,
         "effects = [\"gravity\", \"viscosity\"]",
         "effects = [\"gravity\"]",
     );
-    let ps = problems(parse(&text));
-    assert_eq!(ps.len(), 1, "{ps:#?}");
-    let p = with_key(&ps, "fluid.viscosity");
-    assert_eq!(line(p), line_of(&text, "viscosity = 1.0e-3", 0));
-    assert!(p.reason.contains("not enabled"), "{}", p.reason);
+    only_problem_at(&text, "fluid.viscosity", "viscosity = 1.0e-3", "not enabled");
 }
 
 /// Every pair term of `kernels/pair_terms.table` is read from the scene by its name: its
@@ -292,7 +252,7 @@ fn every_pair_term_is_an_effect_with_its_fluid_key() {
     for term in PairTerm::ALL {
         let name = term.name();
         let effects = format!("effects = [\"gravity\", \"{name}\"]");
-        let base = edit(VALID_2D, "effects = [\"gravity\", \"viscosity\"]", &effects);
+        let base = edit(&VALID_2D, "effects = [\"gravity\", \"viscosity\"]", &effects);
         let base = edit(&base, "viscosity = 1.0e-3", &format!("{name} = 0.25"));
         let scene = parse(&base).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(scene.has(Effect::Pair(term)), "{name}");
@@ -308,7 +268,7 @@ fn every_pair_term_is_an_effect_with_its_fluid_key() {
         let ps = problems(parse(&negative));
         with_key(&ps, &format!("fluid.{name}"));
     }
-    let unknown = edit(VALID_2D, "\"viscosity\"]", "\"viscosty\"]");
+    let unknown = edit(&VALID_2D, "\"viscosity\"]", "\"viscosty\"]");
     let ps = problems(parse(&unknown));
     assert!(
         ps.iter()
@@ -319,18 +279,15 @@ fn every_pair_term_is_an_effect_with_its_fluid_key() {
 
 #[test]
 fn gravity_effect_without_gravity() {
-    let text = edit(VALID_2D, "gravity = [0.0, -9.81]\n", "");
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "fluid.gravity");
+    let text = edit(&VALID_2D, "gravity = [0.0, -9.81]\n", "");
     // Missing key: located at its table.
-    assert_eq!(line(p), line_of(&text, "[fluid]", 0));
-    assert!(p.reason.contains("required"), "{}", p.reason);
+    problem_at(&text, "fluid.gravity", "[fluid]", "required");
 }
 
 #[test]
 fn duplicate_effect() {
     let text = edit(
-        VALID_2D,
+        &VALID_2D,
         "effects = [\"gravity\", \"viscosity\"]",
         "effects = [\"gravity\", \"viscosity\", \"gravity\"]",
     );
@@ -340,26 +297,21 @@ fn duplicate_effect() {
 
 #[test]
 fn wrong_array_length() {
-    let text = edit(VALID_2D, "gravity = [0.0, -9.81]", "gravity = [0.0, -9.81, 0.0]");
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "fluid.gravity");
-    assert_eq!(line(p), line_of(&text, "gravity = [", 0));
-    assert!(p.reason.contains("expected 2 entries"), "{}", p.reason);
+    let text = edit(&VALID_2D, "gravity = [0.0, -9.81]", "gravity = [0.0, -9.81, 0.0]");
+    problem_at(&text, "fluid.gravity", "gravity = [", "expected 2 entries");
 }
 
 #[test]
 fn non_finite_and_inverted_box() {
-    let text = edit(VALID_2D, "max = [1.6, 0.8]", "max = [nan, -0.5]");
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "solid[0].max[0]");
-    assert_eq!(line(p), line_of(&text, "max = [nan", 0));
-    assert!(p.reason.contains("finite"));
+    let text = edit(&VALID_2D, "max = [1.6, 0.8]", "max = [nan, -0.5]");
+    problem_at(&text, "solid[0].max[0]", "max = [nan", "finite");
 }
 
 #[test]
 fn duplicate_solid_name() {
     let text = format!(
-        "{VALID_2D}\n[[solid]]\nname = \"tank\"\nshape = \"box\"\nmin = [1.0, 0.0]\nmax = [1.1, 0.1]\n"
+        "{}\n[[solid]]\nname = \"tank\"\nshape = \"box\"\nmin = [1.0, 0.0]\nmax = [1.1, 0.1]\n",
+        *VALID_2D
     );
     let ps = problems(parse(&text));
     let p = with_key(&ps, "solid[1].name");
@@ -370,7 +322,8 @@ fn duplicate_solid_name() {
 #[test]
 fn open_top_on_a_box_and_bad_name() {
     let text = format!(
-        "{VALID_2D}\n[[solid]]\nname = \"bad name\"\nshape = \"box\"\nmin = [1.0, 0.0]\nmax = [1.1, 0.1]\nopen_top = true\n"
+        "{}\n[[solid]]\nname = \"bad name\"\nshape = \"box\"\nmin = [1.0, 0.0]\nmax = [1.1, 0.1]\nopen_top = true\n",
+        *VALID_2D
     );
     let ps = problems(parse(&text));
     assert_eq!(
@@ -385,7 +338,7 @@ fn open_top_on_a_box_and_bad_name() {
 
 #[test]
 fn thin_box_is_an_error() {
-    let text = edit(VALID_2D, "max = [0.25, 0.5]", "max = [0.004, 0.5]");
+    let text = edit(&VALID_2D, "max = [0.25, 0.5]", "max = [0.004, 0.5]");
     let ps = problems(parse(&text));
     let p = with_key(&ps, "fluid_box[0].max");
     assert!(
@@ -427,9 +380,7 @@ fn too_many_particles() {
 fn too_much_memory() {
     // 1500^3 = 3.4e9 particles fit u32 but need ~0.5 TB.
     let text = edit(HUGE, "spacing = 1e-6", "spacing = 0.000666666666666666666");
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "particles.spacing");
-    assert!(p.reason.contains("3375000000 particles"), "{}", p.reason);
+    let p = problem_with(&text, "particles.spacing", "3375000000 particles");
     assert!(p.reason.contains("bytes available"), "{}", p.reason);
     // The corrected solver needs more than twice the memory of wcsph on a scene half fluid
     // (tests/check/memory_estimate.rs checks both against measured peaks).
@@ -442,7 +393,7 @@ fn too_much_memory() {
 
 #[test]
 fn multiple_errors_are_all_reported() {
-    let text = edit(VALID_2D, "spacing = 0.01", "spacing = -0.01");
+    let text = edit(&VALID_2D, "spacing = 0.01", "spacing = -0.01");
     let text = edit(&text, "rho0 = 1000.0", "rho0 = 0.0");
     let text = edit(&text, "end_time = 1.0", "end_time = -1.0");
     let text = edit(&text, "max = [1.65, 1.0]", "max = [1.65]");
@@ -469,7 +420,7 @@ fn multiple_errors_are_all_reported() {
 
 #[test]
 fn toml_syntax_error_has_line() {
-    let text = edit(VALID_2D, "rho0 = 1000.0", "rho0 = 1000.0.0");
+    let text = edit(&VALID_2D, "rho0 = 1000.0", "rho0 = 1000.0.0");
     let ps = problems(parse(&text));
     assert_eq!(line(&ps[0]), line_of(&text, "rho0", 0));
     assert!(!ps[0].reason.is_empty());
@@ -477,7 +428,7 @@ fn toml_syntax_error_has_line() {
 
 #[test]
 fn override_adds_key() {
-    let s = parse_set(VALID_2D, &["solver.dt=1e-4", "output.interval=0.05"]).unwrap();
+    let s = parse_set(&VALID_2D, &["solver.dt=1e-4", "output.interval=0.05"]).unwrap();
     assert_eq!(s.dt, Some(1e-4));
     assert_eq!(s.output_interval, 0.05);
 }
@@ -485,7 +436,7 @@ fn override_adds_key() {
 #[test]
 fn override_bare_string_and_arrays() {
     let s = parse_set(
-        VALID_2D,
+        &VALID_2D,
         &[
             "solver.kind=wcsph",
             "fluid_box.0.max=[0.5, 0.25]",
@@ -498,7 +449,7 @@ fn override_bare_string_and_arrays() {
     assert_eq!(s.fluid_boxes[0].region.max, vec![0.5, 0.25]);
     assert_eq!(s.gravity, Some(vec![0.0, -1.0]));
     assert_eq!(s.name.as_deref(), Some("other"));
-    let s = parse_set(VALID_2D, &["fluid.gravity.1=-3.0", "solver.end_time=2"]).unwrap();
+    let s = parse_set(&VALID_2D, &["fluid.gravity.1=-3.0", "solver.end_time=2"]).unwrap();
     assert_eq!(s.gravity, Some(vec![0.0, -3.0]));
     assert_eq!(s.end_time, 2.0);
 }
@@ -514,7 +465,7 @@ fn override_errors_name_the_override() {
         ("solver..dt=1", "empty segment"),
     ];
     for (set, reason) in cases {
-        let ps = problems(parse_set(VALID_2D, &[set]));
+        let ps = problems(parse_set(&VALID_2D, &[set]));
         assert_eq!(ps.len(), 1, "{set}: {ps:#?}");
         assert!(matches!(ps[0].location, Location::Override(_)), "{set}: {ps:?}");
         assert!(ps[0].reason.contains(reason), "{set}: {}", ps[0].reason);
@@ -529,10 +480,10 @@ fn override_errors_name_the_override() {
 
 #[test]
 fn overridden_values_report_the_override_location() {
-    let ps = problems(parse_set(VALID_2D, &["particles.spacing=-1"]));
+    let ps = problems(parse_set(&VALID_2D, &["particles.spacing=-1"]));
     let p = with_key(&ps, "particles.spacing");
     assert_eq!(p.location, Location::Override("particles.spacing".into()));
-    let err = parse_set(VALID_2D, &["particles.spacing=-1"])
+    let err = parse_set(&VALID_2D, &["particles.spacing=-1"])
         .unwrap_err()
         .to_string();
     assert!(
@@ -541,19 +492,19 @@ fn overridden_values_report_the_override_location() {
     );
 
     // An unknown key introduced by an override.
-    let ps = problems(parse_set(VALID_2D, &["solver.dtt=1e-4"]));
+    let ps = problems(parse_set(&VALID_2D, &["solver.dtt=1e-4"]));
     let p = with_key(&ps, "solver.dtt");
     assert_eq!(p.location, Location::Override("solver.dtt".into()));
 
     // Wrong type through an override.
-    let ps = problems(parse_set(VALID_2D, &["solver.end_time=soon"]));
+    let ps = problems(parse_set(&VALID_2D, &["solver.end_time=soon"]));
     assert_eq!(
         with_key(&ps, "solver.end_time").location,
         Location::Override("solver.end_time".into())
     );
 
     // Problems in other keys still point into the file.
-    let text = edit(VALID_2D, "rho0 = 1000.0", "rho0 = -1.0");
+    let text = edit(&VALID_2D, "rho0 = 1000.0", "rho0 = -1.0");
     let ps = problems(parse_set(&text, &["solver.dt=1e-4"]));
     assert_eq!(line(with_key(&ps, "fluid.rho0")), line_of(&text, "rho0", 0));
 }
@@ -575,7 +526,7 @@ fn load_scene_file_errors() {
     assert!(ps[0].reason.contains("UTF-8"));
 
     let good = dir.join("good.toml");
-    std::fs::write(&good, VALID_2D).unwrap();
+    std::fs::write(&good, &*VALID_2D).unwrap();
     let s = sc::load_scene(&good, &["solver.end_time=3".to_string()]).unwrap();
     assert_eq!(s.end_time, 3.0);
     std::fs::remove_dir_all(&dir).unwrap();
@@ -600,11 +551,11 @@ fn check_counts<const D: usize>(text: &str) -> (sc::Scene, sc::Layout<D>) {
 
 #[test]
 fn counts_agree_with_generation() {
-    let (_, l) = check_counts::<2>(VALID_2D);
+    let (_, l) = check_counts::<2>(&VALID_2D);
     assert_eq!(l.fluid_position.len(), 25 * 50);
     assert_eq!(l.solids[0].position.len(), 164 * 82 - 160 * 80);
     let closed = edit(
-        VALID_2D,
+        &VALID_2D,
         "max = [1.6, 0.8]\n",
         "max = [1.6, 0.8]\nopen_top = false\n",
     );
@@ -623,7 +574,7 @@ fn counts_agree_with_generation() {
     let (_, l) = check_counts::<3>(&open);
     assert_eq!(l.solids[0].position.len(), 24 * 24 * 22 - 20 * 20 * 20);
     // Non-aligned extents and h/dx = 2.5 (L = 3).
-    let odd = edit(VALID_2D, "smoothing_ratio = 2.0", "smoothing_ratio = 2.5");
+    let odd = edit(&VALID_2D, "smoothing_ratio = 2.0", "smoothing_ratio = 2.5");
     let odd = edit(&odd, "max = [0.25, 0.5]", "max = [0.247, 0.5033]");
     let (scene, _) = check_counts::<2>(&odd);
     assert_eq!(scene.wall_layers(), 3);
@@ -631,7 +582,7 @@ fn counts_agree_with_generation() {
 
 #[test]
 fn generate_rejects_wrong_dimension() {
-    let scene = parse(VALID_2D).unwrap();
+    let scene = parse(&VALID_2D).unwrap();
     assert!(matches!(
         sc::generate::<3>(&scene),
         Err(SceneError::Dimension {
@@ -681,7 +632,7 @@ fn min_fluid_solid_distance<const D: usize>(layout: &sc::Layout<D>) -> f32 {
 
 #[test]
 fn container_walls_have_l_layers_and_fluid_keeps_distance() {
-    let (scene, layout) = check_counts::<2>(VALID_2D);
+    let (scene, layout) = check_counts::<2>(&VALID_2D);
     assert_eq!(check_container_band(&scene, &layout, 0), 2);
     let d = min_fluid_solid_distance(&layout);
     assert!(d >= 0.5 * scene.spacing as f32 - F32_ROUNDING as f32, "{d}");
@@ -691,7 +642,7 @@ fn container_walls_have_l_layers_and_fluid_keeps_distance() {
     let d = min_fluid_solid_distance(&layout);
     assert!(d >= 0.5 * scene.spacing as f32 - F32_ROUNDING as f32, "{d}");
 
-    let thick = edit(VALID_2D, "smoothing_ratio = 2.0", "smoothing_ratio = 3.5");
+    let thick = edit(&VALID_2D, "smoothing_ratio = 2.0", "smoothing_ratio = 3.5");
     let (scene, layout) = check_counts::<2>(&thick);
     assert_eq!(scene.wall_layers(), 4);
     assert_eq!(check_container_band(&scene, &layout, 0), 4);
@@ -707,7 +658,7 @@ proptest! {
 
     #[test]
     fn deleting_a_range_never_panics(which in 0usize..2, a in 0usize..2000, len in 0usize..40) {
-        let text = if which == 0 { VALID_2D } else { VALID_3D };
+        let text = if which == 0 { VALID_2D.as_str() } else { VALID_3D };
         let mut bytes = text.as_bytes().to_vec();
         let a = a % bytes.len();
         let b = (a + len).min(bytes.len());
@@ -717,7 +668,7 @@ proptest! {
 
     #[test]
     fn duplicating_a_line_never_panics(which in 0usize..2, n in 0usize..100) {
-        let text = if which == 0 { VALID_2D } else { VALID_3D };
+        let text = if which == 0 { VALID_2D.as_str() } else { VALID_3D };
         let mut lines: Vec<&str> = text.lines().collect();
         let n = n % lines.len();
         lines.insert(n, lines[n]);
@@ -726,7 +677,7 @@ proptest! {
 
     #[test]
     fn replacing_a_number_never_panics(which in 0usize..2, n in 0usize..100, g in 0usize..GARBAGE.len()) {
-        let text = if which == 0 { VALID_2D } else { VALID_3D };
+        let text = if which == 0 { VALID_2D.as_str() } else { VALID_3D };
         let numbers: Vec<(usize, usize)> = number_spans(text);
         let (a, b) = numbers[n % numbers.len()];
         let mutated = format!("{}{}{}", &text[..a], GARBAGE[g], &text[b..]);
@@ -735,14 +686,14 @@ proptest! {
 
     #[test]
     fn truncating_never_panics(which in 0usize..2, n in 0usize..2000) {
-        let text = if which == 0 { VALID_2D } else { VALID_3D };
+        let text = if which == 0 { VALID_2D.as_str() } else { VALID_3D };
         let n = n % (text.len() + 1);
         check_result(sc::parse_scene(&text[..n], "fuzz", &[]));
     }
 
     #[test]
     fn random_overrides_never_panic(key in "[a-z_.0-9]{0,20}", value in "[ -~]{0,20}") {
-        check_result(parse_set(VALID_2D, &[&format!("{key}={value}")]));
+        check_result(parse_set(&VALID_2D, &[&format!("{key}={value}")]));
     }
 }
 
@@ -784,7 +735,7 @@ fn missing_top_level_key_has_unknown_location() {
 /// `VALID_2D` with a motion table on its tank (the line right after the tank's `max`).
 fn with_motion(motion: &str) -> String {
     edit(
-        VALID_2D,
+        &VALID_2D,
         "max = [1.6, 0.8]\n",
         &format!("max = [1.6, 0.8]\nmotion = {motion}\n"),
     )
@@ -800,7 +751,7 @@ fn solid_motion_resolves_to_a_sway() {
     let no_ramp = parse(&with_motion("{ amplitude = [0.02, 0.01], period = 2.0 }")).expect("valid");
     assert_eq!(no_ramp.solids[0].motion.as_ref().map(|m| m.ramp), Some(0.0));
     assert_eq!(
-        parse(VALID_2D).expect("valid").solids[0].motion,
+        parse(&VALID_2D).expect("valid").solids[0].motion,
         None,
         "fixed by default"
     );
@@ -846,11 +797,7 @@ fn bad_solid_motion_names_the_key_and_line() {
         ),
     ];
     for (motion, key, why) in cases {
-        let text = with_motion(motion);
-        let ps = problems(parse(&text));
-        let p = with_key(&ps, key);
-        assert_eq!(line(p), line_of(&text, "motion = ", 0), "{motion}: {p:?}");
-        assert!(p.reason.contains(why), "{motion}: {}", p.reason);
+        let p = problem_at(&with_motion(motion), key, "motion = ", why);
         assert!(
             !p.render("test.toml").contains('\n'),
             "one line: {}",
@@ -875,31 +822,48 @@ fn moving_solid_must_stay_inside_the_domain() {
     // by 0.04 m they would reach -0.06 and 1.66.
     assert!(parse(&with_motion("{ amplitude = [0.02, 0.0], period = 1.0 }")).is_ok());
     let text = with_motion("{ amplitude = [-0.04, 0.0], period = 1.0 }");
-    let ps = problems(parse(&text));
-    assert_eq!(ps.len(), 1, "{ps:#?}");
-    let p = with_key(&ps, "solid[0].motion.amplitude");
-    assert_eq!(line(p), line_of(&text, "motion = ", 0));
-    assert!(
-        p.reason.contains("sweeps") && p.reason.contains("axis x"),
-        "{}",
-        p.reason
-    );
+    let p = only_problem_at(&text, "solid[0].motion.amplitude", "motion = ", "sweeps");
+    assert!(p.reason.contains("axis x"), "{}", p.reason);
     // Vertically the lid-less tank's walls reach 0.8; the domain ends at 1.0.
     let text = with_motion("{ amplitude = [0.0, 0.3], period = 1.0 }");
     let p = with_key(&problems(parse(&text)), "solid[0].motion.amplitude").clone();
     assert!(p.reason.contains("axis y"), "{}", p.reason);
 }
 
-/// `VALID_2D` with the `rotating_frame` effect and `lines` added to `[fluid]`.
-fn rotating_2d(lines: &str) -> String {
+/// `VALID_2D` with `lines` added to `[fluid]` (after `gravity_ramp`).
+fn fluid_lines_2d(lines: &str) -> String {
     edit(
-        &edit(
-            VALID_2D,
-            "effects = [\"gravity\", \"viscosity\"]",
-            "effects = [\"gravity\", \"viscosity\", \"rotating_frame\"]",
-        ),
+        &VALID_2D,
         "gravity_ramp = 0.1\n",
         &format!("gravity_ramp = 0.1\n{lines}"),
+    )
+}
+
+/// [`fluid_lines_2d`] with `effect` added to the effects.
+fn effect_2d(effect: &str, lines: &str) -> String {
+    edit(
+        &fluid_lines_2d(lines),
+        "effects = [\"gravity\", \"viscosity\"]",
+        &format!("effects = [\"gravity\", \"viscosity\", \"{effect}\"]"),
+    )
+}
+
+/// `VALID_2D` with the `rotating_frame` effect and `lines` added to `[fluid]`.
+fn rotating_2d(lines: &str) -> String {
+    effect_2d("rotating_frame", lines)
+}
+
+/// `VALID_3D` with the `rotating_frame` effect and `lines` added to `[fluid]`.
+fn rotating_3d(lines: &str) -> String {
+    let text = edit(
+        VALID_3D,
+        "effects = [\"gravity\"]",
+        "effects = [\"gravity\", \"rotating_frame\"]",
+    );
+    edit(
+        &text,
+        "gravity = [0.0, 0.0, -9.81]\n",
+        &format!("gravity = [0.0, 0.0, -9.81]\n{lines}"),
     )
 }
 
@@ -918,35 +882,19 @@ fn rotating_frame_resolves_to_three_components_in_2d_and_3d() {
     assert_eq!(s.angular_velocity, Some([0.0, 7.0, 0.0]));
     assert_eq!(s.rotation_centre, vec![0.5, 0.0]);
     // 3D.
-    let text = edit(
-        VALID_3D,
-        "effects = [\"gravity\"]",
-        "effects = [\"gravity\", \"rotating_frame\"]",
-    );
-    let text = edit(
-        &text,
-        "gravity = [0.0, 0.0, -9.81]\n",
-        "gravity = [0.0, 0.0, -9.81]\nangular_velocity = [0.0, 0.0, 3.0]\n",
-    );
-    let s = parse(&text).expect("valid");
+    let s = parse(&rotating_3d("angular_velocity = [0.0, 0.0, 3.0]\n")).expect("valid");
     assert_eq!(s.angular_velocity, Some([0.0, 0.0, 3.0]));
     assert_eq!(s.rotation_centre, vec![0.0, 0.0, 0.0]);
     // Off: no angular velocity.
-    assert_eq!(parse(VALID_2D).expect("valid").angular_velocity, None);
+    assert_eq!(parse(&VALID_2D).expect("valid").angular_velocity, None);
 }
 
 #[test]
 fn rotating_frame_bad_input_names_the_key() {
     // The effect without its key.
-    let ps = problems(parse(&rotating_2d("")));
-    let p = with_key(&ps, "fluid.angular_velocity");
-    assert!(p.reason.contains("required"), "{}", p.reason);
+    problem_with(&rotating_2d(""), "fluid.angular_velocity", "required");
     // The keys without the effect.
-    let text = edit(
-        VALID_2D,
-        "gravity_ramp = 0.1\n",
-        "gravity_ramp = 0.1\nangular_velocity = 1.0\nrotation_centre = [0.0, 0.0]\n",
-    );
+    let text = fluid_lines_2d("angular_velocity = 1.0\nrotation_centre = [0.0, 0.0]\n");
     let ps = problems(parse(&text));
     assert_eq!(ps.len(), 2, "{ps:#?}");
     let p = with_key(&ps, "fluid.angular_velocity");
@@ -958,38 +906,28 @@ fn rotating_frame_bad_input_names_the_key() {
             .contains("not enabled")
     );
     // Wrong lengths.
-    let ps = problems(parse(&rotating_2d("angular_velocity = [0.0, 1.0, 2.0]\n")));
-    assert!(
-        with_key(&ps, "fluid.angular_velocity")
-            .reason
-            .contains("expected 2 entries")
+    problem_with(
+        &rotating_2d("angular_velocity = [0.0, 1.0, 2.0]\n"),
+        "fluid.angular_velocity",
+        "expected 2 entries",
     );
-    let ps = problems(parse(&rotating_2d(
-        "angular_velocity = 1.0\nrotation_centre = [0.0]\n",
-    )));
-    assert!(
-        with_key(&ps, "fluid.rotation_centre")
-            .reason
-            .contains("expected 2 entries")
+    problem_with(
+        &rotating_2d("angular_velocity = 1.0\nrotation_centre = [0.0]\n"),
+        "fluid.rotation_centre",
+        "expected 2 entries",
     );
     // A number is for 2D only.
-    let text = edit(
-        VALID_3D,
-        "effects = [\"gravity\"]",
-        "effects = [\"gravity\", \"rotating_frame\"]",
+    problem_with(
+        &rotating_3d("angular_velocity = 3.0\n"),
+        "fluid.angular_velocity",
+        "2D only",
     );
-    let text = edit(
-        &text,
-        "gravity = [0.0, 0.0, -9.81]\n",
-        "gravity = [0.0, 0.0, -9.81]\nangular_velocity = 3.0\n",
-    );
-    let ps = problems(parse(&text));
-    let p = with_key(&ps, "fluid.angular_velocity");
-    assert!(p.reason.contains("2D only"), "{}", p.reason);
     // Not a number or an array.
-    let ps = problems(parse(&rotating_2d("angular_velocity = \"fast\"\n")));
-    let p = with_key(&ps, "fluid.angular_velocity");
-    assert!(p.reason.contains("a number"), "{}", p.reason);
+    problem_with(
+        &rotating_2d("angular_velocity = \"fast\"\n"),
+        "fluid.angular_velocity",
+        "a number",
+    );
     // Integers are numbers.
     let s = parse(&rotating_2d("angular_velocity = [0, 7]\n")).expect("valid");
     assert_eq!(s.angular_velocity, Some([0.0, 7.0, 0.0]));
@@ -1002,15 +940,7 @@ fn rotating_frame_bad_input_names_the_key() {
 
 /// `VALID_2D` with the `surface_tension` effect and `lines` added to `[fluid]`.
 fn surface_tension_2d(lines: &str) -> String {
-    edit(
-        &edit(
-            VALID_2D,
-            "effects = [\"gravity\", \"viscosity\"]",
-            "effects = [\"gravity\", \"viscosity\", \"surface_tension\"]",
-        ),
-        "gravity_ramp = 0.1\n",
-        &format!("gravity_ramp = 0.1\n{lines}"),
-    )
+    effect_2d("surface_tension", lines)
 }
 
 #[test]
@@ -1028,7 +958,7 @@ fn surface_tension_resolves_with_its_effect_only() {
     ))
     .expect("valid");
     assert_eq!(s.surface_tension_model, SurfaceTensionModel::Akinci);
-    assert_eq!(parse(VALID_2D).expect("valid").surface_tension, None);
+    assert_eq!(parse(&VALID_2D).expect("valid").surface_tension, None);
 }
 
 #[test]
@@ -1044,35 +974,22 @@ fn surface_tension_model_bad_input_names_the_key() {
         p.reason
     );
     // The model without the effect, on its line.
-    let text = edit(
-        VALID_2D,
-        "gravity_ramp = 0.1\n",
-        "gravity_ramp = 0.1\nsurface_tension_model = \"akinci\"\n",
+    let text = fluid_lines_2d("surface_tension_model = \"akinci\"\n");
+    only_problem_at(
+        &text,
+        "fluid.surface_tension_model",
+        "surface_tension_model",
+        "not enabled",
     );
-    let ps = problems(parse(&text));
-    assert_eq!(ps.len(), 1, "{ps:#?}");
-    let p = with_key(&ps, "fluid.surface_tension_model");
-    assert!(p.reason.contains("not enabled"), "{}", p.reason);
-    assert_eq!(line(p), line_of(&text, "surface_tension_model", 0));
 }
 
 #[test]
 fn surface_tension_bad_input_names_the_key() {
     // The effect without its key.
-    let ps = problems(parse(&surface_tension_2d("")));
-    let p = with_key(&ps, "fluid.surface_tension");
-    assert!(p.reason.contains("required"), "{}", p.reason);
+    problem_with(&surface_tension_2d(""), "fluid.surface_tension", "required");
     // The key without the effect, on its line.
-    let text = edit(
-        VALID_2D,
-        "gravity_ramp = 0.1\n",
-        "gravity_ramp = 0.1\nsurface_tension = 0.072\n",
-    );
-    let ps = problems(parse(&text));
-    assert_eq!(ps.len(), 1, "{ps:#?}");
-    let p = with_key(&ps, "fluid.surface_tension");
-    assert!(p.reason.contains("not enabled"), "{}", p.reason);
-    assert_eq!(line(p), line_of(&text, "surface_tension", 0));
+    let text = fluid_lines_2d("surface_tension = 0.072\n");
+    only_problem_at(&text, "fluid.surface_tension", "surface_tension", "not enabled");
     // Zero, negative, non-finite.
     for bad in ["0.0", "-0.072", "nan", "inf"] {
         let ps = problems(parse(&surface_tension_2d(&format!("surface_tension = {bad}\n"))));
@@ -1092,7 +1009,7 @@ fn surface_tension_bad_input_names_the_key() {
 fn phased_2d(effects: &str, lines: &str) -> String {
     edit(
         &edit(
-            VALID_2D,
+            &VALID_2D,
             "effects = [\"gravity\", \"viscosity\"]",
             &format!("effects = {effects}"),
         ),
@@ -1114,22 +1031,15 @@ fn multiphase_box_density_resolves_and_defaults_to_the_fluid() {
     // variants of the stages (tests/physics/multiphase.rs: equal to the plain run to rounding).
     let s = parse(&phased_2d(r#"["gravity", "viscosity", "multiphase"]"#, "")).expect("valid");
     assert_eq!(s.fluid_boxes[0].rho0, None);
-    assert_eq!(parse(VALID_2D).expect("valid").fluid_boxes[0].rho0, None);
+    assert_eq!(parse(&VALID_2D).expect("valid").fluid_boxes[0].rho0, None);
 }
 
 #[test]
 fn multiphase_bad_input_names_the_key() {
     // The key without the effect.
     let text = phased_2d(r#"["gravity", "viscosity"]"#, "rho0 = 800.0\n");
-    let ps = problems(parse(&text));
-    assert_eq!(ps.len(), 1, "{ps:#?}");
-    let p = with_key(&ps, "fluid_box[0].rho0");
-    assert!(
-        p.reason.contains("not enabled") && p.reason.contains("multiphase"),
-        "{}",
-        p.reason
-    );
-    assert_eq!(line(p), line_of(&text, "rho0 = 800.0", 0));
+    let p = only_problem_at(&text, "fluid_box[0].rho0", "rho0 = 800.0", "not enabled");
+    assert!(p.reason.contains("multiphase"), "{}", p.reason);
     // Not positive, not finite, not a number.
     for bad in ["0.0", "-800.0", "nan", "inf"] {
         let ps = problems(parse(&phased_2d(

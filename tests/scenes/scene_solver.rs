@@ -8,79 +8,21 @@ use std::path::{Path, PathBuf};
 use sph::scene as sc;
 
 use crate::common::scene::{
-    GARBAGE, check_result, edit, line, line_of, parse, parse_set, problems, with_key,
+    GARBAGE, Tank2d, check_result, edit, line, line_of, only_problem_at, parse, parse_set, problem_at,
+    problem_with, problems, with_key,
 };
 use proptest::prelude::*;
 use sc::{Integrator, Location, ProbeKind, SolverKind, SolverSettings};
+use std::sync::LazyLock;
 
-/// A small valid 2D scene with the `wcsph` solver and no probes.
-const WCSPH: &str = r#"dimension = 2
-effects = ["gravity"]
-
-[domain]
-min = [-0.05, -0.05]
-max = [1.65, 1.0]
-
-[particles]
-spacing = 0.02
-smoothing_ratio = 2.0
-
-[fluid]
-rho0 = 1000.0
-sound_speed = 30.0
-gravity = [0.0, -9.81]
-
-[[fluid_box]]
-min = [0.0, 0.0]
-max = [0.26, 0.5]
-
-[[solid]]
-name = "tank"
-shape = "container"
-min = [0.0, 0.0]
-max = [1.6, 0.8]
-
-[solver]
-kind = "wcsph"
-end_time = 1.0
-"#;
+/// The shared 2D tank with the `wcsph` solver and no probes.
+static WCSPH: LazyLock<String> = LazyLock::new(|| Tank2d::default().text());
 
 /// The same scene with the `corrected` solver, every solver key and two probes.
-const CORRECTED: &str = r#"dimension = 2
-effects = ["gravity"]
-
-[domain]
-min = [-0.05, -0.05]
-max = [1.65, 1.0]
-
-[particles]
-spacing = 0.02
-smoothing_ratio = 2.0
-
-[fluid]
-rho0 = 1000.0
-sound_speed = 30.0
-gravity = [0.0, -9.81]
-
-[[fluid_box]]
-min = [0.0, 0.0]
-max = [0.26, 0.5]
-
-[[solid]]
-name = "tank"
-shape = "container"
-min = [0.0, 0.0]
-max = [1.6, 0.8]
-
-[solver]
-kind = "corrected"
-integrator = "symplectic_euler"
-delta = 1e-3
-max_iterations = 50
-strict = true
-relaxation = 0.8
-end_time = 1.0
-
+static CORRECTED: LazyLock<String> = LazyLock::new(|| {
+    Tank2d {
+        solver: "kind = \"corrected\"\nintegrator = \"symplectic_euler\"\ndelta = 1e-3\nmax_iterations = 50\nstrict = true\nrelaxation = 0.8\nend_time = 1.0\n",
+        tail: r#"
 [[probe]]
 name = "surge"
 kind = "front"
@@ -97,22 +39,21 @@ time_range = [0.5, 2.5]
 name = "height"
 kind = "front"
 axis = "y"
-"#;
+"#,
+        ..Tank2d::default()
+    }
+    .text()
+});
 
 /// Edits `text`, expects exactly one problem, with `key`, on the line containing `needle`,
 /// whose reason contains `reason`.
 fn expect_one(text: &str, from: &str, to: &str, key: &str, needle: &str, reason: &str) {
-    let text = edit(text, from, to);
-    let ps = problems(parse(&text));
-    assert_eq!(ps.len(), 1, "{to}: {ps:#?}");
-    let p = with_key(&ps, key);
-    assert_eq!(line(p), line_of(&text, needle, 0), "{to}: {p:?}");
-    assert!(p.reason.contains(reason), "{to}: {}", p.reason);
+    only_problem_at(&edit(text, from, to), key, needle, reason);
 }
 
 #[test]
 fn wcsph_defaults() {
-    let s = parse(WCSPH).unwrap();
+    let s = parse(&WCSPH).unwrap();
     assert_eq!(s.solver, SolverSettings::defaults(SolverKind::Wcsph));
     assert_eq!(
         s.solver,
@@ -133,7 +74,7 @@ fn wcsph_defaults() {
 
 #[test]
 fn corrected_defaults() {
-    let s = parse(&edit(WCSPH, "kind = \"wcsph\"", "kind = \"corrected\"")).unwrap();
+    let s = parse(&edit(&WCSPH, "kind = \"wcsph\"", "kind = \"corrected\"")).unwrap();
     assert_eq!(
         s.solver,
         SolverSettings {
@@ -155,7 +96,7 @@ fn corrected_defaults() {
 
 #[test]
 fn corrected_with_every_key_and_probes() {
-    let s = parse(CORRECTED).unwrap();
+    let s = parse(&CORRECTED).unwrap();
     assert_eq!(
         s.solver,
         SolverSettings {
@@ -191,7 +132,8 @@ fn corrected_with_every_key_and_probes() {
 #[test]
 fn probe_and_reference_defaults() {
     let text = format!(
-        "{WCSPH}\n[[probe]]\nname = \"front\"\nkind = \"front\"\n\n[probe.reference]\nfile = \"ref.csv\"\nlength = 0.1\n"
+        "{}\n[[probe]]\nname = \"front\"\nkind = \"front\"\n\n[probe.reference]\nfile = \"ref.csv\"\nlength = 0.1\n",
+        *WCSPH
     );
     let s = parse(&text).unwrap();
     let p = &s.probes[0];
@@ -205,14 +147,14 @@ fn probe_and_reference_defaults() {
 #[test]
 fn wcsph_accepts_rk3_and_corrected_accepts_symplectic_euler() {
     let s = parse(&edit(
-        WCSPH,
+        &WCSPH,
         "kind = \"wcsph\"",
         "kind = \"wcsph\"\nintegrator = \"rk3\"",
     ))
     .unwrap();
     assert_eq!(s.solver.integrator, Integrator::Rk3);
     assert_eq!(s.solver.kind, SolverKind::Wcsph);
-    let s = parse(CORRECTED).unwrap();
+    let s = parse(&CORRECTED).unwrap();
     assert_eq!(s.solver.integrator, Integrator::SymplecticEuler);
 }
 
@@ -272,7 +214,7 @@ fn bad_solver_values_name_the_key() {
         ),
     ];
     for (from, to, key, reason) in cases {
-        expect_one(CORRECTED, from, to, key, to, reason);
+        expect_one(&CORRECTED, from, to, key, to, reason);
     }
     // The limits themselves are fine.
     for (from, to) in [
@@ -281,7 +223,7 @@ fn bad_solver_values_name_the_key() {
         ("max_iterations = 50", "max_iterations = 100000"),
         ("relaxation = 0.8", "relaxation = 1.0"),
     ] {
-        parse(&edit(CORRECTED, from, to)).unwrap_or_else(|e| panic!("{to}: {e}"));
+        parse(&edit(&CORRECTED, from, to)).unwrap_or_else(|e| panic!("{to}: {e}"));
     }
 }
 
@@ -307,13 +249,10 @@ fn bad_solver_types_and_names_name_the_key() {
         ("strict = true", "strict = \"yes\"", "solver.strict"),
     ];
     for (from, to, key) in cases {
-        let text = edit(CORRECTED, from, to);
-        let ps = problems(parse(&text));
-        let p = with_key(&ps, key);
-        assert_eq!(line(p), line_of(&text, to, 0), "{to}: {p:?}");
+        problem_at(&edit(&CORRECTED, from, to), key, to, "");
     }
     let ps = problems(parse(&edit(
-        CORRECTED,
+        &CORRECTED,
         "integrator = \"symplectic_euler\"",
         "integrator = \"rk4\"",
     )));
@@ -333,38 +272,31 @@ fn corrected_only_keys_are_rejected_with_wcsph() {
         "strict = false",
         "relaxation = 0.5",
     ] {
-        let text = edit(WCSPH, "end_time = 1.0", &format!("{key}\nend_time = 1.0"));
-        let ps = problems(parse(&text));
-        assert_eq!(ps.len(), 1, "{key}: {ps:#?}");
+        let text = edit(&WCSPH, "end_time = 1.0", &format!("{key}\nend_time = 1.0"));
         let name = key.split(' ').next().unwrap();
-        let p = with_key(&ps, &format!("solver.{name}"));
-        assert_eq!(line(p), line_of(&text, key, 0));
-        assert!(
-            p.reason.contains("only with solver.kind = \"corrected\""),
-            "{key}: {}",
-            p.reason
-        );
+        let reason = "only with solver.kind = \"corrected\"";
+        only_problem_at(&text, &format!("solver.{name}"), key, reason);
     }
     // All four at once: four problems.
     let text = edit(
-        WCSPH,
+        &WCSPH,
         "end_time = 1.0",
         "delta = 1e-3\nmax_iterations = 10\nstrict = true\nrelaxation = 0.5\nend_time = 1.0",
     );
     assert_eq!(problems(parse(&text)).len(), 4);
-    let shown = parse(&edit(WCSPH, "end_time = 1.0", "delta = 1e-3\nend_time = 1.0"))
+    let shown = parse(&edit(&WCSPH, "end_time = 1.0", "delta = 1e-3\nend_time = 1.0"))
         .unwrap_err()
         .to_string();
     let want = format!(
         "test.toml:{}:1: solver.delta: only with solver.kind = \"corrected\"",
-        line_of(WCSPH, "end_time", 0)
+        line_of(&WCSPH, "end_time", 0)
     );
     assert!(shown.starts_with(&want), "{shown}");
 }
 
 #[test]
 fn duplicate_and_bad_probe_names() {
-    let text = edit(CORRECTED, "name = \"height\"", "name = \"surge\"");
+    let text = edit(&CORRECTED, "name = \"height\"", "name = \"surge\"");
     let ps = problems(parse(&text));
     assert_eq!(ps.len(), 1, "{ps:#?}");
     let p = with_key(&ps, "probe[1].name");
@@ -377,66 +309,32 @@ fn duplicate_and_bad_probe_names() {
     assert!(p.reason.contains("probe[0]"), "{}", p.reason);
 
     // A probe may share a solid's name.
-    parse(&edit(CORRECTED, "name = \"height\"", "name = \"tank\"")).unwrap();
+    parse(&edit(&CORRECTED, "name = \"height\"", "name = \"tank\"")).unwrap();
 
-    expect_one(
-        CORRECTED,
-        "name = \"height\"",
-        "name = \"\"",
-        "probe[1].name",
-        "name = \"\"",
-        "empty",
-    );
-    expect_one(
-        CORRECTED,
-        "name = \"height\"",
-        "name = \"a b\"",
-        "probe[1].name",
-        "name = \"a b\"",
-        "may only contain",
-    );
+    for (to, reason) in [("name = \"\"", "empty"), ("name = \"a b\"", "may only contain")] {
+        expect_one(&CORRECTED, "name = \"height\"", to, "probe[1].name", to, reason);
+    }
 }
 
 #[test]
 fn bad_probe_axis() {
-    expect_one(
-        CORRECTED,
-        "axis = \"y\"",
-        "axis = \"z\"",
-        "probe[1].axis",
-        "axis = \"z\"",
-        "dimension = 2",
-    );
-    expect_one(
-        CORRECTED,
-        "axis = \"y\"",
-        "axis = \"w\"",
-        "probe[1].axis",
-        "axis = \"w\"",
-        "\"x\" or \"y\"",
-    );
-    expect_one(
-        CORRECTED,
-        "axis = \"y\"",
-        "axis = \"X\"",
-        "probe[1].axis",
-        "axis = \"X\"",
-        "got \"X\"",
-    );
+    for (to, reason) in [
+        ("axis = \"z\"", "dimension = 2"),
+        ("axis = \"w\"", "\"x\" or \"y\""),
+        ("axis = \"X\"", "got \"X\""),
+    ] {
+        expect_one(&CORRECTED, "axis = \"y\"", to, "probe[1].axis", to, reason);
+    }
     // Wrong type is a deserialization problem at the key.
-    let text = edit(CORRECTED, "axis = \"y\"", "axis = 1");
-    let ps = problems(parse(&text));
-    assert_eq!(
-        line(with_key(&ps, "probe[1].axis")),
-        line_of(&text, "axis = 1", 0)
-    );
+    let text = edit(&CORRECTED, "axis = \"y\"", "axis = 1");
+    problem_at(&text, "probe[1].axis", "axis = 1", "");
 }
 
 #[test]
 fn probe_axis_z_in_3d() {
     let text = format!(
         "{}\n[[probe]]\nname = \"depth\"\nkind = \"front\"\naxis = \"z\"\norigin = -0.5\n",
-        edit(WCSPH, "dimension = 2", "dimension = 3")
+        edit(&WCSPH, "dimension = 2", "dimension = 3")
             .replace("[-0.05, -0.05]", "[-0.05, -0.05, -0.05]")
             .replace("[1.65, 1.0]", "[1.65, 1.0, 1.0]")
             .replace("[0.0, -9.81]", "[0.0, 0.0, -9.81]")
@@ -502,10 +400,10 @@ fn bad_probe_values() {
         ),
     ];
     for (from, to, key, reason) in cases {
-        expect_one(CORRECTED, from, to, key, to, reason);
+        expect_one(&CORRECTED, from, to, key, to, reason);
     }
     expect_one(
-        CORRECTED,
+        &CORRECTED,
         "series = [\"n2_a2.25\", \"n2_a1.125\"]",
         "series = [\"n2_a2.25\", \"n2_a2.25\"]",
         "probe[0].reference.series[1]",
@@ -514,7 +412,7 @@ fn bad_probe_values() {
     );
     // An empty series list means all series.
     let s = parse(&edit(
-        CORRECTED,
+        &CORRECTED,
         "series = [\"n2_a2.25\", \"n2_a1.125\"]",
         "series = []",
     ))
@@ -540,7 +438,7 @@ fn unknown_probe_keys_and_kinds() {
         ("length = 0.25\n", "\n", "probe[0].reference.length"),
     ];
     for (from, to, key) in cases {
-        let text = edit(CORRECTED, from, to);
+        let text = edit(&CORRECTED, from, to);
         let ps = problems(parse(&text));
         assert_eq!(ps.len(), 1, "{to}: {ps:#?}");
         let p = with_key(&ps, key);
@@ -549,11 +447,11 @@ fn unknown_probe_keys_and_kinds() {
             "{to}: a location in the file: {p:?}"
         );
     }
-    let text = edit(CORRECTED, "axis = \"x\"", "axes = \"x\"");
+    let text = edit(&CORRECTED, "axis = \"x\"", "axes = \"x\"");
     let ps = problems(parse(&text));
     assert_eq!(line(&ps[0]), line_of(&text, "axes", 0));
     let text = edit(
-        CORRECTED,
+        &CORRECTED,
         "kind = \"front\"\naxis = \"y\"",
         "kind = \"height\"\naxis = \"y\"",
     );
@@ -564,17 +462,13 @@ fn unknown_probe_keys_and_kinds() {
 #[test]
 fn probe_reference_needs_gravity() {
     let text =
-        edit(CORRECTED, "effects = [\"gravity\"]", "effects = []").replace("gravity = [0.0, -9.81]\n", "");
-    let ps = problems(parse(&text));
-    assert_eq!(ps.len(), 1, "{ps:#?}");
-    let p = with_key(&ps, "probe[0].reference");
-    assert_eq!(line(p), line_of(&text, "[probe.reference]", 0));
-    assert!(p.reason.contains("gravity"), "{}", p.reason);
+        edit(&CORRECTED, "effects = [\"gravity\"]", "effects = []").replace("gravity = [0.0, -9.81]\n", "");
+    only_problem_at(&text, "probe[0].reference", "[probe.reference]", "gravity");
 }
 
 #[test]
 fn many_problems_are_reported_together() {
-    let text = edit(CORRECTED, "delta = 1e-3", "delta = 0.0");
+    let text = edit(&CORRECTED, "delta = 1e-3", "delta = 0.0");
     let text = edit(&text, "relaxation = 0.8", "relaxation = 2.0");
     let text = edit(&text, "axis = \"y\"", "axis = \"z\"");
     let text = edit(&text, "length = 0.25", "length = -1.0");
@@ -593,12 +487,12 @@ fn many_problems_are_reported_together() {
 
 #[test]
 fn overrides_set_the_new_solver_keys() {
-    let s = parse_set(WCSPH, &["solver.kind=corrected", "solver.delta=1e-3"]).unwrap();
+    let s = parse_set(&WCSPH, &["solver.kind=corrected", "solver.delta=1e-3"]).unwrap();
     assert_eq!(s.solver.kind, SolverKind::Corrected);
     assert_eq!(s.solver.delta, 1e-3);
     assert_eq!(s.solver.integrator, Integrator::Rk3, "default for corrected");
     let s = parse_set(
-        WCSPH,
+        &WCSPH,
         &[
             "solver.kind=\"corrected\"",
             "solver.strict=true",
@@ -620,16 +514,16 @@ fn overrides_set_the_new_solver_keys() {
             on_escape: EscapePolicy::Remove,
         }
     );
-    let s = parse_set(WCSPH, &["solver.integrator=rk3"]).unwrap();
+    let s = parse_set(&WCSPH, &["solver.integrator=rk3"]).unwrap();
     assert_eq!(s.solver.integrator, Integrator::Rk3);
     assert_eq!(s.solver.kind, SolverKind::Wcsph);
     // Back to wcsph from the corrected scene requires dropping its corrected-only keys.
-    let ps = problems(parse_set(CORRECTED, &["solver.kind=wcsph"]));
+    let ps = problems(parse_set(&CORRECTED, &["solver.kind=wcsph"]));
     assert_eq!(ps.len(), 4, "{ps:#?}");
     assert_eq!(
         with_key(&ps, "solver.delta").location,
         Location::Line {
-            line: line_of(CORRECTED, "delta = 1e-3", 0),
+            line: line_of(&CORRECTED, "delta = 1e-3", 0),
             column: 1
         }
     );
@@ -637,7 +531,7 @@ fn overrides_set_the_new_solver_keys() {
 
 #[test]
 fn override_errors_name_the_override() {
-    let ps = problems(parse_set(WCSPH, &["solver.delta=1e-3"]));
+    let ps = problems(parse_set(&WCSPH, &["solver.delta=1e-3"]));
     assert_eq!(ps.len(), 1, "{ps:#?}");
     let p = with_key(&ps, "solver.delta");
     assert_eq!(p.location, Location::Override("solver.delta".into()));
@@ -646,7 +540,7 @@ fn override_errors_name_the_override() {
         "{}",
         p.reason
     );
-    let shown = parse_set(WCSPH, &["solver.delta=1e-3"]).unwrap_err().to_string();
+    let shown = parse_set(&WCSPH, &["solver.delta=1e-3"]).unwrap_err().to_string();
     assert!(
         shown.starts_with("test.toml: --set solver.delta: solver.delta: only with solver.kind"),
         "{shown}"
@@ -661,7 +555,7 @@ fn override_errors_name_the_override() {
         ("solver.strict=maybe", "solver.strict"),
     ];
     for (set, key) in cases {
-        let ps = problems(parse_set(CORRECTED, &[set]));
+        let ps = problems(parse_set(&CORRECTED, &[set]));
         assert_eq!(ps.len(), 1, "{set}: {ps:#?}");
         assert_eq!(
             with_key(&ps, key).location,
@@ -674,7 +568,7 @@ fn override_errors_name_the_override() {
 #[test]
 fn overrides_reach_probes() {
     let s = parse_set(
-        CORRECTED,
+        &CORRECTED,
         &[
             "probe.0.origin=0.5",
             "probe.0.reference.time_range=[2.0, 4.0]",
@@ -686,7 +580,10 @@ fn overrides_reach_probes() {
     assert_eq!(s.probes[0].reference.as_ref().unwrap().time_range, (2.0, 4.0));
     assert_eq!(s.probes[1].axis, 0);
 
-    let ps = problems(parse_set(CORRECTED, &["probe.0.reference.time_range=[4.0, 2.0]"]));
+    let ps = problems(parse_set(
+        &CORRECTED,
+        &["probe.0.reference.time_range=[4.0, 2.0]"],
+    ));
     assert_eq!(
         with_key(&ps, "probe[0].reference.time_range").location,
         Location::Override("probe.0.reference.time_range".into())
@@ -694,7 +591,7 @@ fn overrides_reach_probes() {
 
     // A whole probe list from the command line.
     let s = parse_set(
-        WCSPH,
+        &WCSPH,
         &[r#"probe=[{ name = "f", kind = "front", reference = { file = "r.csv", length = 0.1 } }]"#],
     )
     .unwrap();
@@ -713,7 +610,7 @@ fn reference_files_are_looked_up_in_the_reference_directory() {
     std::fs::create_dir_all(&scenes).unwrap();
     std::fs::create_dir_all(&data).unwrap();
     let path = scenes.join("corrected.toml");
-    std::fs::write(&path, CORRECTED).unwrap();
+    std::fs::write(&path, &*CORRECTED).unwrap();
 
     // load_scene keeps the file as the scene names it, not yet looked up.
     let mut s = sc::load_scene(&path, &[]).unwrap();
@@ -779,14 +676,17 @@ proptest! {
         key in prop::sample::select(vec!["kind", "integrator", "delta", "max_iterations", "strict", "relaxation"]),
         value in "[ -~]{0,12}",
     ) {
-        check_result(parse_set(WCSPH, &[&format!("solver.{key}={value}")]));
-        check_result(parse_set(CORRECTED, &[&format!("solver.{key}={value}")]));
+        check_result(parse_set(&WCSPH, &[&format!("solver.{key}={value}")]));
+        check_result(parse_set(&CORRECTED, &[&format!("solver.{key}={value}")]));
     }
 }
 
 /// `CORRECTED` plus a force probe on the tank (`extra` is appended inside it).
 fn with_force_probe(extra: &str) -> String {
-    format!("{CORRECTED}\n[[probe]]\nname = \"wall_force\"\nkind = \"force\"\n{extra}")
+    format!(
+        "{}\n[[probe]]\nname = \"wall_force\"\nkind = \"force\"\n{extra}",
+        *CORRECTED
+    )
 }
 
 #[test]
@@ -818,22 +718,14 @@ fn bad_force_probes_name_the_key() {
         ),
     ];
     for (extra, key, reason) in cases {
-        let ps = problems(parse(&with_force_probe(extra)));
-        let p = with_key(&ps, key);
-        assert!(p.reason.contains(reason), "{extra}: {}", p.reason);
+        problem_with(&with_force_probe(extra), key, reason);
     }
     let front_with_solid = edit(
-        CORRECTED,
+        &CORRECTED,
         "name = \"height\"\n",
         "name = \"height\"\nsolid = \"tank\"\n",
     );
-    let ps = problems(parse(&front_with_solid));
-    assert!(with_key(&ps, "probe[1].solid").reason.contains("only with kind"));
-    let front_without_length = edit(CORRECTED, "length = 0.25\n", "");
-    let ps = problems(parse(&front_without_length));
-    assert!(
-        with_key(&ps, "probe[0].reference.length")
-            .reason
-            .contains("required")
-    );
+    problem_with(&front_with_solid, "probe[1].solid", "only with kind");
+    let front_without_length = edit(&CORRECTED, "length = 0.25\n", "");
+    problem_with(&front_without_length, "probe[0].reference.length", "required");
 }

@@ -2,59 +2,17 @@
 //! force probe reports the time-weighted mean of its solid's force over each sample interval,
 //! and a force probe's first peak is found within its reference's time range.
 
+use crate::common::scene::tank_2d_with_post;
 use crate::common::tolerance::{F32_ROUNDING, F64_SUM};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::probe::{ProbeLog, ProbeSpace, compare_samples, measure};
 use sph::scene::parse_scene;
 
-const SCENE: &str = r#"dimension = 2
-effects = ["gravity"]
-
-[domain]
-min = [-0.05, -0.05]
-max = [1.65, 1.0]
-
-[particles]
-spacing = 0.02
-smoothing_ratio = 2.0
-
-[fluid]
-rho0 = 1000.0
-sound_speed = 30.0
-gravity = [0.0, -9.81]
-
-[[fluid_box]]
-min = [0.0, 0.0]
-max = [0.26, 0.5]
-
-[[solid]]
-name = "tank"
-shape = "container"
-min = [0.0, 0.0]
-max = [1.6, 0.8]
-
-[[solid]]
-name = "post"
-shape = "box"
-min = [1.0, 0.0]
-max = [1.1, 0.3]
-
-[solver]
-kind = "corrected"
-end_time = 1.0
-
-[[probe]]
-name = "front"
-kind = "front"
-origin = 0.1
-
-[[probe]]
-name = "post_force"
-kind = "force"
-solid = "post"
-axis = "x"
-"#;
+/// The shared tank with a post, the `corrected` solver and the front probe's origin at 0.1 m.
+fn scene_text() -> String {
+    tank_2d_with_post("kind = \"corrected\"\nend_time = 1.0\n", "origin = 0.1\n")
+}
 
 fn fields() -> Fields<2> {
     let mut f = Fields::default();
@@ -66,7 +24,7 @@ fn fields() -> Fields<2> {
 
 #[test]
 fn front_and_force_are_measured_from_the_state() {
-    let scene = parse_scene(SCENE, "probe test", &[]).expect("valid scene");
+    let scene = parse_scene(&scene_text(), "probe test", &[]).expect("valid scene");
     let f = fields();
     let forces = [[5.0, 6.0, 0.0], [-2.0, 3.0, 0.0]];
     // The solid particle at x = 0.9 is not fluid: the front is 0.7 - 0.1.
@@ -79,7 +37,7 @@ fn front_and_force_are_measured_from_the_state() {
 
 #[test]
 fn force_probe_reports_the_time_weighted_mean_of_each_interval() {
-    let scene = parse_scene(SCENE, "probe test", &[]).expect("valid scene");
+    let scene = parse_scene(&scene_text(), "probe test", &[]).expect("valid scene");
     let f = fields();
     let mut log = ProbeLog::create(&scene, None, 0.1).expect("log");
     log.record(0.0, 0.0, &f, &[[0.0; 3], [0.0; 3]], true)
@@ -110,7 +68,8 @@ fn force_peak_is_found_within_the_reference_range() {
     )
     .expect("write");
     let text = format!(
-        "{SCENE}\n[probe.reference]\nfile = {:?}\ntime_range = [0.0, 0.8]\n",
+        "{}\n[probe.reference]\nfile = {:?}\ntime_range = [0.0, 0.8]\n",
+        scene_text(),
         record.display().to_string()
     );
     let mut scene = parse_scene(&text, "probe test", &[]).expect("valid scene");
