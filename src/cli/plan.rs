@@ -238,6 +238,10 @@ pub fn render(scene: &Scene, origin: &str) -> String {
             (ProbeKind::Pressure, None) => format!("pressure at {point} m"),
             (ProbeKind::Level, None) => format!("level above {point} m along {axis}"),
             (ProbeKind::Velocity, None) => format!("velocity along {axis} at {point} m"),
+            (ProbeKind::FlowRate, None) => format!(
+                "flow rate along {axis} through {} m centred on {point} m",
+                p.size.as_deref().map(vector).unwrap_or_default()
+            ),
             _ => format!("{} along {axis}", p.kind.name()),
         };
         let _ = writeln!(

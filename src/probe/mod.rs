@@ -14,7 +14,9 @@
 //! `pressure`, `velocity`: the fluid's pressure [Pa], or its velocity along the axis [m/s], at
 //! the probe's point, interpolated from the fluid particles with Shepard's normalisation;
 //! `level`: a wave gauge, the height [m] of the free surface above the probe's point along the
-//! axis ([`interpolate`] says how each is read). Each is the value at the sampling time.
+//! axis; `flow_rate`: the volume flux through a segment (2D, [m²/s]) or rectangle (3D, [m³/s])
+//! normal to the axis ([`interpolate`] says how each is read). Each is the value at the
+//! sampling time.
 
 pub mod interpolate;
 
@@ -65,6 +67,10 @@ pub fn measure<const D: usize>(
     match probe.kind {
         ProbeKind::Pressure => at_point(&|k, x| interpolate::pressure(fields, k, x)),
         ProbeKind::Velocity => at_point(&|k, x| interpolate::velocity(fields, k, x, probe.axis.min(D - 1))),
+        ProbeKind::FlowRate => at_point(&|k, x| {
+            let size = probe.size.as_deref().unwrap_or(&[]);
+            interpolate::flow_rate(fields, k, x, probe.axis.min(D - 1), size)
+        }),
         ProbeKind::Level => at_point(&|k, x| {
             let axis = probe.axis.min(D - 1);
             let top = space.domain_max.get(axis).copied().unwrap_or(x[axis]);
@@ -87,7 +93,8 @@ pub fn measure<const D: usize>(
 
 /// The column of `probe` in `probes.csv` of a `dimension`-D run: `<name>_m` for a front,
 /// `<name>_N` for a force (`<name>_N_per_m` in 2D: per metre of depth), `<name>_Pa` for a
-/// pressure, `<name>_m` for a level, `<name>_m_per_s` for a velocity, as
+/// pressure, `<name>_m` for a level, `<name>_m_per_s` for a velocity, `<name>_m2_per_s` (2D)
+/// or `<name>_m3_per_s` for a flow rate, as
 /// [`crate::output::csv`]'s convention has it.
 pub fn column_name(probe: &Probe, dimension: usize) -> String {
     match probe.kind {
@@ -95,6 +102,8 @@ pub fn column_name(probe: &Probe, dimension: usize) -> String {
         ProbeKind::Force => format!("{}_{}", probe.name, force_unit(dimension)),
         ProbeKind::Pressure => format!("{}_Pa", probe.name),
         ProbeKind::Velocity => format!("{}_m_per_s", probe.name),
+        ProbeKind::FlowRate if dimension == 2 => format!("{}_m2_per_s", probe.name),
+        ProbeKind::FlowRate => format!("{}_m3_per_s", probe.name),
     }
 }
 

@@ -197,8 +197,11 @@ pub struct Probe {
     pub origin: f64,
     /// Force probes: index of the measured solid in `Scene::solids`.
     pub solid: Option<usize>,
-    /// Pressure, level and velocity probes: where they measure \[m\], `dimension` entries.
+    /// Pressure, level, velocity and flow-rate probes: where they measure \[m\], `dimension`
+    /// entries (a flow rate: the section's centre).
     pub point: Option<Vec<f64>>,
+    /// Flow-rate probes: the section's extents \[m\] along the other axes, in increasing order.
+    pub size: Option<Vec<f64>>,
     /// Reference data to compare with, if any.
     pub reference: Option<ProbeReference>,
 }

@@ -120,6 +120,9 @@ pub enum ProbeKind {
     Level,
     /// The fluid velocity's component along `axis` at `point` \[m/s\].
     Velocity,
+    /// The volume flux along `axis` through the segment (2D, \[m²/s\]) or rectangle (3D,
+    /// \[m³/s\]) centred on `point`, of extents `size` along the other axes.
+    FlowRate,
 }
 
 impl ProbeKind {
@@ -131,6 +134,7 @@ impl ProbeKind {
             ProbeKind::Pressure => "pressure",
             ProbeKind::Level => "level",
             ProbeKind::Velocity => "velocity",
+            ProbeKind::FlowRate => "flow_rate",
         }
     }
 }
@@ -384,9 +388,13 @@ pub struct ProbeFile {
     /// `"x"`, `"y"` or `"z"`, below `dimension`; default `"x"` (a level gauge: the last axis,
     /// the vertical). Not for a pressure probe.
     pub axis: Option<String>,
-    /// Where a pressure, level or velocity probe measures \[m\], `dimension` entries inside the
-    /// domain (a level gauge: the foot of its line, e.g. on the floor).
+    /// Where a pressure, level, velocity or flow-rate probe measures \[m\], `dimension` entries
+    /// inside the domain (a level gauge: the foot of its line, e.g. on the floor; a flow rate:
+    /// the section's centre).
     pub point: Option<Vec<f64>>,
+    /// A flow-rate section's extents \[m\] along the axes other than `axis`, in increasing order
+    /// (2D: one entry, 3D: two), each > 0; required for a flow rate, only there.
+    pub size: Option<Vec<f64>>,
     /// Coordinate subtracted from the measurement \[m\], finite; default 0 (front only).
     pub origin: Option<f64>,
     /// Name of the solid whose force is measured (force only, required there).

@@ -1,5 +1,6 @@
-//! The point probes (`pressure`, `level`, `velocity`, `probe::interpolate`) on states whose
-//! readings are known: a tank at rest, in 2D and 3D.
+//! The point probes (`pressure`, `level`, `velocity`, `flow_rate`, `probe::interpolate`) on
+//! states whose readings are known: a tank at rest, in 2D and 3D. (The flow rate of a developing
+//! Poiseuille flow against its series is checked in `poiseuille`.)
 //!
 //! `point_probes_read_a_prescribed_hydrostatic_state` sets the particles of a freshly generated
 //! tank to the exact hydrostatic pressure and a uniform velocity, so the readings are checked
@@ -99,6 +100,17 @@ fn check_prescribed<const D: usize>(dx: f64) {
         "[[probe]]\nname = \"current\"\nkind = \"velocity\"\naxis = \"x\"\npoint = {}\n",
         point(D, width / 2.0, depth / 2.0)
     );
+    // Across the whole tank normal to x, from the floor to twice the water's depth: only the
+    // water counts.
+    let section = if D == 2 {
+        format!("[{}]", 2.0 * depth)
+    } else {
+        format!("[{width}, {}]", 2.0 * depth)
+    };
+    probes += &format!(
+        "[[probe]]\nname = \"flux\"\nkind = \"flow_rate\"\naxis = \"x\"\npoint = {}\nsize = {section}\n",
+        point(D, width / 2.0, depth)
+    );
     probes += &format!(
         "[[probe]]\nname = \"dry\"\nkind = \"pressure\"\npoint = {}\n",
         point(D, width / 2.0, depth + 2.0 * dx * 2.0)
@@ -163,6 +175,15 @@ fn check_prescribed<const D: usize>(dx: f64) {
         "{D}D velocity {current}"
     );
     assert_eq!(read("dry"), 0.0, "{D}D: a sensor in the air reads 0");
+    // The flux of the uniform stream through the wet part of the section (`width` deep in 3D):
+    // within 2 %, the free surface's half-step and the lattice's kernel sum.
+    let wet_area = if D == 2 { depth } else { width * depth };
+    let want = f64::from(speed) * wet_area;
+    let flux = read("flux");
+    assert!(
+        (flux / want - 1.0).abs() < 0.02,
+        "{D}D flux {flux:.5}, want {want:.5}"
+    );
 }
 
 #[test]
@@ -193,6 +214,26 @@ fn point_probe_keys_are_checked() {
     assert_eq!(ok, "", "a valid pressure probe");
     for (probe, key, says) in [
         ("kind = \"pressure\"", "probe[0].point", "required"),
+        (
+            "kind = \"flow_rate\"\npoint = [0.2, 0.1]",
+            "probe[0].size",
+            "required",
+        ),
+        (
+            "kind = \"flow_rate\"\npoint = [0.2, 0.1]\nsize = [0.1, 0.1]",
+            "probe[0].size",
+            "expected 1 entries",
+        ),
+        (
+            "kind = \"flow_rate\"\npoint = [0.2, 0.1]\nsize = [-0.1]",
+            "probe[0].size[0]",
+            "",
+        ),
+        (
+            "kind = \"level\"\npoint = [0.2, 0.1]\nsize = [0.1]",
+            "probe[0].size",
+            "only with",
+        ),
         (
             "kind = \"level\"\npoint = [0.2]",
             "probe[0].point",

@@ -45,8 +45,9 @@
 use crate::common::tolerance::{CLOCK_SLACK, F32_ACCUMULATION, F32_ROUNDING, F64_SUM};
 use sph::fields::FLUID;
 use sph::physics::lattice::lattice_mass;
+use sph::probe::{ProbeSpace, measure};
 use sph::run::simulation_from_scene;
-use sph::scene::{Scene, load_scene, parse_scene};
+use sph::scene::{Probe, ProbeKind, Scene, load_scene, parse_scene};
 use sph::smoothing::Smoothing;
 use std::path::Path;
 
@@ -90,11 +91,46 @@ fn series(y: f64, t: f64, f: f64, nu: f64) -> f64 {
     u
 }
 
-/// One measured profile: bin centres y [m] and the mean fluid `u_x` [m/s] in each bin.
+/// One measured profile: bin centres y [m] and the mean fluid `u_x` [m/s] in each bin, and
+/// the flux [m²/s] a `flow_rate` probe reads across the channel at the section's centre.
 struct Profile {
     time: f64,
     y: Vec<f64>,
     u: Vec<f64>,
+    flux: f64,
+}
+
+/// A `flow_rate` probe across the channel, wall to wall, at the section's centre.
+fn flux_probe() -> Probe {
+    Probe {
+        name: "flux".into(),
+        kind: ProbeKind::FlowRate,
+        axis: 0,
+        origin: 0.0,
+        solid: None,
+        point: Some(vec![SECTION_CENTRE, WIDTH / 2.0]),
+        size: Some(vec![WIDTH]),
+        reference: None,
+    }
+}
+
+/// `∫_0^L series(y, t) dy` [m²/s], Simpson's rule on 400 intervals (the integrand is smooth).
+fn series_flux(t: f64, f: f64, nu: f64) -> f64 {
+    let n = 400;
+    let dy = WIDTH / n as f64;
+    let sum: f64 = (0..=n)
+        .map(|k| {
+            let weight = if k == 0 || k == n {
+                1.0
+            } else if k % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            weight * series(k as f64 * dy, t, f, nu)
+        })
+        .sum();
+    sum * dy / 3.0
 }
 
 /// Runs `scene` and measures the profile at each of [`TIMES`].
@@ -127,6 +163,7 @@ fn profiles(scene: &Scene) -> Vec<Profile> {
             time: t,
             y: (0..bins).map(|b| (b as f64 + 0.5) * dx).collect(),
             u: sum.iter().zip(&count).map(|(s, &c)| s / c as f64).collect(),
+            flux: measure(&flux_probe(), &ProbeSpace::of(scene), f, &[]),
         });
     }
     out
@@ -193,13 +230,27 @@ fn errors(sets: &[&str]) -> Vec<(f64, f64)> {
             / scene.rho0,
     );
     let u0 = f * WIDTH * WIDTH / (8.0 * nu);
-    let errors: Vec<(f64, f64)> = profiles(&scene)
+    let profiles = profiles(&scene);
+    let errors: Vec<(f64, f64)> = profiles
         .iter()
         .map(|p| (p.time, worst_error(p, f, nu, u0)))
         .collect();
     println!("{sets:?}: worst bin / u0 at each time [s]: {errors:.4?}");
+    // The flow-rate probe against the series' flux, at every time: within 5 %.
+    let fluxes: Vec<(f64, f64)> = profiles
+        .iter()
+        .map(|p| (p.time, p.flux / series_flux(p.time, f, nu) - 1.0))
+        .collect();
+    println!("{sets:?}: flow-rate probe / series flux - 1 at each time [s]: {fluxes:.4?}");
+    assert!(
+        fluxes.iter().all(|(_, e)| e.abs() <= FLUX_TARGET),
+        "flow rate against the series' flux (target {FLUX_TARGET}): {fluxes:.4?}"
+    );
     errors
 }
+
+/// The flow-rate probe's target: the series' flux through the section within 5 %.
+const FLUX_TARGET: f64 = 0.05;
 
 /// The target at the shipped resolution, L = 20 dx, h = 2 dx (measured: at most 0.91 %
 /// of u0, at t = 0.6 s).

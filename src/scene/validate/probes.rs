@@ -80,13 +80,16 @@ pub(super) fn check_probe(
         c.err(path.k("origin"), "only with kind = \"front\"".into());
         ok = false;
     }
-    let at_point = matches!(kind, ProbeKind::Pressure | ProbeKind::Level | ProbeKind::Velocity);
+    let at_point = matches!(
+        kind,
+        ProbeKind::Pressure | ProbeKind::Level | ProbeKind::Velocity | ProbeKind::FlowRate
+    );
     let point = match (&pf.point, at_point) {
         (None, false) => Some(None),
         (Some(_), false) => {
             c.err(
                 path.k("point"),
-                "only with kind = \"pressure\", \"level\" or \"velocity\"".into(),
+                "only with kind = \"pressure\", \"level\", \"velocity\" or \"flow_rate\"".into(),
             );
             None
         }
@@ -116,6 +119,41 @@ pub(super) fn check_probe(
                 None => Some(Some(v)),
             }
         }),
+    };
+    let flow = kind == ProbeKind::FlowRate;
+    let size = match (&pf.size, flow, dim) {
+        (None, false, _) => Some(None),
+        (Some(_), false, _) => {
+            c.err(path.k("size"), "only with kind = \"flow_rate\"".into());
+            None
+        }
+        (None, true, _) => {
+            c.err(
+                path.k("size"),
+                "required with kind = \"flow_rate\": the section's extents [m] along the other axes".into(),
+            );
+            None
+        }
+        (Some(_), true, None) => None,
+        (Some(v), true, Some(d)) if v.len() != d - 1 => {
+            c.err(
+                path.k("size"),
+                format!(
+                    "expected {} entries (the axes other than `axis`), found {}",
+                    d - 1,
+                    v.len()
+                ),
+            );
+            None
+        }
+        (Some(v), true, Some(_)) => {
+            let sizes: Vec<Option<f64>> = v
+                .iter()
+                .enumerate()
+                .map(|(k, &w)| c.positive(path.k("size").i(k), w))
+                .collect();
+            sizes.into_iter().collect::<Option<Vec<f64>>>().map(Some)
+        }
     };
     if at_point && pf.reference.is_some() {
         c.err(
@@ -215,6 +253,7 @@ pub(super) fn check_probe(
         origin: origin?,
         solid: solid?,
         point: point?,
+        size: size?,
         reference: reference?,
     };
     ok.then_some(probe)
