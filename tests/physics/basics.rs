@@ -128,7 +128,7 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
 
 /// The tolerance of a pressure sensor 0.1 m (8 dx) below the surface of the resting tank, where
 /// the weakly compressible solver's own pressure falls short of ρ0 g (H − z): measured over
-/// 4–5 s, 3.4 % low in the middle of the tank and 8.3 % low on the wall's face (at 0.25 m and
+/// 4–5 s, 4.5 % low in the middle of the tank and 8.3 % low on the wall's face (at 0.25 m and
 /// 0.4 m depth both are within 3 %, at the floor the force within 2 %). The top layers'
 /// summation density is below ρ0 and their pressure clamped at zero (note 6), and next to the
 /// wall the fluid's pressure is lower still; the instrument itself reads a prescribed
