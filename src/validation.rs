@@ -9,6 +9,9 @@
 //! - [`read_column_force`]: Yeh & Petroff dam break against a tall square
 //!   column, net streamwise force on the column,
 //!   `yeh_petroff_column_force_pysph.csv` and `yeh_petroff_column_force_anuga.csv`.
+//! - [`read_curves`]: any long-format record of a time and a value column named by the scene,
+//!   with an optional `series` column, e.g. Buchner's (2002) wall pressure
+//!   `buchner2002_2d_dambreak_wall_pressure.csv`.
 //!
 //! And two comparisons: [`interpolate`] (piecewise linear) and
 //! [`relative_error`] of a simulated curve against reference points.
@@ -112,6 +115,43 @@ pub fn read_column_force(path: &Path) -> Result<Vec<ForcePoint>, ValidationError
             Ok(ForcePoint {
                 time: table.finite_number(row, time)?,
                 force: table.finite_number(row, force)?,
+            })
+        })
+        .collect()
+}
+
+/// One point of a long-format reference record: a time and a value in the file's own units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurvePoint {
+    /// Name of the record (column `series`; the file's stem when it has no such column).
+    pub series: String,
+    /// Time, in the file's unit (e.g. `T = t sqrt(g/H)`, or seconds).
+    pub t: f64,
+    /// Value, in the file's unit (e.g. `p/(ρ0 g H)`, or pascals).
+    pub value: f64,
+}
+
+/// Reads a long-format reference record, one [`CurvePoint`] per row in file order, from the
+/// columns `time` and `value` named by the scene and an optional `series` column (as
+/// `buchner2002_2d_dambreak_wall_pressure.csv`: `series`, `T_t_sqrt_g_over_H`,
+/// `p_over_rho_g_H`).
+///
+/// # Errors
+/// [`ValidationError`] naming the file: I/O failure, a missing `time` or `value` column, a cell
+/// that is not a finite number, or a row of another length than the header.
+pub fn read_curves(path: &Path, time: &str, value: &str) -> Result<Vec<CurvePoint>, ValidationError> {
+    let table = CsvFile::read(path)?;
+    let series = table.header().iter().position(|c| c == "series");
+    let stem = path
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    let (t, v) = (table.column(time)?, table.column(value)?);
+    (0..table.len())
+        .map(|row| {
+            Ok(CurvePoint {
+                series: series.map_or_else(|| stem.clone(), |c| table.text(row, c).to_string()),
+                t: table.finite_number(row, t)?,
+                value: table.finite_number(row, v)?,
             })
         })
         .collect()

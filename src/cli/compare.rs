@@ -50,6 +50,12 @@ pub fn compare(
             .find(|c| c.name == probe)
             .with_context(|| format!("{} has no probe {probe} with reference data", csv.display()))?;
         match (&c.error, &c.peak) {
+            _ if c.signal.is_some() => {
+                let entry = crate::probe::signal::summary_json(&c);
+                for line in crate::probe::signal::summary_lines(label, &entry) {
+                    println!("{line}");
+                }
+            }
             (Some(e), _) => println!(
                 "{label}: error max {:.1} %, mean {:.1} %",
                 100.0 * e.max,

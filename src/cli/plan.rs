@@ -229,13 +229,19 @@ pub fn render(scene: &Scene, origin: &str) -> String {
         }
     }
     let _ = writeln!(out, "\nafter each step:");
-    let probe_interval = scene.output_interval / 10.0;
+    let probe_interval = crate::probe::ProbeLog::interval_for(scene);
     for p in &scene.probes {
         let axis = ["x", "y", "z"].get(p.axis).copied().unwrap_or("?");
         let point = p.point.as_deref().map(vector).unwrap_or_default();
         let what = match (p.kind, p.solid.and_then(|s| scene.solids.get(s))) {
             (_, Some(s)) => format!("{} on {} along {axis}", p.kind.name(), s.name),
-            (ProbeKind::Pressure, None) => format!("pressure at {point} m"),
+            (ProbeKind::Pressure, None) => match p.sensor {
+                crate::scene::Sensor::Point => format!("pressure at {point} m"),
+                crate::scene::Sensor::Face { diameter, normal } => format!(
+                    "pressure over {diameter} m wide, normal to {}, centred on {point} m",
+                    ["x", "y", "z"].get(normal).copied().unwrap_or("?")
+                ),
+            },
             (ProbeKind::Level, None) => format!("level above {point} m along {axis}"),
             (ProbeKind::Velocity, None) => format!("velocity along {axis} at {point} m"),
             (ProbeKind::FlowRate, None) => format!(
@@ -246,8 +252,12 @@ pub fn render(scene: &Scene, origin: &str) -> String {
         };
         let _ = writeln!(
             out,
-            "  probe {:<14} {what}, recorded every {probe_interval} s{}",
+            "  probe {:<14} {what}, recorded every {probe_interval} s{}{}",
             p.name,
+            match p.averaging {
+                crate::scene::Averaging::Window(w) => format!(", each the mean over the last {w} s"),
+                _ => String::new(),
+            },
             if p.reference.is_some() {
                 ", compared with its reference data"
             } else {

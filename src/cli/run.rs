@@ -245,6 +245,13 @@ pub fn run(
                 );
                 continue;
             }
+            let signal = crate::probe::signal::summary_lines(name, e);
+            if !signal.is_empty() {
+                for line in signal {
+                    println!("{line}");
+                }
+                continue;
+            }
             match (e.get("error_max"), e.get("peak_N")) {
                 (Some(_), _) => println!(
                     "probe {name}: error against reference max {:.1} %, mean {:.1} %",

@@ -18,15 +18,20 @@
 //! normal to the axis ([`interpolate`] says how each is read). Each is the value at the
 //! sampling time.
 
+pub mod compare;
 pub mod interpolate;
+pub mod signal;
+
+pub use compare::{
+    ONSET_FRACTION, Peak, ProbeComparison, ProbeError, check_references, compare, compare_samples,
+    front_figure, write_figures,
+};
 
 use crate::fields::{FLUID, Fields};
 use crate::math::Real;
-use crate::output::plot::{Figure, PlotError, Series, SeriesStyle, write_png};
 use crate::output::{CsvTable, CsvValue, OutputError, force_unit};
-use crate::scene::{Probe, ProbeKind, ProbeReference, ReferenceLocation, Scene};
+use crate::scene::{Averaging, Probe, ProbeKind, Scene, Sensor};
 use crate::smoothing::Smoothing;
-use crate::validation::{CurveError, read_column_force, read_surge_front, relative_error};
 use std::path::{Path, PathBuf};
 
 /// What a probe's reading depends on besides the particles: the scene's kernel support and
@@ -65,7 +70,15 @@ pub fn measure<const D: usize>(
         }
     };
     match probe.kind {
-        ProbeKind::Pressure => at_point(&|k, x| interpolate::pressure(fields, k, x)),
+        ProbeKind::Pressure => match probe.sensor {
+            Sensor::Point => at_point(&|k, x| interpolate::pressure(fields, k, x)),
+            Sensor::Face { diameter, normal } => at_point(&|k, x| {
+                let spacing = interpolate::FACE_SPACING * space.h;
+                interpolate::face_average::<D>(x, normal.min(D - 1), diameter, spacing, |y| {
+                    interpolate::pressure(fields, k, y)
+                })
+            }),
+        },
         ProbeKind::Velocity => at_point(&|k, x| interpolate::velocity(fields, k, x, probe.axis.min(D - 1))),
         ProbeKind::FlowRate => at_point(&|k, x| {
             let size = probe.size.as_deref().unwrap_or(&[]);
@@ -116,8 +129,11 @@ pub struct ProbeLog {
     table: Option<CsvTable>,
     interval: f64,
     next: f64,
-    /// Per probe: `Σ value · dt` and `Σ dt` since the last sample (force probes' averages).
+    /// Per probe: `Σ value · dt` and `Σ dt` since the last sample ([`Averaging::Interval`]).
     running: Vec<(f64, f64)>,
+    /// Per probe: the steps `(t_start, t_end, value)` within its window
+    /// ([`Averaging::Window`]).
+    windows: Vec<Vec<(f64, f64, f64)>>,
 }
 
 /// What a [`ProbeLog`] has recorded, kept with a checkpoint.
@@ -129,6 +145,9 @@ pub struct ProbeState {
     pub next: f64,
     /// Per probe: `Σ value · dt` and `Σ dt` since the last sample.
     pub running: Vec<(f64, f64)>,
+    /// Per probe: the steps `(t_start, t_end, value)` within its sampling window.
+    #[serde(default)]
+    pub windows: Vec<Vec<(f64, f64, f64)>>,
     /// Length of `probes.csv` [bytes], when written.
     pub table_len: Option<u64>,
 }
@@ -157,6 +176,9 @@ impl ProbeLog {
         }
         log.samples = state.samples;
         log.running = state.running;
+        if state.windows.len() == log.probes.len() {
+            log.windows = state.windows;
+        }
         log.next = state.next;
         Ok(log)
     }
@@ -171,6 +193,7 @@ impl ProbeLog {
             samples: self.samples.clone(),
             next: self.next,
             running: self.running.clone(),
+            windows: self.windows.clone(),
             table_len,
         })
     }
@@ -199,6 +222,7 @@ impl ProbeLog {
             space: ProbeSpace::of(scene),
             samples: vec![Vec::new(); probes.len()],
             running: vec![(0.0, 0.0); probes.len()],
+            windows: vec![Vec::new(); probes.len()],
             probes,
             table,
             interval,
@@ -207,13 +231,31 @@ impl ProbeLog {
     }
 
     /// Whether [`ProbeLog::record`] at time `t` [s] reads particle fields (a probe other than
-    /// a force is due), so a device-resident backend must copy them to the host first.
+    /// a force is due, or averages over a window and so reads every step), so a
+    /// device-resident backend must copy them to the host first.
     pub fn wants_fields(&self, t: f64, now: bool) -> bool {
-        (t >= self.next || now) && self.probes.iter().any(|p| p.kind != ProbeKind::Force)
+        let due = t >= self.next || now;
+        self.probes
+            .iter()
+            .any(|p| p.kind != ProbeKind::Force && (due || matches!(p.averaging, Averaging::Window(_))))
+    }
+
+    /// The sampling interval [s]: `output.interval / 10`, shortened to the shortest
+    /// `1/sampling_rate` of the scene's probes, so a transducer's rate is at least met (every
+    /// step when its window is shorter than the time step).
+    pub fn interval_for(scene: &Scene) -> f64 {
+        scene
+            .probes
+            .iter()
+            .filter_map(|p| match p.averaging {
+                Averaging::Window(w) => Some(w),
+                _ => None,
+            })
+            .fold(scene.output_interval / 10.0, f64::min)
     }
 
     /// Called after every step of length `dt` [s] ending at `t` [s]: records the probes if a
-    /// sample is due (or `now`); force probes report their mean over the interval.
+    /// sample is due (or `now`), each as its [`Averaging`] says.
     pub fn record<const D: usize>(
         &mut self,
         t: f64,
@@ -225,10 +267,20 @@ impl ProbeLog {
         if self.probes.is_empty() {
             return Ok(());
         }
-        for (p, run) in self.probes.iter().zip(self.running.iter_mut()) {
-            if p.kind == ProbeKind::Force && dt > 0.0 {
-                run.0 += measure(p, &self.space, fields, solid_forces) * dt;
-                run.1 += dt;
+        for ((p, run), window) in self.probes.iter().zip(&mut self.running).zip(&mut self.windows) {
+            if dt <= 0.0 {
+                continue;
+            }
+            match p.averaging {
+                Averaging::Instant => {}
+                Averaging::Interval => {
+                    run.0 += measure(p, &self.space, fields, solid_forces) * dt;
+                    run.1 += dt;
+                }
+                Averaging::Window(width) => {
+                    window.push((t - dt, t, measure(p, &self.space, fields, solid_forces)));
+                    window.retain(|&(_, end, _)| end > t - width);
+                }
             }
         }
         if t < self.next && !now {
@@ -241,13 +293,15 @@ impl ProbeLog {
             .probes
             .iter()
             .zip(self.running.iter_mut())
-            .map(|(p, run)| {
-                let v = match p.kind {
-                    ProbeKind::Force if run.1 > 0.0 => run.0 / run.1,
-                    _ => measure(p, &self.space, fields, solid_forces),
+            .zip(&self.windows)
+            .map(|((p, run), window)| {
+                let averaged = match p.averaging {
+                    Averaging::Interval if run.1 > 0.0 => Some(run.0 / run.1),
+                    Averaging::Window(width) => window_mean(window, t, width),
+                    _ => None,
                 };
                 *run = (0.0, 0.0);
-                v
+                averaged.unwrap_or_else(|| measure(p, &self.space, fields, solid_forces))
             })
             .collect();
         for (s, v) in self.samples.iter_mut().zip(&values) {
@@ -273,295 +327,15 @@ impl ProbeLog {
     }
 }
 
-/// A probe compared with its reference data.
-#[derive(Clone, Debug)]
-pub struct ProbeComparison {
-    /// Probe name.
-    pub name: String,
-    /// What the probe measures.
-    pub kind: ProbeKind,
-    /// The simulated curve, normalised as the reference (`(T, Z)` for a front).
-    pub simulated: Vec<(f64, f64)>,
-    /// Reference points per series, normalised: `(series, [(T, Z)])`.
-    pub reference: Vec<(String, Vec<(f64, f64)>)>,
-    /// Front: relative error of the simulation at the reference points within the probe's
-    /// time range; `None` when no reference point lies in the simulated range, and for forces.
-    pub error: Option<CurveError>,
-    /// Force: the first peak, simulated and reference; `None` for fronts or when either has no
-    /// point in the time range.
-    pub peak: Option<Peak>,
-}
-
-/// The largest force within a force probe's time range, as `(t [s], F [N])`, and the impact
-/// onset before it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Peak {
-    /// Of the simulation.
-    pub simulated: (f64, f64),
-    /// Of the reference record.
-    pub reference: (f64, f64),
-    /// Impact onset `(simulated, reference)` [s]: the first time each curve reaches
-    /// [`ONSET_FRACTION`] of the reference peak, linearly interpolated; `None` when either never
-    /// does within the range. The peak time measured from the onset does not depend on where a
-    /// record puts its time origin (Yeh & Petroff's is inferred, see validation/SOURCES.md).
-    pub onset: Option<(f64, f64)>,
-}
-
-/// The fraction of the reference peak that marks the impact onset of a force record.
-pub const ONSET_FRACTION: f64 = 0.25;
-
-impl Peak {
-    /// Simulated minus reference time from onset to peak [s]; `None` without onsets.
-    pub fn rise_time_error(&self) -> Option<f64> {
-        self.onset
-            .map(|(sim, reference)| (self.simulated.0 - sim) - (self.reference.0 - reference))
-    }
-}
-
-/// Errors comparing a probe with reference data.
-#[derive(Debug, thiserror::Error)]
-pub enum ProbeError {
-    /// The reference file could not be read.
-    #[error("probe {probe}: {source}")]
-    Reference {
-        /// Probe name.
-        probe: String,
-        /// The reader's error.
-        source: crate::validation::ValidationError,
-    },
-    /// The scene has no gravity, so `T = t sqrt(g/a)` is undefined.
-    #[error("probe {probe}: comparing with reference data needs the gravity effect")]
-    NoGravity {
-        /// Probe name.
-        probe: String,
-    },
-    /// The probe's reference file was never looked up in a reference directory.
-    #[error(
-        "probe {probe}: reference file {file} was not looked up in a reference directory \
-         (scene::locate_references)"
-    )]
-    Unlocated {
-        /// Probe name.
-        probe: String,
-        /// The file as the scene names it.
-        file: String,
-    },
-    /// The reference file has none of the series the probe names.
-    #[error("probe {probe}: {file} has no points of the series {series:?}")]
-    NoSeries {
-        /// Probe name.
-        probe: String,
-        /// The file.
-        file: String,
-        /// The series asked for.
-        series: Vec<String>,
-    },
-}
-
-/// Compares every probe that names reference data with it.
-pub fn compare(scene: &Scene, log: &ProbeLog) -> Result<Vec<ProbeComparison>, ProbeError> {
-    let mut out = Vec::new();
-    for (k, probe) in log.probes().iter().enumerate() {
-        if let Some(c) = compare_samples(scene, probe, log.samples(k))? {
-            out.push(c);
-        }
-    }
-    Ok(out)
-}
-
-/// Reads every reference file the scene's probes name and checks it holds what the probe
-/// compares with (the series asked for; gravity for a front), so that `sph run` fails at its
-/// start rather than after the run.
-pub fn check_references(scene: &Scene) -> Result<(), ProbeError> {
-    for probe in &scene.probes {
-        compare_samples(scene, probe, &[])?;
-    }
-    Ok(())
-}
-
-/// The path of a probe's reference file: `None` when the probe names none or its file is not
-/// available (the comparison is skipped, see [`crate::scene::references`]).
-fn reference_path(probe: &Probe) -> Result<Option<(&ProbeReference, &Path)>, ProbeError> {
-    let Some(reference) = &probe.reference else {
-        return Ok(None);
-    };
-    match &reference.location {
-        ReferenceLocation::Found(path) => Ok(Some((reference, path))),
-        ReferenceLocation::Missing(_) => Ok(None),
-        ReferenceLocation::Unlocated => Err(ProbeError::Unlocated {
-            probe: probe.name.clone(),
-            file: reference.file.display().to_string(),
-        }),
-    }
-}
-
-/// Compares one probe's samples `(t [s], value [m])` with its reference data; `None` when the
-/// probe names none or its reference file is not available.
-pub fn compare_samples(
-    scene: &Scene,
-    probe: &Probe,
-    samples: &[(f64, f64)],
-) -> Result<Option<ProbeComparison>, ProbeError> {
-    let Some((reference, path)) = reference_path(probe)? else {
-        return Ok(None);
-    };
-    if probe.kind == ProbeKind::Force {
-        return compare_force(probe, reference, path, samples).map(Some);
-    }
-    let g = scene
-        .gravity
-        .as_ref()
-        .map(|g| g.iter().map(|c| c * c).sum::<f64>().sqrt())
-        .filter(|g| *g > 0.0)
-        .ok_or_else(|| ProbeError::NoGravity {
-            probe: probe.name.clone(),
-        })?;
-    let a = reference.length;
-    let time_scale = (g / a).sqrt();
-    let points = read_surge_front(path).map_err(|source| ProbeError::Reference {
-        probe: probe.name.clone(),
-        source,
-    })?;
-    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-    for p in points {
-        if !reference.series.is_empty() && !reference.series.contains(&p.series) {
-            continue;
-        }
-        match series.iter_mut().find(|(name, _)| *name == p.series) {
-            Some((_, pts)) => pts.push((p.t, p.z)),
-            None => series.push((p.series.clone(), vec![(p.t, p.z)])),
-        }
-    }
-    if series.is_empty() {
-        return Err(ProbeError::NoSeries {
-            probe: probe.name.clone(),
-            file: path.display().to_string(),
-            series: reference.series.clone(),
-        });
-    }
-    let simulated: Vec<(f64, f64)> = samples.iter().map(|&(t, z)| (t * time_scale, z / a)).collect();
-    let all: Vec<(f64, f64)> = series.iter().flat_map(|(_, p)| p.iter().copied()).collect();
-    let error = relative_error(&simulated, &all, reference.time_range);
-    Ok(Some(ProbeComparison {
-        name: probe.name.clone(),
-        kind: probe.kind,
-        simulated,
-        reference: series,
-        error,
-        peak: None,
-    }))
-}
-
-/// The largest value within `range` (inclusive), as `(t, value)`.
-fn peak_in(points: &[(f64, f64)], range: (f64, f64)) -> Option<(f64, f64)> {
-    points
-        .iter()
-        .copied()
-        .filter(|(t, v)| *t >= range.0 && *t <= range.1 && v.is_finite())
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-}
-
-/// The first time within `range` at which `points` (in time order) reach `level`, linearly
-/// interpolated between the samples either side.
-fn onset_in(points: &[(f64, f64)], range: (f64, f64), level: f64) -> Option<f64> {
-    let inside: Vec<(f64, f64)> = points
-        .iter()
-        .copied()
-        .filter(|(t, v)| *t >= range.0 && *t <= range.1 && t.is_finite() && v.is_finite())
-        .collect();
-    let first = inside.iter().position(|&(_, v)| v >= level)?;
-    if first == 0 {
-        return Some(inside[0].0);
-    }
-    let ((t0, v0), (t1, v1)) = (inside[first - 1], inside[first]);
-    Some(t0 + (t1 - t0) * (level - v0) / (v1 - v0))
-}
-
-/// A force probe against a force record (time [s], force [N]): the first peak.
-fn compare_force(
-    probe: &Probe,
-    reference: &ProbeReference,
-    path: &Path,
-    samples: &[(f64, f64)],
-) -> Result<ProbeComparison, ProbeError> {
-    let points = read_column_force(path).map_err(|source| ProbeError::Reference {
-        probe: probe.name.clone(),
-        source,
-    })?;
-    let curve: Vec<(f64, f64)> = points.iter().map(|p| (p.time, p.force)).collect();
-    let mut in_time = curve.clone();
-    in_time.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let label = reference
-        .file
-        .file_stem()
-        .map_or_else(|| "reference".to_string(), |s| s.to_string_lossy().into_owned());
-    let range = reference.time_range;
-    let peak = peak_in(samples, range)
-        .zip(peak_in(&curve, range))
-        .map(|(simulated, reference)| {
-            let level = ONSET_FRACTION * reference.1;
-            let onset = onset_in(samples, (range.0, simulated.0), level).zip(onset_in(
-                &in_time,
-                (range.0, reference.0),
-                level,
-            ));
-            Peak {
-                simulated,
-                reference,
-                onset,
-            }
-        });
-    Ok(ProbeComparison {
-        name: probe.name.clone(),
-        kind: probe.kind,
-        simulated: samples.to_vec(),
-        reference: vec![(label, curve)],
-        error: None,
-        peak,
-    })
-}
-
-/// Draws probe comparisons on one figure: one line per `(label, comparison)`, the reference
-/// points (from the first) as markers. The paper's Fig. 1 when the runs are `wcsph` and
-/// `corrected` and the probe is the dam-break front.
-pub fn front_figure(title: &str, runs: &[(String, &ProbeComparison)]) -> Figure {
-    let mut series: Vec<Series> = runs
-        .iter()
-        .map(|(label, c)| Series {
-            label: label.clone(),
-            points: c.simulated.clone(),
-            style: SeriesStyle::Line,
-        })
-        .collect();
-    if let Some((_, first)) = runs.first() {
-        for (name, pts) in &first.reference {
-            series.push(Series {
-                label: format!("experiment: {name}"),
-                points: pts.clone(),
-                style: SeriesStyle::Markers,
-            });
-        }
-    }
-    let force = runs.first().is_some_and(|(_, c)| c.kind == ProbeKind::Force);
-    Figure {
-        title: title.into(),
-        x_label: if force { "t [s]" } else { "T = t sqrt(g/a)" }.into(),
-        y_label: if force {
-            "force on the solid [N]"
-        } else {
-            "Z = z/a (surge front)"
-        }
-        .into(),
-        series,
-        ..Figure::default()
-    }
-}
-
-/// Writes `<dir>/<probe>.png` for each comparison of one run.
-pub fn write_figures(dir: &Path, label: &str, comparisons: &[ProbeComparison]) -> Result<(), PlotError> {
-    for c in comparisons {
-        let figure = front_figure(&format!("{}: {label}", c.name), &[(label.to_string(), c)]);
-        write_png(&figure, &dir.join(format!("{}.png", c.name)), (900, 600))?;
-    }
-    Ok(())
+/// The time-weighted mean at `t` [s] of the per-step values `(t_start, t_end, value)` over the
+/// window `[t − width, t]`: each step counts for the part of it inside the window (a
+/// transducer of rate `1/width` [Hz] reads the signal's mean over its window). `None` when no
+/// step overlaps the window.
+pub fn window_mean(steps: &[(f64, f64, f64)], t: f64, width: f64) -> Option<f64> {
+    let start = t - width;
+    let (sum, weight) = steps.iter().fold((0.0, 0.0), |(sum, weight), &(t0, t1, v)| {
+        let overlap = (t1.min(t) - t0.max(start)).max(0.0);
+        (sum + v * overlap, weight + overlap)
+    });
+    (weight > 0.0).then(|| sum / weight)
 }

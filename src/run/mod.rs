@@ -424,7 +424,7 @@ fn start<const D: usize>(
     if let Some(w) = state.writers.as_mut() {
         w.summary(summary)?;
     }
-    let probe_interval = scene.output_interval / 10.0;
+    let probe_interval = ProbeLog::interval_for(scene);
     let probe_file = match state.writers.as_mut() {
         Some(w) if !scene.probes.is_empty() => Some(w.folder.claim("probes.csv")?),
         _ => None,

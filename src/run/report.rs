@@ -174,6 +174,7 @@ fn statistics<const D: usize>(
     let mut probe_errors = serde_json::Map::new();
     for c in &comparisons {
         let value = match (&c.error, &c.peak) {
+            _ if c.signal.is_some() => crate::probe::signal::summary_json(c),
             (Some(e), _) => serde_json::json!({"error_max": e.max, "error_mean": e.mean, "points": e.count}),
             (None, Some(peak)) => {
                 let (sim, reference) = (peak.simulated, peak.reference);

@@ -204,6 +204,38 @@ pub struct Probe {
     pub size: Option<Vec<f64>>,
     /// Reference data to compare with, if any.
     pub reference: Option<ProbeReference>,
+    /// What area a pressure sensor reads (a point unless it has a `diameter`).
+    pub sensor: Sensor,
+    /// How each recorded sample combines the per-step values.
+    pub averaging: Averaging,
+}
+
+/// The face of a pressure sensor (`probe.diameter`, `probe.normal`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sensor {
+    /// The interpolated value at `point`.
+    Point,
+    /// The mean over a segment (2D) or disc (3D) of `diameter` \[m\] centred on `point`, in
+    /// the plane normal to axis `normal` (`probe::interpolate::face_average`).
+    Face {
+        /// Diameter \[m\] > 0.
+        diameter: f64,
+        /// Index of the axis normal to the face.
+        normal: usize,
+    },
+}
+
+/// How a probe's recorded sample combines the values of the steps since the previous one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Averaging {
+    /// The value at the sampling time (front, and point probes without `sampling_rate`).
+    Instant,
+    /// The time-weighted mean over the sampling interval (force probes without
+    /// `sampling_rate`: the per-step force of particle methods is noisy).
+    Interval,
+    /// The time-weighted mean over the last `window` \[s\] = `1/sampling_rate`, as a
+    /// transducer of that rate reads.
+    Window(f64),
 }
 
 /// Normalised reference curves for a [`Probe`] (`[probe.reference]`).
@@ -216,8 +248,12 @@ pub struct ProbeReference {
     pub location: ReferenceLocation,
     /// Series (columns) to compare with; empty means all series of the file.
     pub series: Vec<String>,
-    /// Front: length scale a \[m\] > 0 for Z = x / a and T = t sqrt(g / a); 0 for a force.
-    pub length: f64,
+    /// Length scale \[m\] > 0 of the normalisation (front: a of Z = x / a and
+    /// T = t sqrt(g / a); pressure, level, velocity: H of T = t sqrt(g/H), p/(ρ0 g H), level/H,
+    /// u/sqrt(g H)); `None`: compared in seconds and SI units (always for a force).
+    pub length: Option<f64>,
+    /// Pressure, level and velocity: the file's `(time, value)` columns.
+    pub columns: Option<(String, String)>,
     /// `(T0, T1)`, T0 < T1: where the error is measured (front: normalised times; force: \[s\]).
     pub time_range: (f64, f64),
 }

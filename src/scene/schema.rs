@@ -401,6 +401,15 @@ pub struct ProbeFile {
     pub solid: Option<String>,
     /// Reference data to compare with; optional.
     pub reference: Option<ProbeReferenceFile>,
+    /// Pressure only: the sensor's diameter \[m\] > 0; the reading is the mean over a segment
+    /// (2D) or disc (3D) of that diameter centred on `point`, normal to `normal`.
+    pub diameter: Option<f64>,
+    /// Pressure only, required with `diameter`: the axis (`"x"`, `"y"` or `"z"`) normal to the
+    /// sensor's face.
+    pub normal: Option<String>,
+    /// A transducer's sampling rate \[Hz\] > 0 (not for a front): each sample is the mean of the
+    /// per-step values over the last `1/sampling_rate` seconds.
+    pub sampling_rate: Option<f64>,
 }
 
 /// `[probe.reference]`: a CSV of normalised reference curves.
@@ -412,9 +421,14 @@ pub struct ProbeReferenceFile {
     /// Series (columns) of the file to compare with; absent or empty means all.
     pub series: Option<Vec<String>>,
     /// Front: length scale a \[m\] > 0 for Z = x / a and T = t sqrt(g / a) (required there;
-    /// not allowed for a force).
+    /// not allowed for a force). Pressure, level, velocity (optional): the length H of
+    /// T = t sqrt(g/H), p/(ρ0 g H), level/H and u/sqrt(g H); absent: seconds and SI values.
     pub length: Option<f64>,
     /// `[T0, T1]`, finite, T0 < T1: where the error is measured; front: normalised times,
-    /// default `[1.0, 3.0]`; force: times \[s\], default `[0, end_time]`.
+    /// default `[1.0, 3.0]`; force: times \[s\], default `[0, end_time]`; pressure, level and
+    /// velocity: in the reference's time unit, default all times.
     pub time_range: Option<Vec<f64>>,
+    /// Pressure, level and velocity (required there): the file's time and value columns,
+    /// `[time, value]`.
+    pub columns: Option<Vec<String>>,
 }

@@ -92,6 +92,16 @@ fn check_prescribed<const D: usize>(dx: f64) {
             point(D, width / 2.0, *z)
         );
     }
+    // A sensor's face on the left wall, 0.1 m across (z from 0.10 to 0.20, all under water;
+    // in 3D centred across the wall, away from the corners).
+    let centre = if D == 2 {
+        format!("[0.0, {}]", heights[1])
+    } else {
+        format!("[0.0, {}, {}]", width / 2.0, heights[1])
+    };
+    probes += &format!(
+        "[[probe]]\nname = \"face\"\nkind = \"pressure\"\npoint = {centre}\ndiameter = 0.1\nnormal = \"x\"\n"
+    );
     probes += &format!(
         "[[probe]]\nname = \"gauge\"\nkind = \"level\"\npoint = {}\n",
         point(D, width / 2.0, 0.0)
@@ -156,6 +166,14 @@ fn check_prescribed<const D: usize>(dx: f64) {
             );
         }
     }
+    // The hydrostatic pressure is linear across the face, so its mean is the centre's value;
+    // each point of the face is read with the point sensors' 0.5 % error.
+    let face = read("face");
+    let want = RHO0 * G * (depth - heights[1]);
+    assert!(
+        (face - want).abs() <= 0.005 * RHO0 * G * depth,
+        "{D}D face sensor {face:.1} Pa, want {want:.1}"
+    );
     let level = read("gauge");
     assert!(
         (level - depth).abs() <= dx / 2.0,
@@ -193,7 +211,7 @@ fn point_probes_read_a_prescribed_hydrostatic_state() {
 }
 
 /// The point probes' keys: `point` required, inside the domain, with `dimension` entries, and
-/// only for them; a pressure has no axis; reference data are for fronts and forces. Each error
+/// only for them; a pressure has no axis; a flow rate has no reference data. Each error
 /// names the key.
 #[test]
 fn point_probe_keys_are_checked() {
@@ -260,9 +278,9 @@ fn point_probe_keys_are_checked() {
             "only with",
         ),
         (
-            "kind = \"pressure\"\npoint = [0.0, 0.1]\n[probe.reference]\nfile = \"x.csv\"",
+            "kind = \"flow_rate\"\npoint = [0.2, 0.1]\nsize = [0.1]\n[probe.reference]\nfile = \"x.csv\"",
             "probe[0].reference",
-            "front and force",
+            "a flow_rate probe",
         ),
     ] {
         let e = problem(probe);

@@ -47,7 +47,7 @@ use sph::fields::FLUID;
 use sph::physics::lattice::lattice_mass;
 use sph::probe::{ProbeSpace, measure};
 use sph::run::simulation_from_scene;
-use sph::scene::{Probe, ProbeKind, Scene, load_scene, parse_scene};
+use sph::scene::{Averaging, Probe, ProbeKind, Scene, Sensor, load_scene, parse_scene};
 use sph::smoothing::Smoothing;
 use std::path::Path;
 
@@ -111,6 +111,8 @@ fn flux_probe() -> Probe {
         point: Some(vec![SECTION_CENTRE, WIDTH / 2.0]),
         size: Some(vec![WIDTH]),
         reference: None,
+        sensor: Sensor::Point,
+        averaging: Averaging::Instant,
     }
 }
 

@@ -2,6 +2,8 @@
 //! data described consistently.
 
 use super::*;
+use crate::scene::schema::ProbeReferenceFile;
+use crate::scene::{Averaging, Sensor};
 
 /// Checks `probe[i]`; `has_grav` is whether the gravity effect is on.
 pub(super) fn check_probe(
@@ -155,16 +157,28 @@ pub(super) fn check_probe(
             sizes.into_iter().collect::<Option<Vec<f64>>>().map(Some)
         }
     };
-    if at_point && pf.reference.is_some() {
+    if kind == ProbeKind::FlowRate && pf.reference.is_some() {
         c.err(
             path.k("reference"),
-            format!(
-                "reference data are compared for front and force probes; a {} probe is written to probes.csv and plotted without one",
-                kind.name()
-            ),
+            "reference data are compared for front, force, pressure, level and velocity probes; a flow_rate probe is written to probes.csv and plotted without one".into(),
         );
         ok = false;
     }
+    let sensor = check_sensor(c, &path, pf, dim);
+    let averaging = match (pf.sampling_rate, kind) {
+        (None, ProbeKind::Force) => Some(Averaging::Interval),
+        (None, _) => Some(Averaging::Instant),
+        (Some(_), ProbeKind::Front) => {
+            c.err(
+                path.k("sampling_rate"),
+                "not with kind = \"front\" (a front is not a transducer's reading)".into(),
+            );
+            None
+        }
+        (Some(rate), _) => c
+            .positive(path.k("sampling_rate"), rate)
+            .map(|rate| Averaging::Window(1.0 / rate)),
+    };
     let reference = match &pf.reference {
         None => Some(None),
         Some(r) => {
@@ -193,23 +207,36 @@ pub(super) fn check_probe(
                     ok = false;
                 }
             }
-            let length = match (r.length, force) {
-                (Some(l), false) => c.positive(rp.k("length"), l),
-                (None, false) => {
+            let front = kind == ProbeKind::Front;
+            let length = match (r.length, kind) {
+                (Some(_), ProbeKind::Force) => {
+                    c.err(
+                        rp.k("length"),
+                        "only for a front, pressure, level or velocity".into(),
+                    );
+                    None
+                }
+                (Some(l), _) => c.positive(rp.k("length"), l).map(Some),
+                (None, ProbeKind::Front) => {
                     c.err(
                         rp.k("length"),
                         "required for a front: the column width a [m]".into(),
                     );
                     None
                 }
-                (Some(_), true) => {
-                    c.err(rp.k("length"), "only for a front".into());
-                    None
-                }
-                (None, true) => Some(0.0),
+                (None, _) => Some(None),
             };
+            if !has_grav && !front && r.length.is_some() {
+                c.err(
+                    rp.k("length"),
+                    "needs effect \"gravity\" (the reference time is T = t sqrt(g / H))".into(),
+                );
+                ok = false;
+            }
+            let columns = check_columns(c, &rp, r, at_point);
             let time_range = match r.time_range.as_deref() {
                 None if force => Some((0.0, file.solver.end_time)),
+                None if at_point => Some((f64::NEG_INFINITY, f64::INFINITY)),
                 None => Some(ProbeReference::DEFAULT_TIME_RANGE),
                 Some(&[t0, t1]) => {
                     let t0 = c.finite(rp.k("time_range").i(0), t0);
@@ -234,13 +261,14 @@ pub(super) fn check_probe(
                     None
                 }
             };
-            match (length, time_range) {
-                (Some(length), Some(time_range)) => Some(Some(ProbeReference {
+            match (length, time_range, columns) {
+                (Some(length), Some(time_range), Some(columns)) => Some(Some(ProbeReference {
                     file: PathBuf::from(&r.file),
                     location: crate::scene::ReferenceLocation::Unlocated,
                     series,
                     length,
                     time_range,
+                    columns,
                 })),
                 _ => None,
             }
@@ -255,6 +283,100 @@ pub(super) fn check_probe(
         point: point?,
         size: size?,
         reference: reference?,
+        sensor: sensor?,
+        averaging: averaging?,
     };
     ok.then_some(probe)
+}
+
+/// The index of axis name `text` below `dim`, or an error at `key`.
+fn axis_index(c: &mut Checker, key: KeyPath, text: &str, dim: Option<usize>) -> Option<usize> {
+    match (["x", "y", "z"].iter().position(|a| *a == text), dim) {
+        (Some(a), Some(d)) if a < d => Some(a),
+        (Some(a), None) => Some(a),
+        _ => {
+            let allowed = if dim == Some(2) {
+                "\"x\" or \"y\""
+            } else {
+                "\"x\", \"y\" or \"z\""
+            };
+            c.err(key, format!("must be {allowed}, got {text:?}"));
+            None
+        }
+    }
+}
+
+/// A pressure sensor's face: `diameter` and `normal` together, pressure only.
+fn check_sensor(c: &mut Checker, path: &KeyPath, pf: &ProbeFile, dim: Option<usize>) -> Option<Sensor> {
+    let pressure = pf.kind == ProbeKind::Pressure;
+    match (pf.diameter, &pf.normal) {
+        (None, None) => Some(Sensor::Point),
+        (Some(_), _) | (_, Some(_)) if !pressure => {
+            let key = if pf.diameter.is_some() {
+                "diameter"
+            } else {
+                "normal"
+            };
+            c.err(path.k(key), "only with kind = \"pressure\"".into());
+            None
+        }
+        (Some(_), None) => {
+            c.err(
+                path.k("normal"),
+                "required with diameter: the axis normal to the sensor's face, e.g. \"x\" on a wall x = const".into(),
+            );
+            None
+        }
+        (None, Some(_)) => {
+            c.err(
+                path.k("diameter"),
+                "required with normal: the sensor's diameter [m]".into(),
+            );
+            None
+        }
+        (Some(d), Some(n)) => {
+            let diameter = c.positive(path.k("diameter"), d);
+            let normal = axis_index(c, path.k("normal"), n, dim);
+            Some(Sensor::Face {
+                diameter: diameter?,
+                normal: normal?,
+            })
+        }
+    }
+}
+
+/// `[probe.reference] columns`: required for the point probes' references, only there.
+fn check_columns(
+    c: &mut Checker,
+    rp: &KeyPath,
+    r: &ProbeReferenceFile,
+    at_point: bool,
+) -> Option<Option<(String, String)>> {
+    match (r.columns.as_deref(), at_point) {
+        (None, false) => Some(None),
+        (Some(_), false) => {
+            c.err(
+                rp.k("columns"),
+                "only for a pressure, level or velocity reference".into(),
+            );
+            None
+        }
+        (None, true) => {
+            c.err(
+                rp.k("columns"),
+                "required for a pressure, level or velocity reference: [time, value], the file's column names".into(),
+            );
+            None
+        }
+        (Some([t, v]), true) if !t.trim().is_empty() && !v.trim().is_empty() && t != v => {
+            Some(Some((t.clone(), v.clone())))
+        }
+        (Some(other), true) => {
+            c.err(
+                rp.k("columns"),
+                format!("expected 2 different non-empty column names [time, value], got {other:?}"),
+            );
+            None
+        }
+    }
 }
