@@ -122,7 +122,7 @@ fn corrected_with_every_key_and_probes() {
         "parse_scene keeps it relative"
     );
     assert_eq!(r.series, vec!["n2_a2.25".to_string(), "n2_a1.125".to_string()]);
-    assert_eq!(r.length, 0.25);
+    assert_eq!(r.length, Some(0.25));
     assert_eq!(r.time_range, (0.5, 2.5));
     let q = &s.probes[1];
     assert_eq!((q.name.as_str(), q.axis, q.origin), ("height", 1, 0.0));

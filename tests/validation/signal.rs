@@ -318,3 +318,33 @@ fn new_probe_keys_are_checked() {
         );
     }
 }
+
+/// The shipped instrumented dam break: its wall sensors compare with Buchner's record in the
+/// normalised units, the face sensor reads a 2 kHz window, and the log samples at that rate.
+#[test]
+fn the_wall_dam_break_scene_carries_its_sensors() {
+    let scene = sph::scene::load_scene(std::path::Path::new("scenes/dam_break_wall_2d.toml"), &[])
+        .expect("valid scene");
+    let wall = scene.probes.iter().find(|p| p.name == "p_02H").expect("p_02H");
+    let r = wall.reference.as_ref().expect("reference");
+    assert_eq!(r.length, Some(0.3));
+    assert_eq!(
+        r.columns,
+        Some(("T_t_sqrt_g_over_H".into(), "p_over_rho_g_H".into()))
+    );
+    let face = scene
+        .probes
+        .iter()
+        .find(|p| p.name == "p_02H_face")
+        .expect("face");
+    assert_eq!(
+        face.sensor,
+        Sensor::Face {
+            diameter: 0.03,
+            normal: 0
+        }
+    );
+    assert_eq!(face.averaging, Averaging::Window(1.0 / 2000.0));
+    let interval = ProbeLog::interval_for(&scene);
+    assert!((interval - 5e-4).abs() < F64_FEW_OPERATIONS, "{interval}");
+}
