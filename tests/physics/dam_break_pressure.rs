@@ -73,6 +73,8 @@ fn hydrostatic_start_loads_the_back_wall_with_the_column_weight() {
 struct Impact {
     peak: f64,
     spike: f64,
+    /// When the sensor first reads a pressure [s] (infinite: never).
+    arrival: f64,
 }
 
 /// Height of the far-wall sensor above the floor [m]: 0.2 a = 50 mm, above the kernel radius at
@@ -80,17 +82,18 @@ struct Impact {
 /// (the front arrives about a/4 thick at x = 5a).
 const SENSOR_HEIGHT: f64 = 0.2 * A;
 
-/// The far-wall sensor (x = 5a, y = [`SENSOR_HEIGHT`]) sampled every step until t = 0.5 s (the
-/// front reaches the far wall at t ≈ 0.42 s, T ≈ 2.6, and the first peak follows within 30 ms).
+/// The far-wall sensor (x = 5a, y = [`SENSOR_HEIGHT`]) sampled every step until t = 0.8 s: the
+/// wcsph front reaches it near t = 0.5 s (T ≈ 3.1; a sensor there read nothing until 0.5 s),
+/// the run-up jet follows, and the jet's fall back (T ≈ 6, 1 s) is not yet there.
 fn far_wall_impact(sets: &[&str]) -> Impact {
-    let mut all = vec!["solver.end_time=0.5", "output.interval=0.5"];
+    let mut all = vec!["solver.end_time=0.8", "output.interval=0.8"];
     all.extend_from_slice(sets);
     let scene = dam_break(&all);
     let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
     let kernel = Smoothing::<2>::new(scene.smoothing_length as Real).expect("kernel");
     let point = [5.0 * A, SENSOR_HEIGHT];
     let mut samples: Vec<(f64, f64)> = Vec::new();
-    let end = 0.5;
+    let end = 0.8;
     while sim.clock().time < end - 1e-12 {
         sim.step(end).expect("stable step");
         sim.sync_fields().expect("fields");
@@ -116,14 +119,23 @@ fn far_wall_impact(sets: &[&str]) -> Impact {
         .filter(|(_, m)| **m > 0.1 * peak)
         .map(|((_, p), m)| p / m)
         .fold(0.0, f64::max);
-    Impact { peak, spike }
+    let arrival = samples.iter().find(|s| s.1 > 0.0).map_or(f64::INFINITY, |s| s.0);
+    Impact { peak, spike, arrival }
 }
 
 /// Issue 26: the far wall's first impact read at dx = a/25 and a/50 agrees within 15 % (peak of
 /// the 1 ms mean: a transducer's bandwidth), and no step reads more than twice the 1 ms mean
 /// around it. Both solvers from the hydrostatic state.
+///
+/// Measured (to t = 0.8 s, sensor 50 mm above the floor): wcsph peaks 2,644 Pa (a/25) and
+/// 2,771 Pa (a/50), 4.6 % apart, but at a/50 one step reads 2.8 times its 1 ms mean (a/25:
+/// 1.36); from the uniform state a/25 peaks at 3,420 Pa (spike 1.43). wcsph still sums its
+/// density (18); the continuity equation with [F19] density diffusion
+/// (`physics::density_diffusion`) is what is meant to remove the spike. The `corrected`
+/// solver's front reaches the far wall (x = 1.247 m at t = 0.64 s, a/25) but the pressure its
+/// fluid particles carry at the end of a step, which the probe interpolates, is zero there.
 #[test]
-#[ignore = "long: four dam breaks to t = 0.5 s (minutes in release)"]
+#[ignore = "fails: wcsph a/50 spikes 2.8x its 1 ms mean; corrected's probe pressure reads 0 at the far wall"]
 fn far_wall_impact_converges_without_spikes() {
     let mut failures = Vec::new();
     for solver in ["wcsph", "corrected"] {
@@ -135,8 +147,12 @@ fn far_wall_impact_converges_without_spikes() {
             "particles.spacing=0.005",
         ]);
         eprintln!("{solver}: a/25 {coarse:?}, a/50 {fine:?}");
+        // The uniform start, for comparison (printed, not held to the criteria).
+        let uniform = far_wall_impact(&[&kind, "particles.spacing=0.01"]);
+        eprintln!("{solver} uniform start: a/25 {uniform:?}");
         let agreement = (coarse.peak - fine.peak).abs() / fine.peak;
-        if agreement > 0.15 {
+        // A sensor that never reads (peak 0, agreement NaN) fails too.
+        if agreement > 0.15 || agreement.is_nan() {
             failures.push(format!(
                 "{solver}: peaks {:.0} and {:.0} Pa differ by {:.0} %",
                 coarse.peak,
@@ -145,6 +161,9 @@ fn far_wall_impact_converges_without_spikes() {
             ));
         }
         for (label, run) in [("a/25", coarse), ("a/50", fine)] {
+            if run.arrival.is_infinite() {
+                failures.push(format!("{solver} {label}: the sensor never reads a pressure"));
+            }
             if run.spike > 2.0 {
                 failures.push(format!(
                     "{solver} {label}: a step reads {:.1} x its 1 ms mean",
