@@ -9,6 +9,7 @@
 pub mod artificial_viscosity;
 pub mod correction;
 pub mod density;
+pub mod density_diffusion;
 pub mod eos;
 pub mod gravity;
 pub mod lattice;

@@ -22,6 +22,7 @@ use crate::error::Error;
 use crate::math::{Real, Vector};
 use crate::output::{CsvValue, Summary};
 use crate::probe::ProbeLog;
+use crate::scene::initial_state::{InitialState, hydrostatic_pressure};
 use crate::scene::{Effect, Scene, SceneError, SolidShape, SolverKind, generate};
 use crate::solver::checkpoint::{Checkpoint, CheckpointError};
 use crate::solver::{Correction, Integrator};
@@ -59,6 +60,12 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
         .with_solid_motion(motions)?;
     if scene.has(Effect::Multiphase) {
         sim = sim.with_phases(&crate::scene::fluid_rest_density(scene)?)?;
+    }
+    if scene.initial_state == InitialState::Hydrostatic {
+        // A separate pass over the generated particles (`scene::initial_state`).
+        let gravity = scene.gravity.as_deref().unwrap_or(&[]);
+        let pressure = hydrostatic_pressure(&layout.fluid_position, gravity, scene.rho0, scene.spacing);
+        sim = sim.with_initial_pressure(&pressure)?;
     }
     sim.set_keep_out(keep_out_boxes::<D>(scene, &solids))?;
     Ok(sim)

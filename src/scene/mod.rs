@@ -17,6 +17,7 @@ pub use crate::boundary::motion::Sway;
 
 pub(crate) mod count;
 pub mod generate;
+pub mod initial_state;
 pub mod magnitude;
 pub mod overrides;
 mod problem;
@@ -89,6 +90,8 @@ pub struct Scene {
     /// The surface-tension model (`fluid.surface_tension_model`, default `surface_stress`);
     /// meaningful only with [`Effect::SurfaceTension`].
     pub surface_tension_model: crate::model::SurfaceTensionModel,
+    /// The fluid's initial state (`fluid.initial_state`, default uniform).
+    pub initial_state: initial_state::InitialState,
     /// Initial fluid blocks, in file order (non-empty, non-overlapping).
     pub fluid_boxes: Vec<FluidBox>,
     /// Solid bodies, in file order, with unique names.

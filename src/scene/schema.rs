@@ -221,6 +221,10 @@ pub struct FluidFile {
     /// The surface-tension model, `"surface_stress"` (default) or `"akinci"`; only with the
     /// `surface_tension` effect.
     pub surface_tension_model: Option<crate::model::SurfaceTensionModel>,
+    /// The fluid's initial state, `"uniform"` (default: `ρ0`, no pressure) or `"hydrostatic"`
+    /// (the pressure of a resting column, `scene::initial_state`); hydrostatic needs the
+    /// `gravity` effect without a ramp.
+    pub initial_state: Option<crate::scene::initial_state::InitialState>,
 }
 }
 

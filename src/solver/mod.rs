@@ -14,6 +14,7 @@ pub mod timestep;
 mod backend;
 mod config;
 mod error;
+mod initial_state;
 mod simulation;
 mod stats;
 

@@ -8,6 +8,7 @@
 mod common;
 
 mod basics;
+mod dam_break_pressure;
 mod gauges;
 mod multiphase;
 mod poiseuille;

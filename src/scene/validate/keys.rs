@@ -172,3 +172,43 @@ pub(super) fn rotating_frame(
     };
     (omega, centre)
 }
+
+/// `fluid.initial_state` (default uniform). Hydrostatic needs the `gravity` effect (a column
+/// without weight is uniform), no `gravity_ramp` (the ramp starts without weight, which a
+/// hydrostatic column is not in) and no `multiphase` (a column of several densities is not
+/// `ρ0 g (H − z)`); `gravity_ramp` is the validated ramp.
+pub(super) fn initial_state(
+    c: &mut Checker,
+    fp: &KeyPath,
+    f: &crate::scene::schema::FluidFile,
+    effects: &[Effect],
+    gravity_ramp: Option<f64>,
+) -> crate::scene::initial_state::InitialState {
+    use crate::scene::initial_state::InitialState;
+    let state = f.initial_state.unwrap_or_default();
+    if state == InitialState::Hydrostatic {
+        let key = fp.k("initial_state");
+        if !effects.contains(&Effect::Gravity) {
+            c.err(
+                key,
+                "\"hydrostatic\" needs effect \"gravity\": without weight a column at rest is uniform".into(),
+            );
+        } else if gravity_ramp.is_some_and(|r| r > 0.0) {
+            c.err(
+                key,
+                "\"hydrostatic\" starts with the column's full weight, but `fluid.gravity_ramp` starts without \
+                 gravity: remove one of the two"
+                    .into(),
+            );
+        }
+        if effects.contains(&Effect::Multiphase) {
+            c.err(
+                fp.k("initial_state"),
+                "\"hydrostatic\" with effect \"multiphase\" is not supported: a column of several densities \
+                 does not carry ρ0 g (H − z)"
+                    .into(),
+            );
+        }
+    }
+    state
+}

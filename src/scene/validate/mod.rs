@@ -32,7 +32,7 @@ mod probes;
 mod step_bounds;
 
 use geometry::{check_box, check_geometry};
-use keys::{check_motion, check_name, check_solver, rotating_frame};
+use keys::{check_motion, check_name, check_solver, initial_state, rotating_frame};
 use memory::check_counts;
 pub use memory::{
     BASE_BYTES, ParticleBytes, frame_bytes_per_particle, particle_bytes, run_bytes, scene_particle_bytes,
@@ -327,6 +327,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
         );
     }
     let surface_tension_model = f.surface_tension_model.unwrap_or_default();
+    let initial_state = initial_state(&mut c, &fp, f, &effects, gravity_ramp);
 
     // [[fluid_box]]
     if file.fluid_box.is_empty() {
@@ -495,6 +496,7 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
             rotation_centre: rotation_centre?,
             surface_tension,
             surface_tension_model,
+            initial_state,
             fluid_boxes,
             solids,
             solver: solver?,

@@ -1,0 +1,202 @@
+//! Pressures a transducer would read on the 2D dam break (`scenes/dam_break_2d.toml`, issue 26):
+//! the back wall's load at the start (the hydrostatic initial state, `fluid.initial_state`) and
+//! the impact on the far wall.
+
+use sph::math::Real;
+use sph::probe::interpolate;
+use sph::run::simulation_from_scene;
+use sph::scene::parse_scene;
+use sph::smoothing::Smoothing;
+use std::path::Path;
+
+/// Column height and width `a` [m], rest density [kg/m³] and gravity [m/s²] of the scene.
+const A: f64 = 0.25;
+const RHO0: f64 = 1000.0;
+const G: f64 = 9.81;
+
+/// The shipped dam break with the overrides `sets` (`--set` syntax).
+fn dam_break(sets: &[&str]) -> sph::scene::Scene {
+    let path = Path::new("scenes/dam_break_2d.toml");
+    let text = std::fs::read_to_string(path).expect("shipped scene");
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    parse_scene(&text, "dam_break_2d.toml", &sets).expect("scene with overrides")
+}
+
+/// The force of the fluid on the back wall [N/m] at t = 1 ms: minus the x force on the tank
+/// (the far wall is dry, the floor pushes along y only).
+fn back_wall_load_at_1_ms(solver: &str, initial_state: &str) -> f64 {
+    let kind = format!("solver.kind={solver}");
+    let state = format!("fluid.initial_state={initial_state}");
+    let scene = dam_break(&[&kind, &state, "particles.spacing=0.01"]);
+    let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+    let tank = sim.solid_names().iter().position(|n| n == "tank").expect("tank");
+    let end = 1e-3;
+    while sim.clock().time < end - 1e-12 {
+        sim.step(end).expect("stable step");
+    }
+    -sim.solid_forces()[tank][0]
+}
+
+/// With `fluid.initial_state = "hydrostatic"` the wcsph column starts at rest under its own
+/// weight, so the back wall carries `ρ0 g a² / 2` (306.6 N/m) at once; from the uniform state
+/// it carries about 1 % of it at 1 ms (the column first compresses under gravity). Measured at
+/// a/25: 286.3 N/m hydrostatic, 3.8 N/m uniform.
+///
+/// Tolerance 10 %: the wall's pressure is the [A12] extrapolation from fluid particles within
+/// one kernel radius (h = 2 dx = a/12.5 here), and the free surface's top row carries no
+/// pressure (its summed density is short of neighbours, clamped at zero): a linear profile cut
+/// half a spacing early loses `(dx/2)/a`, 2 %; fluid next to the walls sums the walls' lattice
+/// mass, not the heavier hydrostatic one, which costs the bottom corner a few percent more.
+///
+/// The `corrected` solver is not held to this: its force on a solid is the impulse of its
+/// position correction and velocity solve over the step, and at 1 ms it reads 164.5 N/m from
+/// the hydrostatic state and 173.6 N/m from the uniform one (a/25).
+#[test]
+fn hydrostatic_start_loads_the_back_wall_with_the_column_weight() {
+    let expected = RHO0 * G * A * A / 2.0;
+    let hydrostatic = back_wall_load_at_1_ms("wcsph", "hydrostatic");
+    let uniform = back_wall_load_at_1_ms("wcsph", "uniform");
+    assert!(
+        (hydrostatic - expected).abs() <= 0.10 * expected,
+        "hydrostatic start: {hydrostatic:.1} N/m at 1 ms, rho0 g a^2 / 2 = {expected:.1} N/m"
+    );
+    // What the hydrostatic state fixes: the uniform column has not loaded the wall yet.
+    assert!(
+        uniform < 0.1 * expected,
+        "uniform start: {uniform:.1} N/m at 1 ms"
+    );
+}
+
+/// One far-wall pressure record: the peak of its 1 ms running mean [Pa] and the largest ratio of
+/// a step's reading to that mean around it (where the mean is above a tenth of the peak).
+#[derive(Debug, Clone, Copy)]
+struct Impact {
+    peak: f64,
+    spike: f64,
+    /// When the sensor first reads a pressure [s] (infinite: never).
+    arrival: f64,
+}
+
+/// Height of the far-wall sensor above the floor [m]: 0.2 a = 50 mm, above the kernel radius at
+/// a/25 (h = 20 mm, so the floor does not cut the probe's support) and low in the impact surge
+/// (the front arrives about a/4 thick at x = 5a).
+const SENSOR_HEIGHT: f64 = 0.2 * A;
+
+/// The far-wall sensor (x = 5a, y = [`SENSOR_HEIGHT`]) sampled every step until t = 0.8 s: the
+/// wcsph front reaches it near t = 0.5 s (T ≈ 3.1; a sensor there read nothing until 0.5 s),
+/// the run-up jet follows, and the jet's fall back (T ≈ 6, 1 s) is not yet there.
+fn far_wall_impact(sets: &[&str]) -> Impact {
+    let mut all = vec!["solver.end_time=0.8", "output.interval=0.8"];
+    all.extend_from_slice(sets);
+    let scene = dam_break(&all);
+    let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
+    let kernel = Smoothing::<2>::new(scene.smoothing_length as Real).expect("kernel");
+    let point = [5.0 * A, SENSOR_HEIGHT];
+    let mut samples: Vec<(f64, f64)> = Vec::new();
+    let end = 0.8;
+    while sim.clock().time < end - 1e-12 {
+        sim.step(end).expect("stable step");
+        sim.sync_fields().expect("fields");
+        samples.push((
+            sim.clock().time,
+            interpolate::pressure(&sim.fields, &kernel, &point),
+        ));
+    }
+    let window = 1e-3;
+    let mean_around = |t: f64| {
+        let near: Vec<f64> = samples
+            .iter()
+            .filter(|(s, _)| (s - t).abs() <= window / 2.0)
+            .map(|s| s.1)
+            .collect();
+        near.iter().sum::<f64>() / near.len() as f64
+    };
+    let means: Vec<f64> = samples.iter().map(|(t, _)| mean_around(*t)).collect();
+    let peak = means.iter().cloned().fold(0.0, f64::max);
+    let spike = samples
+        .iter()
+        .zip(&means)
+        .filter(|(_, m)| **m > 0.1 * peak)
+        .map(|((_, p), m)| p / m)
+        .fold(0.0, f64::max);
+    let arrival = samples.iter().find(|s| s.1 > 0.0).map_or(f64::INFINITY, |s| s.0);
+    Impact { peak, spike, arrival }
+}
+
+/// Issue 26: the far wall's first impact read at dx = a/25 and a/50 agrees within 15 % (peak of
+/// the 1 ms mean: a transducer's bandwidth), and no step reads more than twice the 1 ms mean
+/// around it. Both solvers from the hydrostatic state.
+///
+/// Measured (to t = 0.8 s, sensor 50 mm above the floor): wcsph peaks 2,644 Pa (a/25) and
+/// 2,771 Pa (a/50), 4.6 % apart, but at a/50 one step reads 2.8 times its 1 ms mean (a/25:
+/// 1.36); from the uniform state a/25 peaks at 3,420 Pa (spike 1.43). wcsph still sums its
+/// density (18); the continuity equation with [F19] density diffusion
+/// (`physics::density_diffusion`) is what is meant to remove the spike. The `corrected`
+/// solver's front reaches the far wall (x = 1.247 m at t = 0.64 s, a/25) but the pressure its
+/// fluid particles carry at the end of a step, which the probe interpolates, is zero there.
+#[test]
+#[ignore = "fails: wcsph a/50 spikes 2.8x its 1 ms mean; corrected's probe pressure reads 0 at the far wall"]
+fn far_wall_impact_converges_without_spikes() {
+    let mut failures = Vec::new();
+    for solver in ["wcsph", "corrected"] {
+        let kind = format!("solver.kind={solver}");
+        let coarse = far_wall_impact(&[&kind, "fluid.initial_state=hydrostatic", "particles.spacing=0.01"]);
+        let fine = far_wall_impact(&[
+            &kind,
+            "fluid.initial_state=hydrostatic",
+            "particles.spacing=0.005",
+        ]);
+        eprintln!("{solver}: a/25 {coarse:?}, a/50 {fine:?}");
+        // The uniform start, for comparison (printed, not held to the criteria).
+        let uniform = far_wall_impact(&[&kind, "particles.spacing=0.01"]);
+        eprintln!("{solver} uniform start: a/25 {uniform:?}");
+        let agreement = (coarse.peak - fine.peak).abs() / fine.peak;
+        // A sensor that never reads (peak 0, agreement NaN) fails too.
+        if agreement > 0.15 || agreement.is_nan() {
+            failures.push(format!(
+                "{solver}: peaks {:.0} and {:.0} Pa differ by {:.0} %",
+                coarse.peak,
+                fine.peak,
+                100.0 * agreement
+            ));
+        }
+        for (label, run) in [("a/25", coarse), ("a/50", fine)] {
+            if run.arrival.is_infinite() {
+                failures.push(format!("{solver} {label}: the sensor never reads a pressure"));
+            }
+            if run.spike > 2.0 {
+                failures.push(format!(
+                    "{solver} {label}: a step reads {:.1} x its 1 ms mean",
+                    run.spike
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("; "));
+}
+
+/// A hydrostatic start with a gravity ramp (which starts without weight) or without gravity is
+/// a scene error at `fluid.initial_state` that names the clash.
+#[test]
+fn hydrostatic_start_without_full_gravity_is_an_error_at_its_key() {
+    use crate::common::scene::{parse_set, problems, with_key};
+    let text = std::fs::read_to_string("scenes/dam_break_2d.toml").expect("shipped scene");
+    let ramp = problems(parse_set(
+        &text,
+        &["fluid.initial_state=hydrostatic", "fluid.gravity_ramp=0.5"],
+    ));
+    assert!(
+        with_key(&ramp, "fluid.initial_state")
+            .reason
+            .contains("gravity_ramp")
+    );
+    let weightless = text
+        .replace("\"gravity\", ", "")
+        .replace("gravity = [0.0, -9.81]", "");
+    let none = problems(parse_set(&weightless, &["fluid.initial_state=hydrostatic"]));
+    assert!(
+        with_key(&none, "fluid.initial_state")
+            .reason
+            .contains("needs effect \"gravity\"")
+    );
+}
