@@ -23,6 +23,7 @@ pub mod charts;
 pub mod cli;
 pub mod error;
 pub mod fields;
+pub mod geometry;
 pub mod grid;
 pub mod math;
 pub mod memory;

@@ -285,3 +285,18 @@ fn sloshing_tanks_match_the_cpu() {
         }
     }
 }
+
+/// A mesh solid (`tests/scenes/mesh_obstacle_3d.toml`: the STL obstacle of `scenes/meshes` in a
+/// small 3D dam break): its particles and the force on it go through the same stages as a box's.
+#[test]
+fn mesh_obstacle_scene_matches_the_cpu() {
+    for device in devices() {
+        check(
+            device,
+            &format!("{ROOT}/tests/scenes/mesh_obstacle_3d.toml"),
+            &[],
+            STEPS,
+            FORCE,
+        );
+    }
+}

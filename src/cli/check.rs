@@ -56,6 +56,17 @@ fn generated(
     )))
 }
 
+/// What a solid is, in words: `container`, `box`, or the shape with its size
+/// (`cylinder centre [..] axis [..] radius r length l`).
+fn shape_words(s: &crate::scene::Solid, dim: usize) -> String {
+    use crate::geometry::Volume;
+    use crate::scene::SolidShape;
+    match (s.shape, &s.volume) {
+        (SolidShape::Container, _) | (_, Volume::Aabb { .. }) => s.shape.name().to_string(),
+        (_, volume) => volume.describe(dim),
+    }
+}
+
 /// Prints what generation did beyond whole-spacing boxes (the lines start with `lattice:`).
 fn print_report(scene: &Scene, report: &GenerationReport) {
     for f in &report.fitted {
@@ -118,8 +129,8 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
         scene.spacing, scene.smoothing_length
     );
     println!("  fluid particles  {:>12}", counts.fluid);
-    for (name, n) in &counts.solid {
-        println!("  solid {name:<10} {n:>12}");
+    for ((name, n), s) in counts.solid.iter().zip(&scene.solids) {
+        println!("  solid {name:<10} {n:>12}  {}", shape_words(s, scene.dimension));
     }
     println!("  total particles  {:>12}", counts.total);
     match &generated {

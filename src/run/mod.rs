@@ -19,6 +19,7 @@
 use crate::backend::{BackendKind, cuda};
 use crate::boundary::keep_out::KeepOutBox;
 use crate::error::Error;
+use crate::geometry::Volume;
 use crate::math::{Real, Vector};
 use crate::output::{CsvValue, Summary};
 use crate::probe::ProbeLog;
@@ -71,8 +72,9 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
     Ok(sim)
 }
 
-/// The solids' volumes for the no-penetration guard (`boundary::keep_out`): a `box` solid is its
-/// region, a `container` the slabs of its walls (`wall_layers` spacings thick).
+/// The solids' volumes for the no-penetration guard (`boundary::keep_out`): an unrotated `box`
+/// solid is its region, a `container` the slabs of its walls (`wall_layers` spacings thick);
+/// the other shapes have none.
 fn keep_out_boxes<const D: usize>(scene: &Scene, solids: &[(String, Vec<Vector<D>>)]) -> Vec<KeepOutBox<D>> {
     let vector = |v: &[f64]| Vector::<D>::from_iterator(v.iter().map(|&c| c as Real));
     let thickness = (scene.wall_layers() as f64 * scene.spacing) as Real;
@@ -82,9 +84,12 @@ fn keep_out_boxes<const D: usize>(scene: &Scene, solids: &[(String, Vec<Vector<D
             continue;
         };
         let (min, max) = (vector(&s.region.min), vector(&s.region.max));
-        match s.shape {
-            SolidShape::Box => boxes.push(KeepOutBox::fixed(min, max, index as u32)),
-            SolidShape::Container => boxes.extend(KeepOutBox::container(
+        match (s.shape, &s.volume) {
+            (SolidShape::Box, Volume::Aabb { .. }) => boxes.push(KeepOutBox::fixed(min, max, index as u32)),
+            // The guard's volumes are axis-aligned boxes: the other shapes rely on the particle
+            // boundary alone (their bounding box would push fluid out of space they leave free).
+            (SolidShape::Box | SolidShape::Cylinder | SolidShape::Sphere | SolidShape::Mesh, _) => {}
+            (SolidShape::Container, _) => boxes.extend(KeepOutBox::container(
                 min,
                 max,
                 thickness,

@@ -4,6 +4,7 @@
 
 use super::validate::RawProblem;
 use super::{FluidBox, KeyPath, Scene, Solid, SolidShape};
+use crate::geometry::Volume;
 
 /// Largest supported dimension for counting.
 const MAX_DIM: usize = 3;
@@ -125,12 +126,69 @@ pub(crate) fn fluid_box_count(fb: &FluidBox, dx: f64, path: &KeyPath) -> Result<
     n.checked_add(fb.twins(n)).ok_or_else(|| overflow(path))
 }
 
-/// Particles of one solid (box or container with `layers` wall layers).
+/// The lattice a shape other than an axis-aligned box is filled on: anchored at the lower
+/// corner of its bounding box, `ceil(E_k / dx) + 1` points along axis k (one more than can be
+/// inside, so that rounding never drops a layer), as `i64` indices.
+pub(crate) fn shape_lattice(
+    volume: &Volume,
+    dim: usize,
+    dx: f64,
+    path: &KeyPath,
+) -> Result<(Vec<f64>, Vec<i64>), RawProblem> {
+    let (min, max) = volume.bounds(dim);
+    let mut n = Vec::with_capacity(dim);
+    for (k, (lo, hi)) in min.iter().zip(&max).enumerate() {
+        let m = ((hi - lo) / dx).ceil() + 1.0;
+        if !m.is_finite() || m > f64::from(u32::MAX) {
+            return Err(RawProblem::new(
+                path.clone(),
+                format!(
+                    "too many particles along axis {}: extent {} m / spacing {dx} m is not below {}",
+                    axis_name(k),
+                    hi - lo,
+                    u32::MAX
+                ),
+            ));
+        }
+        n.push(m.max(1.0) as i64);
+    }
+    Ok((min, n))
+}
+
+/// Particles of a shape other than an axis-aligned box: its lattice points inside
+/// ([`Volume::lattice_inside`]), counted one by one; at least one.
+fn shape_count(volume: &Volume, dim: usize, dx: f64, path: &KeyPath) -> Result<u64, RawProblem> {
+    let (min, n) = shape_lattice(volume, dim, dx, path)?;
+    let points = product(n.iter().map(|&m| u64::try_from(m).ok())).ok_or_else(|| overflow(path))?;
+    if points > u64::from(u32::MAX) {
+        return Err(RawProblem::new(
+            path.clone(),
+            format!("the shape's bounding box holds {points} lattice points, more than the u32 index limit"),
+        ));
+    }
+    let mut count = 0u64;
+    match dim {
+        2 => volume.lattice_inside::<2>([min[0], min[1]], [n[0], n[1]], dx, |_| count += 1),
+        _ => volume.lattice_inside::<3>([min[0], min[1], min[2]], [n[0], n[1], n[2]], dx, |_| count += 1),
+    }
+    if count == 0 {
+        return Err(RawProblem::new(
+            path.clone(),
+            format!(
+                "{} holds no lattice point at particles.spacing = {dx} m: make it larger than a spacing",
+                volume.describe(dim)
+            ),
+        ));
+    }
+    Ok(count)
+}
+
+/// Particles of one solid: a box, a container with `layers` wall layers, or another shape's
+/// lattice points inside it.
 pub(crate) fn solid_count(solid: &Solid, dx: f64, layers: u64, path: &KeyPath) -> Result<u64, RawProblem> {
     let (min, max) = (&solid.region.min, &solid.region.max);
-    match solid.shape {
-        SolidShape::Box => box_count(min, max, dx, path),
-        SolidShape::Container => {
+    match (solid.shape, &solid.volume) {
+        (SolidShape::Container, _) => {
             let dims = lattice_dims(min, max, dx, path)?;
             let axes = dims.axes();
             let last = axes.len().saturating_sub(1);
@@ -148,6 +206,8 @@ pub(crate) fn solid_count(solid: &Solid, dx: f64, layers: u64, path: &KeyPath) -
                 _ => Err(overflow(path)),
             }
         }
+        (_, Volume::Aabb { .. }) => box_count(min, max, dx, path),
+        (_, volume) => shape_count(volume, min.len(), dx, path),
     }
 }
 

@@ -11,6 +11,14 @@
 //!   which reaches up to `s/2` past its `max` face.
 //! - A **solid box** holds `n_k = round(E_k / dx)`, its particles between `0` and `dx` inside its
 //!   faces, so that a solid reaches its faces as closely as the lattice allows.
+//! - Every **other solid shape** (a rotated box, cylinder, sphere or mesh, [`crate::geometry`])
+//!   is filled on a lattice anchored at the lower corner of its bounding box with the lattice
+//!   points inside the shape (surface included): a mesh cube whose extents are whole spacings
+//!   therefore fills exactly as the same `box`. Solids are filled, not hollowed: a body's
+//!   particles beyond `L` layers from its surface cost memory but keep the count equal to the
+//!   volume over `dx^D`, and the fluid sees a full kernel support from any side. These shapes
+//!   may overlap a fluid box: the fluid particles within [`MIN_GAP`] spacings of theirs are
+//!   removed by [`super::trim`] (the solid displaces the fluid).
 //! - A **container** with inside box `[min, max]` has walls of `L = ceil(h / dx - 1e-9)` layers:
 //!   lattice indices `i_k in -L..n_k + L` with `n_k = round(E_k / dx)` on every axis, keeping the
 //!   points outside the inside index range on at least one axis; an open top drops
@@ -30,10 +38,11 @@
 
 use nalgebra::SVector;
 
-use super::count::{Dims, WHOLE, count_raw, fluid_box_count, fluid_dims, lattice_dims};
+use super::count::{Dims, WHOLE, count_raw, fluid_box_count, fluid_dims, lattice_dims, shape_lattice};
 use super::trim::{self, Body, MAX_TRIMMED_FRACTION, MIN_GAP, Points, Trimmed};
 use super::validate::RawProblem;
 use super::{Aabb, FluidBox, KeyPath, Location, Problem, Scene, SceneError, Solid, SolidShape};
+use crate::geometry::{Volume, for_each_index};
 
 pub use super::count::ParticleCounts;
 
@@ -159,29 +168,6 @@ fn corner<const D: usize>(v: &[f64], path: &KeyPath) -> Result<[f64; D], SceneEr
             format!("expected {D} entries, found {}", v.len()),
         ))
     })
-}
-
-/// Visits every lattice index in `lo..hi` (per axis) with axis 0 fastest.
-fn for_each_index<const D: usize>(lo: [i64; D], hi: [i64; D], mut visit: impl FnMut(&[i64; D])) {
-    if lo.iter().zip(&hi).any(|(l, h)| l >= h) {
-        return;
-    }
-    let mut idx = lo;
-    loop {
-        visit(&idx);
-        let mut k = 0;
-        loop {
-            let (Some(i), Some(&l), Some(&h)) = (idx.get_mut(k), lo.get(k), hi.get(k)) else {
-                return;
-            };
-            *i += 1;
-            if *i < h {
-                break;
-            }
-            *i = l;
-            k += 1;
-        }
-    }
 }
 
 /// Position of lattice index `idx` relative to corner `min` \[m\].
@@ -351,16 +337,13 @@ fn fill_solid<const D: usize>(
     path: &KeyPath,
 ) -> Result<Vec<SVector<f32, D>>, SceneError> {
     let layers = i64::try_from(layers).unwrap_or(i64::MAX);
-    let min = corner::<D>(&s.region.min, &path.k("min"))?;
-    let dims = lattice_dims(&s.region.min, &s.region.max, dx, path).map_err(generate_error)?;
-    let n_in = dims_i64::<D>(&dims);
     let mut position = Vec::new();
     reserve(&mut position, n)?;
-    match s.shape {
-        SolidShape::Box => {
-            for_each_index([0; D], n_in, |idx| position.push(lattice_point(&min, idx, dx)));
-        }
-        SolidShape::Container => {
+    match (s.shape, &s.volume) {
+        (SolidShape::Container, _) => {
+            let min = corner::<D>(&s.region.min, &path.k("min"))?;
+            let dims = lattice_dims(&s.region.min, &s.region.max, dx, path).map_err(generate_error)?;
+            let n_in = dims_i64::<D>(&dims);
             let lo = [-layers; D];
             let mut hi = n_in.map(|n| n.saturating_add(layers));
             if s.open_top {
@@ -374,6 +357,19 @@ fn fill_solid<const D: usize>(
                     position.push(lattice_point(&min, idx, dx));
                 }
             });
+        }
+        (_, Volume::Aabb { .. }) => {
+            let min = corner::<D>(&s.region.min, &path.k("min"))?;
+            let dims = lattice_dims(&s.region.min, &s.region.max, dx, path).map_err(generate_error)?;
+            for_each_index([0; D], dims_i64::<D>(&dims), |idx| {
+                position.push(lattice_point(&min, idx, dx))
+            });
+        }
+        (_, volume) => {
+            let (lo, size) = shape_lattice(volume, D, dx, path).map_err(generate_error)?;
+            let min = corner::<D>(&lo, path)?;
+            let size: [i64; D] = std::array::from_fn(|k| size.get(k).copied().unwrap_or(0));
+            volume.lattice_inside::<D>(min, size, dx, |idx| position.push(lattice_point(&min, idx, dx)));
         }
     }
     Ok(position)
@@ -430,16 +426,22 @@ pub fn describe(scene: &Scene, body: Body) -> String {
             None => body.to_string(),
         },
         Body::Solid(i) => match scene.solids.get(i) {
-            Some(s) => format!("{body} \"{}\" {}", s.name, fmt_box(&s.region)),
+            Some(s) => match (s.shape, &s.volume) {
+                (SolidShape::Container, _) | (_, Volume::Aabb { .. }) => {
+                    format!("{body} \"{}\" {}", s.name, fmt_box(&s.region))
+                }
+                (_, volume) => format!("{body} \"{}\" {}", s.name, volume.describe(scene.dimension)),
+            },
             None => body.to_string(),
         },
     }
 }
 
-/// The box occupied by a solid's particles, including container walls.
+/// The box occupied by a solid's particles, including container walls (the other shapes: the
+/// box that bounds them).
 pub(crate) fn solid_extent(s: &Solid, dx: f64, layers: u64) -> Aabb {
     match s.shape {
-        SolidShape::Box => s.region.clone(),
+        SolidShape::Box | SolidShape::Cylinder | SolidShape::Sphere | SolidShape::Mesh => s.region.clone(),
         SolidShape::Container => {
             let w = layers as f64 * dx;
             let last = s.region.max.len().saturating_sub(1);

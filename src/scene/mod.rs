@@ -13,6 +13,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::geometry::Volume;
+
 pub use crate::boundary::motion::Sway;
 
 pub(crate) mod count;
@@ -324,14 +326,18 @@ impl FluidBox {
 pub struct Solid {
     /// Unique name (`[A-Za-z0-9_-]+`).
     pub name: String,
-    /// Filled box or container walls.
+    /// The shape the scene names.
     pub shape: SolidShape,
-    /// The filled box, or the inside of the container \[m\].
+    /// The filled box, or the inside of the container \[m\]; for the other shapes (and a
+    /// rotated box) the axis-aligned box that bounds [`Solid::volume`].
     pub region: Aabb,
     /// Container without lid (always `false` for [`SolidShape::Box`]).
     pub open_top: bool,
     /// Prescribed rigid translation (`motion = {...}`); `None` for a fixed solid.
     pub motion: Option<Sway>,
+    /// The volume the solid fills at `t = 0` \[m\]: [`Volume::Aabb`] for an unrotated box and
+    /// for a container's inside (which its walls surround), else the shape's own volume.
+    pub volume: Volume,
 }
 
 /// Reads, overrides, deserializes and validates the scene file at `path`.
@@ -362,13 +368,21 @@ pub fn load_scene(path: &Path, sets: &[String]) -> Result<Scene, SceneError> {
             });
         }
     };
-    parse_scene(&text, &origin, sets)
+    let dir = path.parent().unwrap_or(Path::new(""));
+    parse_scene_in(&text, &origin, sets, dir)
 }
 
 /// Parses scene `text` (named `origin` in messages), applies the `sets`
 /// overrides, deserializes and validates it. Probe reference files are left as the scene
-/// names them ([`locate_references`] looks them up).
+/// names them ([`locate_references`] looks them up); mesh files are read relative to the
+/// current directory.
 pub fn parse_scene(text: &str, origin: &str, sets: &[String]) -> Result<Scene, SceneError> {
+    parse_scene_in(text, origin, sets, Path::new(""))
+}
+
+/// [`parse_scene`] for a scene whose file lies in `dir`: a mesh solid's relative `file` is
+/// taken from there ([`parse_scene`]: from the current directory).
+pub fn parse_scene_in(text: &str, origin: &str, sets: &[String], dir: &Path) -> Result<Scene, SceneError> {
     let invalid = |problems: Vec<Problem>| SceneError::Invalid {
         origin: origin.to_string(),
         problems,
@@ -403,7 +417,7 @@ pub fn parse_scene(text: &str, origin: &str, sets: &[String]) -> Result<Scene, S
         toml::from_str(&canonical)
             .map_err(|e| invalid(vec![toml_problem(&e, &canonical, &index, &locate, false)]))?
     };
-    validate::validate_raw(&file).map_err(|raw| {
+    validate::validate_raw(&file, dir).map_err(|raw| {
         invalid(
             raw.into_iter()
                 .map(|r| Problem {

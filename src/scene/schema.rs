@@ -78,6 +78,26 @@ pub enum SolidShape {
     /// Walls of `L` particle layers around the inside box `[min, max]`;
     /// open at the top (last axis) unless `open_top = false`.
     Container,
+    /// A filled cylinder: 2D a disc (`centre`, `radius`), 3D also `length` and `axis`.
+    Cylinder,
+    /// A filled ball (2D: a disc) of `radius` about `centre`.
+    Sphere,
+    /// The inside of a closed triangle mesh read from `file` (STL or OBJ; 3D only), placed by
+    /// `scale`, `rotation` and `translation`.
+    Mesh,
+}
+
+impl SolidShape {
+    /// The name used in scene files (`"box"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            SolidShape::Box => "box",
+            SolidShape::Container => "container",
+            SolidShape::Cylinder => "cylinder",
+            SolidShape::Sphere => "sphere",
+            SolidShape::Mesh => "mesh",
+        }
+    }
 }
 
 /// The pressure scheme (`solver.kind`).
@@ -298,16 +318,102 @@ pub struct FluidBoxFile {
 pub struct SolidFile {
     /// Unique non-empty name of `[A-Za-z0-9_-]` characters.
     pub name: String,
-    /// Box or container.
+    /// Box, container, cylinder, sphere or mesh.
     pub shape: SolidShape,
-    /// Lower corner \[m\] (of the filled box, or of the container's inside).
-    pub min: Vec<f64>,
-    /// Upper corner \[m\] (of the filled box, or of the container's inside).
-    pub max: Vec<f64>,
-    /// Container only: no lid when true (default true). An error for `box`.
+    /// Box and container: lower corner \[m\] (of the filled box, or of the container's inside).
+    pub min: Option<Vec<f64>>,
+    /// Box and container: upper corner \[m\] (of the filled box, or of the container's inside).
+    pub max: Option<Vec<f64>>,
+    /// Container only: no lid when true (default true). An error for the other shapes.
     pub open_top: Option<bool>,
     /// Prescribed rigid translation; absent means the solid is fixed (and costs nothing).
     pub motion: Option<MotionFile>,
+    /// Box and mesh: rotation in degrees, 2D a number (counter-clockwise), 3D `[α, β, γ]` about
+    /// the fixed x, y, z axes applied in that order (`geometry` module doc). A box turns about
+    /// its centre, a mesh about its file origin (before `translation`). Default none.
+    pub rotation: Option<NumberOrVector>,
+    /// Cylinder and sphere: centre \[m\], `dimension` entries (a 3D cylinder: the middle of its
+    /// axis).
+    pub centre: Option<Vec<f64>>,
+    /// Cylinder and sphere: radius \[m\], > 0.
+    pub radius: Option<f64>,
+    /// 3D cylinder: length along its axis \[m\], > 0.
+    pub length: Option<f64>,
+    /// 3D cylinder: axis direction, `"x"`, `"y"`, `"z"` or a vector of 3 entries (not zero).
+    pub axis: Option<AxisFile>,
+    /// Mesh: path of an `.stl` (binary or ASCII) or `.obj` file, relative to the scene file's
+    /// directory (or absolute).
+    pub file: Option<String>,
+    /// Mesh: scale from file units to m, a number or 3 per-axis factors, each > 0; default 1.
+    pub scale: Option<NumberOrVector>,
+    /// Mesh: translation \[m\] applied after scaling and rotating, 3 entries; default zero.
+    pub translation: Option<Vec<f64>>,
+}
+
+/// A number or an array of numbers (`rotation`, `scale`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum NumberOrVector {
+    /// One number.
+    Number(f64),
+    /// An array of numbers.
+    Vector(Vec<f64>),
+}
+
+impl<'de> Deserialize<'de> for NumberOrVector {
+    /// A number or an array of numbers; anything else is an error saying so.
+    fn deserialize<De: serde::Deserializer<'de>>(deserializer: De) -> Result<Self, De::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = NumberOrVector;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or an array of numbers")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Self::Value, E> {
+                Ok(NumberOrVector::Number(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Self::Value, E> {
+                Ok(NumberOrVector::Number(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Self::Value, E> {
+                Ok(NumberOrVector::Number(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+                Vec::<f64>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(NumberOrVector::Vector)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
+/// A cylinder's `axis`: a named axis or a direction vector.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AxisFile {
+    /// `"x"`, `"y"` or `"z"` (unchecked here).
+    Named(String),
+    /// A direction, 3 entries (unchecked here).
+    Vector(Vec<f64>),
+}
+
+impl<'de> Deserialize<'de> for AxisFile {
+    /// A string or an array of numbers; anything else is an error saying so.
+    fn deserialize<De: serde::Deserializer<'de>>(deserializer: De) -> Result<Self, De::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = AxisFile;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("\"x\", \"y\", \"z\" or an array of 3 numbers")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                Ok(AxisFile::Named(v.to_string()))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+                Vec::<f64>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(AxisFile::Vector)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
 }
 
 /// `[[solid]] motion = { amplitude = [A_x, A_y(, A_z)], period = T, ramp = t_r }`: the solid

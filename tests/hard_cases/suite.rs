@@ -44,6 +44,14 @@ fn solid_volumes(scene: &Scene) -> Vec<SolidVolume> {
         .map(|s| {
             let (lo, hi) = (&s.region.min, &s.region.max);
             match s.shape {
+                // The hard cases hold boxes and containers only; another shape's bounding box
+                // would flag fluid that is outside the shape.
+                SolidShape::Cylinder | SolidShape::Sphere | SolidShape::Mesh => {
+                    panic!(
+                        "solid {}: the penetration check knows boxes and containers only",
+                        s.name
+                    )
+                }
                 SolidShape::Box => SolidVolume {
                     name: s.name.clone(),
                     outer: (corner(lo, 0.0), corner(hi, 0.0)),

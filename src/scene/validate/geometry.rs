@@ -2,6 +2,7 @@
 //! overlapping neither each other nor a solid (the inside of a container is fine).
 
 use super::*;
+use crate::geometry::Volume;
 
 pub(super) fn check_box(c: &mut Checker, path: &KeyPath, b: &BoxFile, dim: Option<usize>) -> Option<Aabb> {
     c.aabb(path, &b.min, &b.max, dim)
@@ -61,7 +62,9 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
         }
         if let Some(k) = outside_axis(ext, domain, tol) {
             let walls = match s.shape {
-                SolidShape::Box => String::new(),
+                SolidShape::Box | SolidShape::Cylinder | SolidShape::Sphere | SolidShape::Mesh => {
+                    String::new()
+                }
                 SolidShape::Container => format!(" (including walls of {layers} layers x {dx} m)"),
             };
             c.err(
@@ -82,8 +85,13 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
             let Some(cut) = intersection(&fb.region, ext, tol) else {
                 continue;
             };
-            match s.shape {
-                SolidShape::Box => c.err(
+            match (s.shape, &s.volume) {
+                // A shape that is not an axis-aligned box displaces the fluid it overlaps
+                // (`generate`'s module doc): its lattice is not the fluid's, so only trimming
+                // can say which fluid particles it takes.
+                (SolidShape::Box, Volume::RotatedBox { .. })
+                | (SolidShape::Cylinder | SolidShape::Sphere | SolidShape::Mesh, _) => {}
+                (SolidShape::Box, _) => c.err(
                     path.clone(),
                     format!(
                         "fluid box {} overlaps solid box \"{}\" {}",
@@ -92,7 +100,7 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
                         fmt_box(&s.region)
                     ),
                 ),
-                SolidShape::Container => {
+                (SolidShape::Container, _) => {
                     if outside_axis(&cut, &s.region, tol).is_some() {
                         c.err(
                             path.clone(),

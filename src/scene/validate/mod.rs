@@ -11,7 +11,7 @@
 //! (`scene::magnitude`) and the run must be able to finish (`scene::progress`).
 //! All problems are collected.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::model::pair_terms::{CoefficientRule, PairTermSettings};
 
@@ -29,10 +29,11 @@ mod geometry;
 mod keys;
 mod memory;
 mod probes;
+mod solids;
 mod step_bounds;
 
 use geometry::{check_box, check_geometry};
-use keys::{check_motion, check_name, check_solver, initial_state, rotating_frame};
+use keys::{check_name, check_solver, initial_state, rotating_frame};
 use memory::check_counts;
 pub use memory::{
     BASE_BYTES, ParticleBytes, frame_bytes_per_particle, particle_bytes, run_bytes, scene_particle_bytes,
@@ -61,7 +62,7 @@ impl RawProblem {
 /// [`crate::memory::limit`] (the least of `MemAvailable`, the cgroup's limit and `ulimit -v`),
 /// or with `isize::MAX` if none can be read; counts above `u32::MAX` are always rejected.
 pub fn validate(file: &SceneFile) -> Result<Scene, SceneError> {
-    validate_raw(file).map_err(|raw| SceneError::Invalid {
+    validate_raw(file, Path::new("")).map_err(|raw| SceneError::Invalid {
         origin: "scene".into(),
         problems: raw
             .into_iter()
@@ -162,8 +163,9 @@ fn in_range(c: &mut Checker, path: KeyPath, v: f64, lo: f64, hi: f64, lo_open: b
     }
 }
 
-/// Validates `file`, returning every problem with its key path.
-pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
+/// Validates `file`, returning every problem with its key path; a mesh file's relative path is
+/// taken from `dir` (the scene file's directory).
+pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<RawProblem>> {
     let mut c = Checker { problems: Vec::new() };
     let dim = match file.dimension {
         2 => Some(2usize),
@@ -397,35 +399,10 @@ pub(crate) fn validate_raw(file: &SceneFile) -> Result<Scene, Vec<RawProblem>> {
 
     // [[solid]]
     let mut solids = Vec::new();
-    for (i, s) in file.solid.iter().enumerate() {
-        let path = KeyPath::key("solid").i(i);
-        let earlier: Vec<&str> = file.solid.iter().take(i).map(|o| o.name.as_str()).collect();
-        let mut ok = check_name(&mut c, path.k("name"), &s.name, &earlier, "solid");
-        let open_top = match (s.shape, s.open_top) {
-            (SolidShape::Box, Some(_)) => {
-                c.err(
-                    path.k("open_top"),
-                    "only allowed for shape = \"container\"".into(),
-                );
-                ok = false;
-                false
-            }
-            (SolidShape::Box, None) => false,
-            (SolidShape::Container, o) => o.unwrap_or(true),
-        };
-        let motion = match &s.motion {
-            None => Some(None),
-            Some(m) => check_motion(&mut c, &path.k("motion"), m, dim).map(Some),
-        };
-        match (c.aabb(&path, &s.min, &s.max, dim), motion) {
-            (Some(region), Some(motion)) if ok => solids.push(Solid {
-                name: s.name.clone(),
-                shape: s.shape,
-                region,
-                open_top,
-                motion,
-            }),
-            _ => boxes_ok = false,
+    for i in 0..file.solid.len() {
+        match solids::check_solid(&mut c, file, i, dim, dir) {
+            Some(s) => solids.push(s),
+            None => boxes_ok = false,
         }
     }
 

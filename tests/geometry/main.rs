@@ -1,0 +1,10 @@
+//! Solid shapes beyond axis-aligned boxes (`geometry`): how they fill the lattice, the checks a
+//! mesh must pass, and the force a mesh solid receives.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod fill;
+mod force;
+mod meshes;
+mod shapes;
