@@ -8,8 +8,9 @@ use sph::run::{RunOptions, run_scene, simulation_from_scene};
 use sph::scene::{count_particles, load_scene};
 use std::path::Path;
 
-const SHIPPED: [&str; 8] = [
+const SHIPPED: [&str; 10] = [
     "scenes/dam_break_2d.toml",
+    "scenes/dam_break_wall_2d.toml",
     "scenes/droplet_2d.toml",
     "scenes/hydrostatic_2d.toml",
     "scenes/poiseuille_2d.toml",
@@ -17,6 +18,7 @@ const SHIPPED: [&str; 8] = [
     "scenes/dam_break_column_3d.toml",
     "scenes/droplet_3d.toml",
     "scenes/yeh_petroff_3d.toml",
+    "scenes/dam_break_obstacle_3d.toml",
 ];
 
 /// The columns of `steps.csv`, in order, as docs/output.md promises them. Spelled out here
@@ -54,12 +56,19 @@ fn column_scene_has_the_papers_particle_count() {
     );
 }
 
-/// Both 3D scenes run 30 ms of the collapse: the water starts to fall, no particle escapes, mass
+/// The 3D scenes run 30 ms of the collapse: the water starts to fall, no particle escapes, mass
 /// is constant, the compression stays below 5 % (sound speed ~10x the flow speed gives ~1 %).
+/// The obstacle scene (its STL obstacle read through the scene's relative path) runs at 5 cm.
 #[test]
 fn three_dimensional_scenes_run_a_short_time() {
-    for path in ["scenes/dam_break_column_3d.toml", "scenes/yeh_petroff_3d.toml"] {
-        let scene = load_scene(Path::new(path), &["solver.end_time=0.03".into()]).expect("valid");
+    for (path, spacing) in [
+        ("scenes/dam_break_column_3d.toml", None),
+        ("scenes/yeh_petroff_3d.toml", None),
+        ("scenes/dam_break_obstacle_3d.toml", Some("particles.spacing=0.05")),
+    ] {
+        let mut sets = vec!["solver.end_time=0.03".to_string()];
+        sets.extend(spacing.map(String::from));
+        let scene = load_scene(Path::new(path), &sets).expect("valid");
         let mut sim = simulation_from_scene::<3>(&scene).expect("builds");
         let mass0 = sim.fluid_mass();
         let mut max_compression: f64 = 0.0;
