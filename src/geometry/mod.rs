@@ -235,7 +235,7 @@ impl Volume {
     pub fn describe(&self, dim: usize) -> String {
         let v = |x: &Vector3<f64>| Coords(&x.as_slice()[..dim]).to_string();
         match self {
-            Volume::Aabb { min, max } => format!("box [{}, {}]", Coords(min), Coords(max)),
+            Volume::Aabb { min, max } => format!("box {} to {}", Coords(min), Coords(max)),
             Volume::RotatedBox { centre, half, .. } => {
                 let size: Vec<f64> = half.iter().take(dim).map(|h| 2.0 * h).collect();
                 format!("rotated box centre {} size {}", v(centre), Coords(&size))
@@ -255,7 +255,7 @@ impl Volume {
                 _ => format!("sphere centre {} radius {radius}", v(centre)),
             },
             Volume::Mesh(m) => format!(
-                "mesh of {} triangles in [{}, {}]",
+                "mesh of {} triangles, bounding box {} to {}",
                 m.triangles().len(),
                 Coords(&m.min()),
                 Coords(&m.max())

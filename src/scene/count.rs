@@ -155,6 +155,10 @@ pub(crate) fn shape_lattice(
     Ok((min, n))
 }
 
+/// Most lattice columns a mesh's bounding box may span (1e8: 0.8 GB of column index while it is
+/// filled), far beyond the particle counts a run can hold.
+const MAX_MESH_COLUMNS: i64 = 100_000_000;
+
 /// Particles of a shape other than an axis-aligned box: its lattice points inside
 /// ([`Volume::lattice_inside`]), counted one by one; at least one.
 fn shape_count(volume: &Volume, dim: usize, dx: f64, path: &KeyPath) -> Result<u64, RawProblem> {
@@ -164,6 +168,17 @@ fn shape_count(volume: &Volume, dim: usize, dx: f64, path: &KeyPath) -> Result<u
         return Err(RawProblem::new(
             path.clone(),
             format!("the shape's bounding box holds {points} lattice points, more than the u32 index limit"),
+        ));
+    }
+    // A mesh's column test holds an index per lattice column (8 B each) while it runs.
+    let columns = n.iter().take(2).product::<i64>();
+    if matches!(volume, Volume::Mesh(_)) && columns > MAX_MESH_COLUMNS {
+        return Err(RawProblem::new(
+            path.clone(),
+            format!(
+                "the mesh's bounding box spans {columns} lattice columns along z, more than {MAX_MESH_COLUMNS}: \
+                 use a coarser particles.spacing or a smaller mesh"
+            ),
         ));
     }
     let mut count = 0u64;
