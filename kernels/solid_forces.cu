@@ -1,7 +1,9 @@
-// Stage `solid_forces` (Fig. 4): the force of the fluid on each named solid. Twin of
-// `CpuBackend::solid_forces`: each solid particle s sums `force_on_solid` over its fluid
-// neighbours in f32, then adds the sum in f64 (per thread, see below) to its solid's three slots
-// `out[3 (kind[s] - 1) + axis]` (z = 0 in 2D). The host zeroes `out` (3 doubles per solid; every
+// Stage `solid_forces` (Fig. 4): the force of the fluid on each named solid, and its moment about
+// the origin. Twin of `CpuBackend::solid_forces`: each solid particle s sums `force_on_solid` f_s
+// over its fluid neighbours in f32, then adds f_s and x_s × f_s, in f64 (per thread, see below),
+// to its solid's six slots `out[6 (kind[s] - 1) + k]`: force x, y, z, then moment x, y, z [N m]
+// (`backend::SolidLoad`; 2D: z force 0, the moment x f_y − y f_x in the z slot, as
+// `boundary::solid_force::particle_load`). The host zeroes `out` (6 doubles per solid; every
 // solid particle's kind must be at most the number of solids) and, for the correction's impulse
 // (`SolidForceSource::Correction`), launches the entry without pair terms and passes the pressure
 // increments `delta_p` as `pressure`, as the CPU does. In (17) solid particle s carries wall_vel[s], its
@@ -12,6 +14,13 @@
 #include "sph.cuh"
 #include "pair_forces.cuh"
 #include "multiphase.cuh"
+
+// Adds one thread's sums for solid `kind` (force in f32, moment in f64) to its six slots.
+__device__ __forceinline__ void solid_forces_add(double* out, u32 kind, vec_t force, const double* moment) {
+    double* slot = out + 6 * (size_t)(kind - 1);
+    for (int k = 0; k < D; ++k) atomicAdd(slot + k, (double)force.c[k]);
+    for (int k = 0; k < 3; ++k) atomicAdd(slot + 3 + k, moment[k]);
+}
 
 template <u32 TERMS, bool MULTIPHASE>
 __device__ __forceinline__ void solid_forces_body(u32 n, const StepParams& p, const GridGeometry& g,
@@ -34,6 +43,7 @@ __device__ __forceinline__ void solid_forces_body(u32 n, const StepParams& p, co
     c.s = smoothing(p.h);
     u32 current = SPH_FLUID;
     vec_t total = vzero();
+    double moment[3] = {0.0, 0.0, 0.0};
     bool touched = false;
     for (u32 i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += stride) {
         if (kind[i] == SPH_FLUID) continue;
@@ -71,20 +81,24 @@ __device__ __forceinline__ void solid_forces_body(u32 n, const StepParams& p, co
         // A solid particle away from the fluid adds nothing.
         if (fluid_neighbours == 0) continue;
         if (kind[i] != current) {
-            if (touched) {
-                double* slot = out + 3 * (size_t)(current - 1);
-                for (int k = 0; k < D; ++k) atomicAdd(slot + k, (double)total.c[k]);
-            }
+            if (touched) solid_forces_add(out, current, total, moment);
             current = kind[i];
             total = vzero();
+            for (int k = 0; k < 3; ++k) moment[k] = 0.0;
         }
         total = vadd(total, force);
+        // x_s × f_s in f64 from the f32 position and force (z = 0 in 2D).
+        double x[3] = {0.0, 0.0, 0.0}, f[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < D; ++k) {
+            x[k] = (double)x_s.c[k];
+            f[k] = (double)force.c[k];
+        }
+        moment[0] += x[1] * f[2] - x[2] * f[1];
+        moment[1] += x[2] * f[0] - x[0] * f[2];
+        moment[2] += x[0] * f[1] - x[1] * f[0];
         touched = true;
     }
-    if (touched) {
-        double* slot = out + 3 * (size_t)(current - 1);
-        for (int k = 0; k < D; ++k) atomicAdd(slot + k, (double)total.c[k]);
-    }
+    if (touched) solid_forces_add(out, current, total, moment);
 }
 
 #include "entries_solid_forces.cuh"

@@ -87,22 +87,23 @@ pub fn non_negative_or_nan(x: f64) -> f64 {
     if x.is_nan() { x } else { x.max(0.0) }
 }
 
-/// Sums `term(i)` per group: `term` returns the group (`< groups`) and the value, or `None` to
-/// skip item `i`. Same fixed-chunk order as [`sum_in_order`], so thread-count independent.
-pub fn sum_by_group<F>(len: usize, groups: usize, term: F) -> Vec<[f64; 3]>
+/// Sums `term(i)` per group: `term` returns the group (`< groups`) and the value, `N` numbers
+/// (a force's three components, or a force and its moment), or `None` to skip item `i`. Same
+/// fixed-chunk order as [`sum_in_order`], so thread-count independent.
+pub fn sum_by_group<const N: usize, F>(len: usize, groups: usize, term: F) -> Vec<[f64; N]>
 where
-    F: Fn(usize) -> Option<(usize, [f64; 3])> + Sync,
+    F: Fn(usize) -> Option<(usize, [f64; N])> + Sync,
 {
     let chunks = len.div_ceil(REDUCTION_CHUNK);
-    let partial: Vec<Vec<[f64; 3]>> = (0..chunks)
+    let partial: Vec<Vec<[f64; N]>> = (0..chunks)
         .into_par_iter()
         .map(|c| {
-            let mut acc = vec![[0.0f64; 3]; groups];
+            let mut acc = vec![[0.0f64; N]; groups];
             let end = ((c + 1) * REDUCTION_CHUNK).min(len);
             for i in c * REDUCTION_CHUNK..end {
                 if let Some((g, t)) = term(i) {
                     if let Some(slot) = acc.get_mut(g) {
-                        for k in 0..3 {
+                        for k in 0..N {
                             slot[k] += t[k];
                         }
                     }
@@ -111,10 +112,10 @@ where
             acc
         })
         .collect();
-    let mut total = vec![[0.0f64; 3]; groups];
+    let mut total = vec![[0.0f64; N]; groups];
     for p in partial {
         for (t, v) in total.iter_mut().zip(p) {
-            for k in 0..3 {
+            for k in 0..N {
                 t[k] += v[k];
             }
         }

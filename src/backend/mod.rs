@@ -15,6 +15,13 @@ use crate::math::Vector;
 use crate::model::pair_terms::PairTerms;
 use params::StepParams;
 
+/// What `Backend::solid_forces` gives per solid: the fluid's force `F = Σ_s f_s` [N] (slots
+/// 0–2, z = 0 in 2D) and its moment about the origin `M_O = Σ_s x_s × f_s` [N m] (slots 3–5),
+/// summed over the solid's particles `s` at positions `x_s`. In 2D (per metre of depth, [N/m] and
+/// [N m/m]) only the out-of-plane moment `x f_y − y f_x` exists, in slot 5; slots 3–4 are 0.
+/// The moment about a point `P` is `M_O − P × F` (`boundary::solid_force::moment_about`).
+pub type SolidLoad = [f64; 6];
+
 /// Which forces on solids `Backend::solid_forces` sums.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SolidForceSource {
@@ -172,14 +179,15 @@ pub trait Backend<const D: usize> {
     /// stresses (`physics::surface_stress`), or [AAT13] eqs. (1)–(5), the cohesion and curvature
     /// forces with `γ = params.surface_tension_gamma`.
     fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
-    /// Fig. 4: total force [N] (per unit depth in 2D) of the fluid on each of `solids` solids.
+    /// Fig. 4: total force [N] (per unit depth in 2D) of the fluid on each of `solids` solids,
+    /// and its moment about the origin [N m] ([`SolidLoad`]).
     fn solid_forces(
         &mut self,
         fields: &Fields<D>,
         params: &StepParams<D>,
         solids: usize,
         source: SolidForceSource,
-    ) -> Vec<[f64; 3]>;
+    ) -> Vec<SolidLoad>;
     /// Extremes of speed, acceleration and density error, and the first non-finite value.
     fn state_extremes(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> StateExtremes;
     /// Semi-implicit (symplectic) Euler: `u += a dt`, then `x += u dt`, fluid only; `dt` [s].

@@ -234,6 +234,7 @@ pub fn render(scene: &Scene, origin: &str) -> String {
         let axis = ["x", "y", "z"].get(p.axis).copied().unwrap_or("?");
         let point = p.point.as_deref().map(vector).unwrap_or_default();
         let what = match (p.kind, p.solid.and_then(|s| scene.solids.get(s))) {
+            (ProbeKind::Moment, Some(s)) => format!("moment on {} about {point} m along {axis}", s.name),
             (_, Some(s)) => format!("{} on {} along {axis}", p.kind.name(), s.name),
             (ProbeKind::Pressure, None) => match p.sensor {
                 crate::scene::Sensor::Point => format!("pressure at {point} m"),

@@ -156,7 +156,8 @@ pub fn compare_samples(
         ProbeKind::Pressure | ProbeKind::Level | ProbeKind::Velocity => {
             return compare_signal(scene, probe, reference, path, samples).map(Some);
         }
-        ProbeKind::Front | ProbeKind::FlowRate => {}
+        // Scene validation refuses references for flow rates and moments.
+        ProbeKind::Front | ProbeKind::FlowRate | ProbeKind::Moment => {}
     }
     let g = scene
         .gravity
@@ -323,6 +324,7 @@ fn axis_labels(c: &ProbeComparison) -> (&'static str, &'static str) {
         (ProbeKind::Velocity, true) => (time, "u/sqrt(g H)"),
         (ProbeKind::Velocity, false) => (time, "velocity [m/s]"),
         (ProbeKind::FlowRate, _) => (time, "flow rate"),
+        (ProbeKind::Moment, _) => ("t [s]", "moment on the solid [N m]"),
     }
 }
 

@@ -17,6 +17,11 @@
 //! axis; `flow_rate`: the volume flux through a segment (2D, [m²/s]) or rectangle (3D, [m³/s])
 //! normal to the axis ([`interpolate`] says how each is read). Each is the value at the
 //! sampling time.
+//!
+//! `moment`: the moment about the probe's point of the fluid's force on one solid, along the
+//! axis [N m] (2D: the out-of-plane moment [N m/m]), `M_P = M_O − P × F` from the solid's moment
+//! about the origin `M_O = Σ_s x_s × f_s` and force `F` (`backend::SolidLoad`,
+//! `boundary::solid_force::moment_about`); averaged over each sampling interval as the force.
 
 pub mod compare;
 pub mod interpolate;
@@ -27,6 +32,7 @@ pub use compare::{
     front_figure, write_figures,
 };
 
+use crate::boundary::solid_force::moment_about;
 use crate::fields::{FLUID, Fields};
 use crate::math::Real;
 use crate::output::{CsvTable, CsvValue, OutputError, force_unit};
@@ -56,12 +62,25 @@ impl ProbeSpace {
 
 /// Value of one probe on the current state: the front position [m], the force on its solid
 /// during the last step [N] (`solid_forces` as `Simulation::solid_forces`), or the pressure
-/// [Pa], surface height [m] or velocity [m/s] at its point ([`interpolate`]).
+/// [Pa], surface height [m] or velocity [m/s] at its point ([`interpolate`]). Without the
+/// solids' moments a moment probe reads NaN: [`measure_loads`] takes them.
 pub fn measure<const D: usize>(
     probe: &Probe,
     space: &ProbeSpace,
     fields: &Fields<D>,
     solid_forces: &[[f64; 3]],
+) -> f64 {
+    measure_loads(probe, space, fields, solid_forces, &[])
+}
+
+/// [`measure`], with the moments about the origin of the forces on the solids during the last
+/// step [N m] (`solid_moments` as `Simulation::solid_moments`), which a moment probe reads.
+pub fn measure_loads<const D: usize>(
+    probe: &Probe,
+    space: &ProbeSpace,
+    fields: &Fields<D>,
+    solid_forces: &[[f64; 3]],
+    solid_moments: &[[f64; 3]],
 ) -> f64 {
     let at_point = |read: &dyn Fn(&Smoothing<D>, &[f64]) -> f64| -> f64 {
         match (Smoothing::<D>::new(space.h as Real), probe.point.as_deref()) {
@@ -101,13 +120,25 @@ pub fn measure<const D: usize>(
             .solid
             .and_then(|k| solid_forces.get(k))
             .map_or(0.0, |f| f[probe.axis.min(2)]),
+        ProbeKind::Moment => {
+            let load = probe
+                .solid
+                .and_then(|k| Some((solid_forces.get(k)?, solid_moments.get(k)?)));
+            match (load, probe.point.as_deref()) {
+                (Some((f, m)), Some(point)) => {
+                    let load = [f[0], f[1], f[2], m[0], m[1], m[2]];
+                    moment_about(&load, point)[probe.axis.min(2)]
+                }
+                _ => f64::NAN,
+            }
+        }
     }
 }
 
 /// The column of `probe` in `probes.csv` of a `dimension`-D run: `<name>_m` for a front,
 /// `<name>_N` for a force (`<name>_N_per_m` in 2D: per metre of depth), `<name>_Pa` for a
 /// pressure, `<name>_m` for a level, `<name>_m_per_s` for a velocity, `<name>_m2_per_s` (2D)
-/// or `<name>_m3_per_s` for a flow rate, as
+/// or `<name>_m3_per_s` for a flow rate, `<name>_N_m` for a moment (`<name>_N_m_per_m` in 2D), as
 /// [`crate::output::csv`]'s convention has it.
 pub fn column_name(probe: &Probe, dimension: usize) -> String {
     match probe.kind {
@@ -117,7 +148,14 @@ pub fn column_name(probe: &Probe, dimension: usize) -> String {
         ProbeKind::Velocity => format!("{}_m_per_s", probe.name),
         ProbeKind::FlowRate if dimension == 2 => format!("{}_m2_per_s", probe.name),
         ProbeKind::FlowRate => format!("{}_m3_per_s", probe.name),
+        ProbeKind::Moment => format!("{}_{}", probe.name, moment_unit(dimension)),
     }
+}
+
+/// The unit suffix of moment columns in a `dimension`-D run: `N_m`, or `N_m_per_m` in 2D (per
+/// metre of depth, as [`force_unit`]).
+pub fn moment_unit(dimension: usize) -> &'static str {
+    if dimension == 2 { "N_m_per_m" } else { "N_m" }
 }
 
 /// Samples of every probe of a scene, and the `probes.csv` they are written to.
@@ -231,13 +269,13 @@ impl ProbeLog {
     }
 
     /// Whether [`ProbeLog::record`] at time `t` [s] reads particle fields (a probe other than
-    /// a force is due, or averages over a window and so reads every step), so a
+    /// a force or moment is due, or averages over a window and so reads every step), so a
     /// device-resident backend must copy them to the host first.
     pub fn wants_fields(&self, t: f64, now: bool) -> bool {
         let due = t >= self.next || now;
         self.probes
             .iter()
-            .any(|p| p.kind != ProbeKind::Force && (due || matches!(p.averaging, Averaging::Window(_))))
+            .any(|p| !p.kind.reads_solids() && (due || matches!(p.averaging, Averaging::Window(_))))
     }
 
     /// The sampling interval [s]: `output.interval / 10`, shortened to the shortest
@@ -255,13 +293,28 @@ impl ProbeLog {
     }
 
     /// Called after every step of length `dt` [s] ending at `t` [s]: records the probes if a
-    /// sample is due (or `now`), each as its [`Averaging`] says.
+    /// sample is due (or `now`), each as its [`Averaging`] says. Without the solids' moments a
+    /// moment probe records NaN: [`ProbeLog::record_loads`] takes them.
     pub fn record<const D: usize>(
         &mut self,
         t: f64,
         dt: f64,
         fields: &Fields<D>,
         solid_forces: &[[f64; 3]],
+        now: bool,
+    ) -> Result<(), OutputError> {
+        self.record_loads(t, dt, fields, solid_forces, &[], now)
+    }
+
+    /// [`ProbeLog::record`], with the moments about the origin of the forces on the solids
+    /// [N m] ([`measure_loads`]).
+    pub fn record_loads<const D: usize>(
+        &mut self,
+        t: f64,
+        dt: f64,
+        fields: &Fields<D>,
+        solid_forces: &[[f64; 3]],
+        solid_moments: &[[f64; 3]],
         now: bool,
     ) -> Result<(), OutputError> {
         if self.probes.is_empty() {
@@ -274,11 +327,15 @@ impl ProbeLog {
             match p.averaging {
                 Averaging::Instant => {}
                 Averaging::Interval => {
-                    run.0 += measure(p, &self.space, fields, solid_forces) * dt;
+                    run.0 += measure_loads(p, &self.space, fields, solid_forces, solid_moments) * dt;
                     run.1 += dt;
                 }
                 Averaging::Window(width) => {
-                    window.push((t - dt, t, measure(p, &self.space, fields, solid_forces)));
+                    window.push((
+                        t - dt,
+                        t,
+                        measure_loads(p, &self.space, fields, solid_forces, solid_moments),
+                    ));
                     window.retain(|&(_, end, _)| end > t - width);
                 }
             }
@@ -301,7 +358,7 @@ impl ProbeLog {
                     _ => None,
                 };
                 *run = (0.0, 0.0);
-                averaged.unwrap_or_else(|| measure(p, &self.space, fields, solid_forces))
+                averaged.unwrap_or_else(|| measure_loads(p, &self.space, fields, solid_forces, solid_moments))
             })
             .collect();
         for (s, v) in self.samples.iter_mut().zip(&values) {

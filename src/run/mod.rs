@@ -454,7 +454,14 @@ fn start<const D: usize>(
             if let Some(w) = state.writers.as_mut() {
                 w.frame(sim, scene.write_frames)?;
             }
-            probes.record(0.0, 0.0, &sim.fields, sim.solid_forces(), true)?;
+            probes.record_loads(
+                0.0,
+                0.0,
+                &sim.fields,
+                sim.solid_forces(),
+                sim.solid_moments(),
+                true,
+            )?;
             state.probes = Some(probes);
         }
     }
@@ -567,7 +574,14 @@ fn record_step<const D: usize>(
     if frame_due || probes.wants_fields(clock.time, last) {
         sim.sync_fields()?;
     }
-    probes.record(clock.time, report.dt, &sim.fields, sim.solid_forces(), last)?;
+    probes.record_loads(
+        clock.time,
+        report.dt,
+        &sim.fields,
+        sim.solid_forces(),
+        sim.solid_moments(),
+        last,
+    )?;
     if let Some(w) = state.writers.as_mut() {
         if let Some(log) = w.forces.as_mut() {
             for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {

@@ -143,6 +143,10 @@ pub enum ProbeKind {
     /// The volume flux along `axis` through the segment (2D, \[m²/s\]) or rectangle (3D,
     /// \[m³/s\]) centred on `point`, of extents `size` along the other axes.
     FlowRate,
+    /// The moment about `point` of the fluid's force on the solid `solid`, its component along
+    /// `axis` (default `"z"`) \[N m\]; in 2D only the out-of-plane moment, `axis = "z"`
+    /// \[N m/m\]. Averaged over each sampling interval as a force.
+    Moment,
 }
 
 impl ProbeKind {
@@ -155,7 +159,14 @@ impl ProbeKind {
             ProbeKind::Level => "level",
             ProbeKind::Velocity => "velocity",
             ProbeKind::FlowRate => "flow_rate",
+            ProbeKind::Moment => "moment",
         }
+    }
+
+    /// Whether it reads the loads on a solid (`Simulation::solid_forces`, `solid_moments`)
+    /// rather than the particle fields.
+    pub fn reads_solids(self) -> bool {
+        matches!(self, ProbeKind::Force | ProbeKind::Moment)
     }
 }
 
@@ -496,18 +507,19 @@ pub struct ProbeFile {
     /// What is measured.
     pub kind: ProbeKind,
     /// `"x"`, `"y"` or `"z"`, below `dimension`; default `"x"` (a level gauge: the last axis,
-    /// the vertical). Not for a pressure probe.
+    /// the vertical). Not for a pressure probe. A moment: default `"z"`, the only one in 2D.
     pub axis: Option<String>,
     /// Where a pressure, level, velocity or flow-rate probe measures \[m\], `dimension` entries
     /// inside the domain (a level gauge: the foot of its line, e.g. on the floor; a flow rate:
-    /// the section's centre).
+    /// the section's centre). A moment (required there): the point it is taken about, anywhere.
     pub point: Option<Vec<f64>>,
     /// A flow-rate section's extents \[m\] along the axes other than `axis`, in increasing order
     /// (2D: one entry, 3D: two), each > 0; required for a flow rate, only there.
     pub size: Option<Vec<f64>>,
     /// Coordinate subtracted from the measurement \[m\], finite; default 0 (front only).
     pub origin: Option<f64>,
-    /// Name of the solid whose force is measured (force only, required there).
+    /// Name of the solid whose force (or its moment) is measured (force and moment only,
+    /// required there).
     pub solid: Option<String>,
     /// Reference data to compare with; optional.
     pub reference: Option<ProbeReferenceFile>,

@@ -32,6 +32,10 @@ pub struct Header {
     pub stats: RunStats,
     /// Force of the fluid on each solid at the last step [N].
     pub solid_force: Vec<[f64; 3]>,
+    /// Moment of that force about the origin [N m] (`Simulation::solid_moments`); absent from
+    /// checkpoints written before it was kept, which restore it as zero.
+    #[serde(default)]
+    pub solid_moment: Vec<[f64; 3]>,
     /// Whatever the caller keeps with the state (the run driver: output bookkeeping).
     pub metadata: serde_json::Value,
 }
@@ -112,6 +116,7 @@ impl<const D: usize> Simulation<D> {
                 clock: self.clock,
                 stats: self.stats,
                 solid_force: self.solid_force.clone(),
+                solid_moment: self.solid_moment.clone(),
                 metadata,
             },
             fields,
@@ -191,6 +196,11 @@ impl<const D: usize> Simulation<D> {
         // was checkpointed before stepping runs again: it finds nothing left to move).
         self.settled = self.clock.step > 0;
         self.stats = checkpoint.header.stats;
+        self.solid_moment = if checkpoint.header.solid_moment.len() == self.solid_names.len() {
+            checkpoint.header.solid_moment
+        } else {
+            vec![[0.0; 3]; self.solid_names.len()]
+        };
         self.solid_force = checkpoint.header.solid_force;
         self.fields_stale = false;
         // The solids stand where the checkpoint has them; the next stage places them again.

@@ -57,6 +57,9 @@ pub struct Simulation<const D: usize> {
     pub(super) stats: RunStats,
     /// Force of the fluid on each named solid at the last step [N] (2D: [N/m]).
     pub(super) solid_force: Vec<[f64; 3]>,
+    /// Moment of that force about the origin at the last step [N m] (2D: [N m/m], z only;
+    /// `backend::SolidLoad`).
+    pub(super) solid_moment: Vec<[f64; 3]>,
     pub(super) fluid_count: usize,
     /// `K` of the correction's step scale [m²] (`physics::lattice::correction_stiffness`).
     pub(super) correction_stiffness: f64,
@@ -201,6 +204,7 @@ impl<const D: usize> Simulation<D> {
             clock: Clock::default(),
             stats: RunStats::default(),
             solid_force: vec![[0.0; 3]; solids.len()],
+            solid_moment: vec![[0.0; 3]; solids.len()],
             fluid_count: fluid_position.len(),
             correction_stiffness: stiffness,
             grid_fresh: false,
@@ -431,6 +435,14 @@ impl<const D: usize> Simulation<D> {
     /// Force of the fluid on each solid during the last step [N] (per unit depth in 2D).
     pub fn solid_forces(&self) -> &[[f64; 3]] {
         &self.solid_force
+    }
+
+    /// Moment about the origin of the fluid's force on each solid during the last step [N m]
+    /// (2D: [N m/m], the out-of-plane moment in the z slot): `Σ_s x_s × f_s` over the solid's
+    /// particles (`backend::SolidLoad`). About a point `P`:
+    /// `boundary::solid_force::moment_about`.
+    pub fn solid_moments(&self) -> &[[f64; 3]] {
+        &self.solid_moment
     }
 
     /// Number of fluid particles.

@@ -20,7 +20,7 @@
 use super::stage::{SolidsAt, Stage};
 use super::timestep::{self, TimeStepInputs, TimeStepLimit};
 use super::{Correction, Simulation, StepError, StepReport};
-use crate::backend::{SolidForceSource, StateExtremes};
+use crate::backend::{SolidForceSource, SolidLoad, StateExtremes};
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::model::params::StepParams;
 use crate::physics::pair::ViscousMedium;
@@ -73,10 +73,11 @@ impl<const D: usize> Simulation<D> {
         // Until this step stores its start (SSP-RK3), the guard has no start to go by.
         self.step_start_stored = false;
         self.settle()?;
-        let mut solid_force = vec![[0.0f64; 3]; solids];
-        let add_force = |total: &mut Vec<[f64; 3]>, part: &[[f64; 3]], weight: f64| {
+        let mut solid_force = vec![[0.0f64; 6]; solids];
+        // Force and moment (`SolidLoad`), or a force alone (the guard's impulse: its first three).
+        let add_force = |total: &mut Vec<SolidLoad>, part: &[[f64; 6]], weight: f64| {
             for (t, p) in total.iter_mut().zip(part) {
-                for k in 0..3 {
+                for k in 0..6 {
                     t[k] += weight * p[k];
                 }
             }
@@ -155,11 +156,8 @@ impl<const D: usize> Simulation<D> {
                         self.moved();
                         // The guard's momentum change, weighted as the stage's own changes.
                         let guard = self.keep_out();
-                        add_force(
-                            &mut solid_force,
-                            &guard.impulse,
-                            -integrator.correction_weights()[k] / report.dt.max(f64::MIN_POSITIVE),
-                        );
+                        let weight = -integrator.correction_weights()[k] / report.dt.max(f64::MIN_POSITIVE);
+                        add_guard_force(&mut solid_force, &guard.impulse, weight);
                     }
                     Stage::Correction => {
                         let tau = tau_frac * report.dt;
@@ -194,7 +192,8 @@ impl<const D: usize> Simulation<D> {
             return Err(StepError::Backend { step, source });
         }
         if solids > 0 {
-            self.solid_force = solid_force;
+            self.solid_force = solid_force.iter().map(|l| [l[0], l[1], l[2]]).collect();
+            self.solid_moment = solid_force.iter().map(|l| [l[3], l[4], l[5]]).collect();
         }
         let e = &report.extremes;
         let s = &mut self.stats;
@@ -389,7 +388,7 @@ impl<const D: usize> Simulation<D> {
         delta: f64,
         max_iterations: u32,
         drift: &mut f64,
-        solid_force: &mut [[f64; 3]],
+        solid_force: &mut [SolidLoad],
     ) -> Result<(), StepError> {
         let h = f64::from(params.h);
         let solids = self.solid_names.len();
@@ -428,7 +427,7 @@ impl<const D: usize> Simulation<D> {
         if keep && solids > 0 && iterations > 0 {
             let part = bk.solid_forces(f, params, solids, SolidForceSource::Correction);
             for (total, p) in solid_force.iter_mut().zip(&part) {
-                for c in 0..3 {
+                for c in 0..6 {
                     total[c] += p[c];
                 }
             }
@@ -451,7 +450,7 @@ impl<const D: usize> Simulation<D> {
         tau: f64,
         kick_tau: f64,
         params: &StepParams<D>,
-    ) -> Result<Vec<[f64; 3]>, StepError> {
+    ) -> Result<Vec<SolidLoad>, StepError> {
         let Correction {
             delta,
             max_iterations,
@@ -465,7 +464,7 @@ impl<const D: usize> Simulation<D> {
         let solids = self.solid_names.len();
         // The sweeps' pushes on the solids, each at the positions it starts from: the exact
         // counterpart of the fluid's momentum change (every pair term is antisymmetric).
-        let mut solid_force = vec![[0.0f64; 3]; solids];
+        let mut solid_force = vec![[0.0f64; 6]; solids];
         let mut drift = if self.grid_fresh { 0.0 } else { f64::INFINITY };
         let mut iterations = 0u32;
         let error = loop {
@@ -490,7 +489,7 @@ impl<const D: usize> Simulation<D> {
             };
             let sweep = bk.correct_positions(f, params, tau as f32, kick_tau as f32, max_step); // eq. (23)
             for (total, p) in solid_force.iter_mut().zip(&part) {
-                for c in 0..3 {
+                for c in 0..6 {
                     total[c] += sweep.scale * p[c];
                 }
             }
@@ -502,11 +501,7 @@ impl<const D: usize> Simulation<D> {
             if guard.pushes > 0 {
                 drift = f64::INFINITY;
             }
-            for (total, j) in solid_force.iter_mut().zip(&guard.impulse) {
-                for c in 0..3 {
-                    total[c] -= j[c] / tau;
-                }
-            }
+            add_guard_force(&mut solid_force, &guard.impulse, -1.0 / tau);
         };
         // The velocity solve, only after a stage whose positions converged (the start-up settle
         // gives no velocity).
@@ -558,5 +553,16 @@ impl<const D: usize> Simulation<D> {
             });
         }
         Ok(solid_force)
+    }
+}
+
+/// Adds `weight` times the no-penetration guard's impulse on each solid [N s]
+/// (`boundary::keep_out`) to the force slots of `total`. The guard reports no point of
+/// application, so its share is not in the moment (docs/output.md, "Probes").
+fn add_guard_force(total: &mut [SolidLoad], impulse: &[[f64; 3]], weight: f64) {
+    for (t, j) in total.iter_mut().zip(impulse) {
+        for c in 0..3 {
+            t[c] += weight * j[c];
+        }
     }
 }

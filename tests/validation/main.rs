@@ -7,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod moment;
 mod probe;
 mod readers;
 mod signal;

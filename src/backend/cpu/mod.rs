@@ -7,7 +7,9 @@
 //! each stage to the inherent method of the same name.
 
 use super::params::StepParams;
-use super::{Backend, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel};
+use super::{
+    Backend, CorrectionError, ForceTerms, SolidForceSource, SolidLoad, StateExtremes, Sweep, WallModel,
+};
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::{Fields, PermuteScratch};
@@ -172,7 +174,7 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         params: &StepParams<D>,
         solids: usize,
         source: SolidForceSource,
-    ) -> Vec<[f64; 3]> {
+    ) -> Vec<SolidLoad> {
         CpuBackend::solid_forces(self, fields, params, solids, source)
     }
 

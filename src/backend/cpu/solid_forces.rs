@@ -1,12 +1,12 @@
-//! The `solid_forces` stage: the fluid's force on each named solid (twin of
-//! `kernels/solid_forces.cu`).
+//! The `solid_forces` stage: the fluid's force on each named solid and its moment about the
+//! origin (`backend::SolidLoad`; twin of `kernels/solid_forces.cu`).
 
 use super::CpuBackend;
 use super::forces::fill_volume_pressure_terms;
-use crate::backend::SolidForceSource;
-use crate::boundary::solid_force::force_on_solid;
+use crate::backend::{SolidForceSource, SolidLoad};
+use crate::boundary::solid_force::{force_on_solid, particle_load};
 use crate::fields::{FLUID, Fields};
-use crate::math::{Vector, sum_by_group, to_xyz};
+use crate::math::{Vector, sum_by_group};
 use crate::model::pair_terms::with_pair_terms;
 use crate::model::params::StepParams;
 use crate::physics::multiphase::{self, Phases};
@@ -19,7 +19,7 @@ impl<const D: usize> CpuBackend<D> {
         params: &StepParams<D>,
         solids: usize,
         source: SolidForceSource,
-    ) -> Vec<[f64; 3]> {
+    ) -> Vec<SolidLoad> {
         let kernel = params.smoothing();
         let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
         let f = fields;
@@ -30,7 +30,7 @@ impl<const D: usize> CpuBackend<D> {
             SolidForceSource::Correction => &self.delta_p,
         };
         if pressure.len() != f.len() {
-            return vec![[0.0; 3]; solids];
+            return vec![[0.0; 6]; solids];
         }
         // [HA06] (`multiphase`): the pressure pair term in the volume form, as the fluid feels it;
         // the viscous terms as without it.
@@ -75,7 +75,7 @@ impl<const D: usize> CpuBackend<D> {
                 }
                 force += pair;
             });
-            Some((kind as usize - 1, to_xyz(&force)))
+            Some((kind as usize - 1, particle_load(&f.position[s], &force)))
         }))
     }
 }

@@ -15,7 +15,8 @@ use super::extremes::{DeviceExtremes, max_from_bits, max_from_bits_or_nan, sweep
 use super::grid::GridGeometry;
 use super::launch::{Buffer, DeviceFault, Gpu, KERNEL_NAMES, Launch, Memory};
 use crate::backend::{
-    Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, StateExtremes, Sweep, WallModel,
+    Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, SolidLoad, StateExtremes, Sweep,
+    WallModel,
 };
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
@@ -534,7 +535,7 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
         params: &StepParams<D>,
         solids: usize,
         source: SolidForceSource,
-    ) -> Vec<[f64; 3]> {
+    ) -> Vec<SolidLoad> {
         self.launch_solid_forces(params, solids, source)
     }
 

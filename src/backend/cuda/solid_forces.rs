@@ -1,4 +1,5 @@
-//! Stage `solid_forces` on the device (`kernels/solid_forces.cu`): the fluid's force on each solid.
+//! Stage `solid_forces` on the device (`kernels/solid_forces.cu`): the fluid's force on each solid
+//! and its moment about the origin (`backend::SolidLoad`).
 
 use super::*;
 
@@ -8,14 +9,14 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         params: &StepParams<D>,
         solids: usize,
         source: SolidForceSource,
-    ) -> Vec<[f64; 3]> {
-        let zero = vec![[0.0; 3]; solids];
+    ) -> Vec<SolidLoad> {
+        let zero = vec![[0.0; 6]; solids];
         if self.error.is_some() || solids == 0 {
             return zero;
         }
         let Some(g) = self.grid.as_ref() else { return zero };
-        if self.solid_out.len() < 3 * solids {
-            let r = self.dev.alloc_zeros::<f64>(3 * solids);
+        if self.solid_out.len() < 6 * solids {
+            let r = self.dev.alloc_zeros::<f64>(6 * solids);
             match record(&mut self.error, "allocating the solid forces", r) {
                 Some(b) => self.solid_out = b,
                 None => return zero,
@@ -34,7 +35,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         // (`solid_forces{terms}{phases}`, kernels/launch.table).
         let entry = source.pair_terms().bits() as usize + PairTerms::SETS * params.phases as usize;
         // About 8 particles per thread (grid-stride loop in kernels/solid_forces.cu).
-        // SAFETY: as in `launch!`; solid_out holds 3 doubles per solid.
+        // SAFETY: as in `launch!`; solid_out holds 6 doubles per solid (force, then moment).
         let r = unsafe {
             self.dev.solid_forces(
                 entry,
@@ -58,8 +59,10 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         }
         let out = self.dev.download(&self.solid_out);
         match record(&mut self.error, "copying the solid forces", out) {
-            Some(v) => (0..solids)
-                .map(|k| [v[3 * k], v[3 * k + 1], v[3 * k + 2]])
+            Some(v) => v
+                .chunks_exact(6)
+                .take(solids)
+                .map(|c| std::array::from_fn(|k| c[k]))
                 .collect(),
             None => zero,
         }

@@ -19,7 +19,9 @@ pub(super) fn check_probe(
     let mut ok = check_name(c, path.k("name"), &pf.name, &earlier, "probe");
     let kind = pf.kind;
     // A level gauge stands along the vertical (the last axis) unless the scene says otherwise.
+    // A moment is about z by default: in 2D the only one, the out-of-plane moment.
     let default_axis = match (kind, dim) {
+        (ProbeKind::Moment, _) => "z",
         (ProbeKind::Level, Some(3)) => "z",
         (ProbeKind::Level, _) => "y",
         _ => "x",
@@ -32,7 +34,18 @@ pub(super) fn check_probe(
         ok = false;
     }
     let axis_text = pf.axis.as_deref().unwrap_or(default_axis);
+    let moment = kind == ProbeKind::Moment;
     let axis = match (["x", "y", "z"].iter().position(|a| *a == axis_text), dim) {
+        (Some(a), Some(d)) if moment && (d == 3 || a == 2) => Some(a),
+        (_, Some(2)) if moment => {
+            c.err(
+                path.k("axis"),
+                format!(
+                    "must be \"z\" for a moment in 2D (only the out-of-plane moment exists), got {axis_text:?}"
+                ),
+            );
+            None
+        }
         (Some(a), Some(d)) if a < d => Some(a),
         (Some(_), None) => None,
         (found, d) => {
@@ -57,16 +70,16 @@ pub(super) fn check_probe(
         None => Some(0.0),
     };
     let force = pf.kind == ProbeKind::Force;
-    let solid = match (&pf.solid, force) {
+    let solid = match (&pf.solid, force || moment) {
         (None, false) => Some(None),
         (Some(_), false) => {
-            c.err(path.k("solid"), "only with kind = \"force\"".into());
+            c.err(path.k("solid"), "only with kind = \"force\" or \"moment\"".into());
             None
         }
         (None, true) => {
             c.err(
                 path.k("solid"),
-                "required with kind = \"force\": the solid's name".into(),
+                format!("required with kind = \"{}\": the solid's name", kind.name()),
             );
             None
         }
@@ -86,12 +99,19 @@ pub(super) fn check_probe(
         kind,
         ProbeKind::Pressure | ProbeKind::Level | ProbeKind::Velocity | ProbeKind::FlowRate
     );
-    let point = match (&pf.point, at_point) {
+    let point = match (&pf.point, at_point || moment) {
         (None, false) => Some(None),
         (Some(_), false) => {
             c.err(
                 path.k("point"),
-                "only with kind = \"pressure\", \"level\", \"velocity\" or \"flow_rate\"".into(),
+                "only with kind = \"pressure\", \"level\", \"velocity\", \"flow_rate\" or \"moment\"".into(),
+            );
+            None
+        }
+        (None, true) if moment => {
+            c.err(
+                path.k("point"),
+                "required with kind = \"moment\": the point the moment is taken about [m]".into(),
             );
             None
         }
@@ -102,6 +122,8 @@ pub(super) fn check_probe(
             );
             None
         }
+        // The moment's point may lie anywhere (a wall's foot is often on the domain's edge).
+        (Some(v), true) if moment => c.vector(path.k("point"), v, dim).map(Some),
         (Some(v), true) => c.vector(path.k("point"), v, dim).and_then(|v| {
             let outside = (0..v.len()).find(|&k| {
                 let (lo, hi) = (file.domain.min.get(k), file.domain.max.get(k));
@@ -164,9 +186,17 @@ pub(super) fn check_probe(
         );
         ok = false;
     }
+    if moment && pf.reference.is_some() {
+        c.err(
+            path.k("reference"),
+            "reference data are compared for front, force, pressure, level and velocity probes; a moment probe is written to probes.csv without one".into(),
+        );
+        ok = false;
+    }
     let sensor = check_sensor(c, &path, pf, dim);
     let averaging = match (pf.sampling_rate, kind) {
-        (None, ProbeKind::Force) => Some(Averaging::Interval),
+        // A moment is averaged as the force it comes from.
+        (None, ProbeKind::Force | ProbeKind::Moment) => Some(Averaging::Interval),
         (None, _) => Some(Averaging::Instant),
         (Some(_), ProbeKind::Front) => {
             c.err(
