@@ -129,6 +129,12 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
         scene.spacing, scene.smoothing_length
     );
     println!("  fluid particles  {:>12}", counts.fluid);
+    for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        // A shaped fluid volume says what it is, as a shaped solid does.
+        if !matches!(fb.volume, crate::geometry::Volume::Aabb { .. }) {
+            println!("    fluid_box[{i}]  {}", fb.volume.describe(scene.dimension));
+        }
+    }
     for ((name, n), s) in counts.solid.iter().zip(&scene.solids) {
         println!("  solid {name:<10} {n:>12}  {}", shape_words(s, scene.dimension));
     }

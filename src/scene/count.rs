@@ -118,9 +118,12 @@ pub(super) fn fluid_dims(min: &[f64], max: &[f64], s: f64, path: &KeyPath) -> Re
 }
 
 /// Particles of a fluid box: its lattice at [`FluidBox::lattice_spacing`] plus its coincident
-/// twins ([`FluidBox::twins`]).
+/// twins ([`FluidBox::twins`]); another shape: its lattice points inside, as a solid's.
 pub(crate) fn fluid_box_count(fb: &FluidBox, dx: f64, path: &KeyPath) -> Result<u64, RawProblem> {
     let (min, max) = (&fb.region.min, &fb.region.max);
+    if !matches!(fb.volume, Volume::Aabb { .. }) {
+        return shape_count(&fb.volume, min.len(), dx, path);
+    }
     let dims = fluid_dims(min, max, fb.lattice_spacing(dx, min.len()), path)?;
     let n = product(dims.axes().iter().map(|&n| Some(n))).ok_or_else(|| overflow(path))?;
     n.checked_add(fb.twins(n)).ok_or_else(|| overflow(path))

@@ -32,6 +32,10 @@
 //! and which fluid axes were not whole spacings. [`count_particles`] gives the counts before
 //! that trimming by arithmetic alone (exact when nothing is trimmed).
 //!
+//! A **fluid volume of another shape** (`[[fluid_box]] shape`, or a rotated box) is filled as a
+//! shaped solid is, at spacing `dx`: an STL cube whose extents are whole spacings fills exactly
+//! as the same fluid box. It is trimmed against solids as a fluid box is.
+//!
 //! A fluid box with `compression = c` uses the finer spacing `dx / (1 + c)^(1/D)` for its own
 //! lattice; one with `coincident = f` adds a twin, at the same position, right after each of
 //! `floor(n f)` evenly spread lattice particles (see [`FluidBox`]).
@@ -105,6 +109,9 @@ pub fn wall_layers(h: f64, dx: f64) -> u64 {
 fn fitted(scene: &Scene) -> Vec<Fitted> {
     let mut out = Vec::new();
     for (i, fb) in scene.fluid_boxes.iter().enumerate() {
+        if !matches!(fb.volume, Volume::Aabb { .. }) {
+            continue;
+        }
         let (min, max) = (&fb.region.min, &fb.region.max);
         let s = fb.lattice_spacing(scene.spacing, min.len());
         let Ok(dims) = fluid_dims(min, max, s, &KeyPath::key("fluid_box").i(i)) else {
@@ -308,8 +315,15 @@ fn fill_fluid_box<const D: usize>(
     dx: f64,
     path: &KeyPath,
 ) -> Result<Vec<SVector<f32, D>>, SceneError> {
-    let min = corner::<D>(&fb.region.min, &path.k("min"))?;
     corner::<D>(&fb.velocity, &path.k("velocity"))?;
+    if !matches!(fb.volume, Volume::Aabb { .. }) {
+        let n = fluid_box_count(fb, dx, path).map_err(generate_error)?;
+        let mut out = Vec::new();
+        reserve(&mut out, n)?;
+        fill_shape::<D>(&fb.volume, dx, path, &mut out)?;
+        return Ok(out);
+    }
+    let min = corner::<D>(&fb.region.min, &path.k("min"))?;
     let spacing = fb.lattice_spacing(dx, D);
     let dims = fluid_dims(&fb.region.min, &fb.region.max, spacing, path).map_err(generate_error)?;
     let n = fluid_box_count(fb, dx, path).map_err(generate_error)?;
@@ -365,14 +379,24 @@ fn fill_solid<const D: usize>(
                 position.push(lattice_point(&min, idx, dx))
             });
         }
-        (_, volume) => {
-            let (lo, size) = shape_lattice(volume, D, dx, path).map_err(generate_error)?;
-            let min = corner::<D>(&lo, path)?;
-            let size: [i64; D] = std::array::from_fn(|k| size.get(k).copied().unwrap_or(0));
-            volume.lattice_inside::<D>(min, size, dx, |idx| position.push(lattice_point(&min, idx, dx)));
-        }
+        (_, volume) => fill_shape::<D>(volume, dx, path, &mut position)?,
     }
     Ok(position)
+}
+
+/// Appends the lattice points inside a shape other than an axis-aligned box (a solid's or a
+/// fluid volume's): the lattice anchored at the lower corner of its bounding box, spacing `dx`.
+fn fill_shape<const D: usize>(
+    volume: &Volume,
+    dx: f64,
+    path: &KeyPath,
+    out: &mut Vec<SVector<f32, D>>,
+) -> Result<(), SceneError> {
+    let (lo, size) = shape_lattice(volume, D, dx, path).map_err(generate_error)?;
+    let min = corner::<D>(&lo, path)?;
+    let size: [i64; D] = std::array::from_fn(|k| size.get(k).copied().unwrap_or(0));
+    volume.lattice_inside::<D>(min, size, dx, |idx| out.push(lattice_point(&min, idx, dx)));
+    Ok(())
 }
 
 /// Refuses the scene if trimming took more than [`MAX_TRIMMED_FRACTION`] of any body's
@@ -422,7 +446,10 @@ fn refuse_heavy_trims(scene: &Scene, trimmed: &[Trimmed]) -> Result<(), SceneErr
 pub fn describe(scene: &Scene, body: Body) -> String {
     match body {
         Body::FluidBox(i) => match scene.fluid_boxes.get(i) {
-            Some(fb) => format!("{body} {}", fmt_box(&fb.region)),
+            Some(fb) => match &fb.volume {
+                Volume::Aabb { .. } => format!("{body} {}", fmt_box(&fb.region)),
+                volume => format!("{body} {}", volume.describe(scene.dimension)),
+            },
             None => body.to_string(),
         },
         Body::Solid(i) => match scene.solids.get(i) {

@@ -277,10 +277,11 @@ pub struct Aabb {
     pub max: Vec<f64>,
 }
 
-/// A block of fluid particles.
+/// A volume of fluid particles (`[[fluid_box]]`): a box, or another shape's [`Volume`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct FluidBox {
-    /// The region filled with fluid \[m\].
+    /// The box filled with fluid \[m\]; for another shape (and a rotated box) the axis-aligned
+    /// box that bounds [`FluidBox::volume`].
     pub region: Aabb,
     /// Initial velocity \[m/s\] (zero unless given).
     pub velocity: Vec<f64>,
@@ -293,6 +294,11 @@ pub struct FluidBox {
     /// Rest density of the box's phase \[kg/m^3\] (`[[fluid_box]] rho0`); `None`: `fluid.rho0`.
     /// `Some` only with [`Effect::Multiphase`].
     pub rho0: Option<f64>,
+    /// The volume filled at `t = 0` \[m\]: [`Volume::Aabb`] (equal to `region`) for an
+    /// unrotated box, filled as `generate`'s module doc says of fluid boxes; another shape is
+    /// filled as a shaped solid (its lattice points inside, at spacing `dx`), with
+    /// `compression` and `coincident` zero.
+    pub volume: Volume,
 }
 
 impl FluidBox {

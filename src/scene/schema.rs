@@ -296,14 +296,17 @@ impl<'de> Deserialize<'de> for AngularVelocityFile {
     }
 }
 
-/// `[[fluid_box]]`: a block of fluid particles on the lattice.
+/// `[[fluid_box]]`: a volume of fluid particles on the lattice, a box unless `shape` says
+/// otherwise; the shape keys are those of `[[solid]]` ([`SolidFile`]).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FluidBoxFile {
-    /// Lower corner \[m\].
-    pub min: Vec<f64>,
-    /// Upper corner \[m\].
-    pub max: Vec<f64>,
+    /// `"box"` (default), `"cylinder"`, `"sphere"` or `"mesh"` (not `"container"`).
+    pub shape: Option<SolidShape>,
+    /// Box: lower corner \[m\]; required for a box.
+    pub min: Option<Vec<f64>>,
+    /// Box: upper corner \[m\]; required for a box.
+    pub max: Option<Vec<f64>>,
     /// Initial velocity \[m/s\]; default zero.
     pub velocity: Option<Vec<f64>>,
     /// Initial over-compression c (dimensionless), in [0, 1); default 0. The box is filled on a
@@ -321,6 +324,22 @@ pub struct FluidBoxFile {
     /// Rest density of this box's fluid phase \[kg/m^3\], finite and > 0; default `fluid.rho0`.
     /// Only with the `multiphase` effect.
     pub rho0: Option<f64>,
+    /// Box and mesh: rotation in degrees, as [`SolidFile::rotation`].
+    pub rotation: Option<NumberOrVector>,
+    /// Cylinder and sphere: centre \[m\], as [`SolidFile::centre`].
+    pub centre: Option<Vec<f64>>,
+    /// Cylinder and sphere: radius \[m\], > 0.
+    pub radius: Option<f64>,
+    /// 3D cylinder: length along its axis \[m\], > 0.
+    pub length: Option<f64>,
+    /// 3D cylinder: axis direction, as [`SolidFile::axis`].
+    pub axis: Option<AxisFile>,
+    /// Mesh: `.stl` or `.obj` file, relative to the scene file's directory (or absolute).
+    pub file: Option<String>,
+    /// Mesh: scale from file units to m, as [`SolidFile::scale`].
+    pub scale: Option<NumberOrVector>,
+    /// Mesh: translation \[m\] after scaling and rotating, 3 entries; default zero.
+    pub translation: Option<Vec<f64>>,
 }
 
 /// `[[solid]]`: a rigid boundary body made of particles.

@@ -342,7 +342,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
     let mut boxes_ok = true;
     for (i, fb) in file.fluid_box.iter().enumerate() {
         let path = KeyPath::key("fluid_box").i(i);
-        let region = c.aabb(&path, &fb.min, &fb.max, dim);
+        let volume = solids::check_fluid_shape(&mut c, &path, fb, dim, dir);
         let velocity = match &fb.velocity {
             Some(v) => c.vector(path.k("velocity"), v, dim),
             None => dim.map(|d| vec![0.0; d]),
@@ -384,15 +384,17 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
             (Some(v), true) => c.positive(path.k("rho0"), v).map(Some),
             (None, _) => Some(None),
         };
-        match (region, velocity, compression, coincident, rho0) {
-            (Some(region), Some(velocity), Some(compression), Some(coincident), Some(rho0)) => fluid_boxes
-                .push(FluidBox {
+        match (volume, velocity, compression, coincident, rho0) {
+            (Some((region, volume)), Some(velocity), Some(compression), Some(coincident), Some(rho0)) => {
+                fluid_boxes.push(FluidBox {
                     region,
                     velocity,
                     compression,
                     coincident,
                     rho0,
-                }),
+                    volume,
+                })
+            }
             _ => boxes_ok = false,
         }
     }

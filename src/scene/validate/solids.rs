@@ -1,4 +1,6 @@
-//! `[[solid]]`: each shape's keys, resolved into a [`Solid`] and its [`Volume`].
+//! `[[solid]]` and `[[fluid_box]]`: each shape's keys, resolved into a [`Volume`] (and, for a
+//! solid, a [`Solid`]). Both tables share the shape keys and this one check ([`check_shape`]);
+//! a fluid volume takes every shape but `container`.
 //!
 //! Keys belong to shapes: `min`/`max` to `box` and `container`, `open_top` to `container`,
 //! `rotation` to `box` and `mesh`, `centre`/`radius` to `cylinder` and `sphere`,
@@ -14,7 +16,7 @@ use nalgebra::{Unit, Vector3};
 use super::keys::{check_motion, check_name};
 use super::{Checker, KeyPath, num};
 use crate::geometry::{Mesh, Placement, Volume, read::read_triangles, rotation};
-use crate::scene::schema::{AxisFile, NumberOrVector, SceneFile, SolidFile, SolidShape};
+use crate::scene::schema::{AxisFile, FluidBoxFile, NumberOrVector, SceneFile, SolidFile, SolidShape};
 use crate::scene::{Aabb, Solid};
 
 /// Which keys each shape takes, for the "not for this shape" errors.
@@ -28,22 +30,77 @@ fn allowed(shape: SolidShape, dim: usize) -> &'static [&'static str] {
     }
 }
 
-/// The shape keys `s` gives.
-fn given(s: &SolidFile) -> Vec<&'static str> {
-    let keys = [
-        ("min", s.min.is_some()),
-        ("max", s.max.is_some()),
-        ("open_top", s.open_top.is_some()),
-        ("rotation", s.rotation.is_some()),
-        ("centre", s.centre.is_some()),
-        ("radius", s.radius.is_some()),
-        ("length", s.length.is_some()),
-        ("axis", s.axis.is_some()),
-        ("file", s.file.is_some()),
-        ("scale", s.scale.is_some()),
-        ("translation", s.translation.is_some()),
-    ];
-    keys.iter().filter(|(_, g)| *g).map(|(k, _)| *k).collect()
+/// The shape keys of a `[[solid]]` or a `[[fluid_box]]`, as the file gives them.
+pub(super) struct ShapeKeys<'a> {
+    /// The shape the table names.
+    pub shape: SolidShape,
+    pub min: Option<&'a [f64]>,
+    pub max: Option<&'a [f64]>,
+    pub open_top: Option<bool>,
+    pub rotation: Option<&'a NumberOrVector>,
+    pub centre: Option<&'a [f64]>,
+    pub radius: Option<f64>,
+    pub length: Option<f64>,
+    pub axis: Option<&'a AxisFile>,
+    pub file: Option<&'a str>,
+    pub scale: Option<&'a NumberOrVector>,
+    pub translation: Option<&'a [f64]>,
+}
+
+impl<'a> ShapeKeys<'a> {
+    /// The shape keys of a `[[solid]]`.
+    pub fn solid(s: &'a SolidFile) -> Self {
+        ShapeKeys {
+            shape: s.shape,
+            min: s.min.as_deref(),
+            max: s.max.as_deref(),
+            open_top: s.open_top,
+            rotation: s.rotation.as_ref(),
+            centre: s.centre.as_deref(),
+            radius: s.radius,
+            length: s.length,
+            axis: s.axis.as_ref(),
+            file: s.file.as_deref(),
+            scale: s.scale.as_ref(),
+            translation: s.translation.as_deref(),
+        }
+    }
+
+    /// The shape keys of a `[[fluid_box]]` (`shape` defaults to `box`).
+    pub fn fluid(f: &'a FluidBoxFile) -> Self {
+        ShapeKeys {
+            shape: f.shape.unwrap_or(SolidShape::Box),
+            min: f.min.as_deref(),
+            max: f.max.as_deref(),
+            open_top: None,
+            rotation: f.rotation.as_ref(),
+            centre: f.centre.as_deref(),
+            radius: f.radius,
+            length: f.length,
+            axis: f.axis.as_ref(),
+            file: f.file.as_deref(),
+            scale: f.scale.as_ref(),
+            translation: f.translation.as_deref(),
+        }
+    }
+
+    /// The keys given.
+    fn given(&self) -> Vec<&'static str> {
+        let keys = [
+            ("min", self.min.is_some()),
+            ("max", self.max.is_some()),
+            ("open_top", self.open_top.is_some()),
+            ("rotation", self.rotation.is_some()),
+            ("centre", self.centre.is_some()),
+            ("radius", self.radius.is_some()),
+            ("length", self.length.is_some()),
+            ("axis", self.axis.is_some()),
+            ("file", self.file.is_some()),
+            ("scale", self.scale.is_some()),
+            ("translation", self.translation.is_some()),
+        ];
+        keys.iter().filter(|(_, g)| *g).map(|(k, _)| *k).collect()
+    }
 }
 
 /// Checks `[[solid]]` `i` of `file`; a mesh's relative path is taken from `dir`.
@@ -57,14 +114,86 @@ pub(super) fn check_solid(
     let s = file.solid.get(i)?;
     let path = KeyPath::key("solid").i(i);
     let earlier: Vec<&str> = file.solid.iter().take(i).map(|o| o.name.as_str()).collect();
-    let mut ok = check_name(c, path.k("name"), &s.name, &earlier, "solid");
+    let ok = check_name(c, path.k("name"), &s.name, &earlier, "solid");
     let motion = match &s.motion {
         None => Some(None),
         Some(m) => check_motion(c, &path.k("motion"), m, dim).map(Some),
     };
     let dim = dim?;
+    let volume = check_shape(c, &path, &ShapeKeys::solid(s), dim, dir);
+    let open_top = match s.shape {
+        SolidShape::Container => s.open_top.unwrap_or(true),
+        _ => false,
+    };
+    let volume = volume?;
+    let (min, max) = volume.bounds(dim);
+    let motion = motion?;
+    ok.then(|| Solid {
+        name: s.name.clone(),
+        shape: s.shape,
+        region: Aabb { min, max },
+        open_top,
+        motion,
+        volume,
+    })
+}
+
+/// Checks the shape of `[[fluid_box]]` `fb` at `path` (a box unless `shape` says otherwise,
+/// never a container) and returns the box that bounds it and its [`Volume`]. `compression` and
+/// `coincident` set the lattice of an axis-aligned box only (`FluidBox::lattice_spacing`,
+/// `FluidBox::has_twin`): for another shape they are an error.
+pub(super) fn check_fluid_shape(
+    c: &mut Checker,
+    path: &KeyPath,
+    fb: &FluidBoxFile,
+    dim: Option<usize>,
+    dir: &Path,
+) -> Option<(Aabb, Volume)> {
+    let keys = ShapeKeys::fluid(fb);
+    if keys.shape == SolidShape::Container {
+        c.err(
+            path.k("shape"),
+            "a fluid volume cannot be a container; its shapes are box, cylinder, sphere and mesh".into(),
+        );
+        return None;
+    }
+    let volume = check_shape(c, path, &keys, dim?, dir)?;
+    if !matches!(volume, Volume::Aabb { .. }) {
+        let given = [
+            ("compression", fb.compression.is_some()),
+            ("coincident", fb.coincident.is_some()),
+        ];
+        let mut ok = true;
+        for (key, _) in given.iter().filter(|(_, g)| *g) {
+            c.err(
+                path.k(key),
+                format!(
+                    "only for an axis-aligned box (shape = \"box\" without rotation), not for {}",
+                    volume.describe(dim?)
+                ),
+            );
+            ok = false;
+        }
+        if !ok {
+            return None;
+        }
+    }
+    let (min, max) = volume.bounds(dim?);
+    Some((Aabb { min, max }, volume))
+}
+
+/// Checks the shape keys `s` of the table at `path` and resolves its [`Volume`]: a key of
+/// another shape, a missing or bad one is an error; a mesh's relative path is taken from `dir`.
+pub(super) fn check_shape(
+    c: &mut Checker,
+    path: &KeyPath,
+    s: &ShapeKeys<'_>,
+    dim: usize,
+    dir: &Path,
+) -> Option<Volume> {
+    let mut keys_ok = true;
     let allow = allowed(s.shape, dim);
-    for key in given(s) {
+    for key in s.given() {
         if !allow.contains(&key) {
             let why = match (s.shape, key) {
                 (SolidShape::Cylinder, "length" | "axis") => {
@@ -80,7 +209,7 @@ pub(super) fn check_solid(
                     allow.join(", ")
                 ),
             );
-            ok = false;
+            keys_ok = false;
         }
     }
     let require = |c: &mut Checker, key: &str, present: bool| {
@@ -102,12 +231,12 @@ pub(super) fn check_solid(
                 return None;
             }
             let region = c.aabb(
-                &path,
-                s.min.as_deref().unwrap_or_default(),
-                s.max.as_deref().unwrap_or_default(),
+                path,
+                s.min.unwrap_or_default(),
+                s.max.unwrap_or_default(),
                 Some(dim),
             )?;
-            match (&s.rotation, s.shape) {
+            match (s.rotation, s.shape) {
                 (Some(r), SolidShape::Box) => {
                     let r = angles(c, &path.k("rotation"), r, dim)?;
                     let centre = Vector3::from_fn(|k, _| {
@@ -131,10 +260,7 @@ pub(super) fn check_solid(
         SolidShape::Cylinder | SolidShape::Sphere => {
             let cp = require(c, "centre", s.centre.is_some());
             let rp = require(c, "radius", s.radius.is_some());
-            let centre = s
-                .centre
-                .as_deref()
-                .and_then(|v| c.vector(path.k("centre"), v, Some(dim)));
+            let centre = s.centre.and_then(|v| c.vector(path.k("centre"), v, Some(dim)));
             let radius = s.radius.and_then(|r| c.positive(path.k("radius"), r));
             let (centre, radius) = (centre?, radius?);
             if !(cp && rp) {
@@ -147,7 +273,7 @@ pub(super) fn check_solid(
                 let lp = require(c, "length", s.length.is_some());
                 let ap = require(c, "axis", s.axis.is_some());
                 let length = s.length.and_then(|l| c.positive(path.k("length"), l));
-                let axis = s.axis.as_ref().and_then(|a| cylinder_axis(c, &path.k("axis"), a));
+                let axis = s.axis.and_then(|a| cylinder_axis(c, &path.k("axis"), a));
                 if !(lp && ap) {
                     return None;
                 }
@@ -168,7 +294,7 @@ pub(super) fn check_solid(
                 return None;
             }
             let fp = require(c, "file", s.file.is_some());
-            let scale = match &s.scale {
+            let scale = match s.scale {
                 None => Some([1.0; 3]),
                 Some(NumberOrVector::Number(x)) => c.positive(path.k("scale"), *x).map(|x| [x; 3]),
                 Some(NumberOrVector::Vector(v)) => {
@@ -180,11 +306,11 @@ pub(super) fn check_solid(
                     ok.then(|| [v[0], v[1], v[2]])
                 }
             };
-            let rot = match &s.rotation {
+            let rot = match s.rotation {
                 None => Some(vec![0.0; 3]),
                 Some(r) => angles(c, &path.k("rotation"), r, 3),
             };
-            let translation = match &s.translation {
+            let translation = match s.translation {
                 None => Some(vec![0.0; 3]),
                 Some(t) => c.vector(path.k("translation"), t, Some(3)),
             };
@@ -192,7 +318,7 @@ pub(super) fn check_solid(
             if !fp {
                 return None;
             }
-            let name = s.file.as_deref().unwrap_or_default();
+            let name = s.file.unwrap_or_default();
             if name.is_empty() {
                 c.err(path.k("file"), "must not be empty".into());
                 return None;
@@ -213,20 +339,7 @@ pub(super) fn check_solid(
             }
         }
     };
-    let open_top = match s.shape {
-        SolidShape::Container => s.open_top.unwrap_or(true),
-        _ => false,
-    };
-    let (min, max) = volume.bounds(dim);
-    let motion = motion?;
-    ok.then(|| Solid {
-        name: s.name.clone(),
-        shape: s.shape,
-        region: Aabb { min, max },
-        open_top,
-        motion,
-        volume,
-    })
+    keys_ok.then_some(volume)
 }
 
 /// `rotation` as angles in degrees: 2D one number, 3D three; finite.
