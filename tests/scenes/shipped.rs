@@ -64,7 +64,10 @@ fn three_dimensional_scenes_run_a_short_time() {
     for (path, spacing) in [
         ("scenes/dam_break_column_3d.toml", None),
         ("scenes/yeh_petroff_3d.toml", None),
-        ("scenes/dam_break_obstacle_3d.toml", Some("particles.spacing=0.05")),
+        (
+            "scenes/dam_break_obstacle_3d.toml",
+            Some("particles.spacing=0.05"),
+        ),
     ] {
         let mut sets = vec!["solver.end_time=0.03".to_string()];
         sets.extend(spacing.map(String::from));
