@@ -177,16 +177,7 @@ pub fn compare_samples(
         probe: probe.name.clone(),
         source,
     })?;
-    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-    for p in points {
-        if !reference.series.is_empty() && !reference.series.contains(&p.series) {
-            continue;
-        }
-        match series.iter_mut().find(|(name, _)| *name == p.series) {
-            Some((_, pts)) => pts.push((p.t, p.z)),
-            None => series.push((p.series.clone(), vec![(p.t, p.z)])),
-        }
-    }
+    let series = group_series(reference, points.into_iter().map(|p| (p.series, (p.t, p.z))));
     if series.is_empty() {
         return Err(ProbeError::NoSeries {
             probe: probe.name.clone(),
@@ -207,6 +198,25 @@ pub fn compare_samples(
         signal: None,
         normalised: true,
     }))
+}
+
+/// The `(t, value)` points of a long-format reference grouped by series, in the file's order,
+/// keeping only the series the reference names (all when it names none).
+pub(super) fn group_series(
+    reference: &ProbeReference,
+    points: impl IntoIterator<Item = (String, (f64, f64))>,
+) -> Vec<(String, Vec<(f64, f64)>)> {
+    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for (name, point) in points {
+        if !reference.series.is_empty() && !reference.series.contains(&name) {
+            continue;
+        }
+        match series.iter_mut().find(|(n, _)| *n == name) {
+            Some((_, pts)) => pts.push(point),
+            None => series.push((name, vec![point])),
+        }
+    }
+    series
 }
 
 /// The largest value within `range` (inclusive), as `(t, value)`.

@@ -22,7 +22,7 @@
 //! The reference's measures come from its first series (the first the scene names, else the
 //! first in the file), sorted by time; the RMS error uses the points of every series compared.
 
-use super::compare::{ProbeComparison, ProbeError, onset_in, peak_in};
+use super::compare::{ProbeComparison, ProbeError, group_series, onset_in, peak_in};
 use crate::scene::{Probe, ProbeKind, ProbeReference, Scene};
 use crate::validation::read_curves;
 use std::path::Path;
@@ -179,16 +179,7 @@ pub(super) fn compare_signal(
         probe: probe.name.clone(),
         source,
     })?;
-    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-    for p in points {
-        if !reference.series.is_empty() && !reference.series.contains(&p.series) {
-            continue;
-        }
-        match series.iter_mut().find(|(name, _)| *name == p.series) {
-            Some((_, pts)) => pts.push((p.t, p.value)),
-            None => series.push((p.series.clone(), vec![(p.t, p.value)])),
-        }
-    }
+    let mut series = group_series(reference, points.into_iter().map(|p| (p.series, (p.t, p.value))));
     if let Some(first) = reference.series.first() {
         // The scene's first series leads.
         if let Some(k) = series.iter().position(|(name, _)| name == first) {
