@@ -38,3 +38,30 @@ SPH_KERNEL(rk_stage)(u32 n, float dt, float a, float b, const u32* __restrict__ 
     vstore(pos, i, vadd(vscale(vload(pos_start, i), a), vscale(x_euler, b)));
     vstore(vel, i, vadd(vscale(vload(vel_start, i), a), vscale(u_euler, b)));
 }
+
+/// Symplectic Euler for the density (the `density_diffusion` effect), fluid only:
+/// `rho += dt drho/dt`; `dt` [s].
+SPH_KERNEL(integrate_density)(u32 n, float dt, const u32* __restrict__ kind,
+                              const float* __restrict__ rate, float* __restrict__ density) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    density[i] = density[i] + rate[i] * dt;
+}
+
+/// SSP-RK3 with the `density_diffusion` effect: remembers `rho^n` of every particle.
+SPH_KERNEL(store_density_start)(u32 n, const float* __restrict__ density,
+                                float* __restrict__ density_start) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    density_start[i] = density[i];
+}
+
+/// One Shu-Osher stage of the density, fluid only: `rho <- a rho^n + b (rho + dt drho/dt)`.
+SPH_KERNEL(rk_density_stage)(u32 n, float dt, float a, float b, const u32* __restrict__ kind,
+                             const float* __restrict__ rate, const float* __restrict__ density_start,
+                             float* __restrict__ density) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    const float euler = density[i] + rate[i] * dt;
+    density[i] = density_start[i] * a + euler * b;
+}

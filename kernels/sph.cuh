@@ -84,6 +84,7 @@ struct StepParams {
     u32 surface_tension_model;      // SPH_SURFACE_STRESS or SPH_SURFACE_AKINCI
     u32 rotating_frame;             // 1 with the rotating_frame effect, else 0
     u32 phases;                     // SPH_PHASES_SINGLE or SPH_PHASES_MULTI ([HA06])
+    float density_diffusion;        // delta of [F19] density diffusion (0 without the effect)
 };
 
 /// `physics::density::DensityKernel`.

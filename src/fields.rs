@@ -48,6 +48,13 @@ pub struct Fields<const D: usize> {
     /// otherwise). Solids carry the scene's `fluid.rho0`. Read by the multiphase variants of the
     /// stages, which the run's `Phases` selects (`physics::multiphase`).
     pub rest_density: Vec<Real>,
+    /// `dρ/dt` [kg/(m³ s)] of fluid particles: the continuity equation with [F19] density
+    /// diffusion (`physics::density_diffusion`), written by the `density_rate` stage (the
+    /// `density_diffusion` effect only; empty otherwise).
+    pub density_rate: Vec<Real>,
+    /// Density at the start of the step [kg/m³] (SSP-RK3 with the `density_diffusion` effect
+    /// only; empty otherwise).
+    pub density_start: Vec<Real>,
 }
 
 /// A field of [`Fields`] by name, for what a stage reads and writes (`Stage::reads`,
@@ -80,11 +87,15 @@ pub enum Field {
     Normal,
     /// [`Fields::rest_density`].
     RestDensity,
+    /// [`Fields::density_rate`].
+    DensityRate,
+    /// [`Fields::density_start`].
+    DensityStart,
 }
 
 impl Field {
     /// Every field, in the order of [`Fields`] (what a reorder writes).
-    pub const ALL: [Field; 13] = [
+    pub const ALL: [Field; 15] = [
         Field::Position,
         Field::Velocity,
         Field::Acceleration,
@@ -98,6 +109,8 @@ impl Field {
         Field::WallVelocity,
         Field::Normal,
         Field::RestDensity,
+        Field::DensityRate,
+        Field::DensityStart,
     ];
 
     /// The field's name in [`Fields`].
@@ -116,6 +129,8 @@ impl Field {
             Field::WallVelocity => "wall_velocity",
             Field::Normal => "normal",
             Field::RestDensity => "rest_density",
+            Field::DensityRate => "density_rate",
+            Field::DensityStart => "density_start",
         }
     }
 }
@@ -206,6 +221,12 @@ impl<const D: usize> Fields<D> {
         if !self.rest_density.is_empty() {
             gather(&mut self.rest_density, perm, &mut scratch.real);
         }
+        if !self.density_rate.is_empty() {
+            gather(&mut self.density_rate, perm, &mut scratch.real);
+        }
+        if !self.density_start.is_empty() {
+            gather(&mut self.density_start, perm, &mut scratch.real);
+        }
     }
 
     /// Keeps only the particles `kept` (indices in increasing order) in every field, in that
@@ -236,12 +257,15 @@ impl<const D: usize> Fields<D> {
                 Field::WallVelocity => self.wall_velocity.len() == n,
                 Field::Normal => self.normal.len() == n,
                 Field::RestDensity => self.rest_density.len() == n,
+                Field::DensityRate => self.density_rate.len() == n,
+                Field::DensityStart => self.density_start.len() == n,
             }
     }
 
     /// Bytes per particle held by the always-present fields (for memory reports and scene
     /// validation); SSP-RK3 adds `2 D · 4`, no-slip walls (viscosity with solids) `D · 4`,
-    /// surface tension `D · 4`, the `multiphase` effect 4.
+    /// surface tension `D · 4`, the `multiphase` effect 4, the `density_diffusion` effect 4
+    /// (and 4 more with SSP-RK3).
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
 
     /// Bytes held by the fields' arrays.
@@ -253,7 +277,12 @@ impl<const D: usize> Fields<D> {
             + self.normal.capacity())
             * D
             * 4
-            + (self.density.capacity() * 3 + self.kind.capacity() * 2 + self.rest_density.capacity()) * 4
+            + (self.density.capacity() * 3
+                + self.kind.capacity() * 2
+                + self.rest_density.capacity()
+                + self.density_rate.capacity()
+                + self.density_start.capacity())
+                * 4
     }
 }
 

@@ -300,3 +300,28 @@ fn mesh_obstacle_scene_matches_the_cpu() {
         );
     }
 }
+
+/// The `density_diffusion` effect (the continuity equation's `density_rate`, and the density's
+/// integration: at a step's start under symplectic Euler, with each stage under SSP-RK3) on the
+/// 2D dam break from its hydrostatic state.
+#[test]
+fn density_diffusion_matches_the_cpu() {
+    for device in devices() {
+        for integrator in ["symplectic_euler", "rk3"] {
+            check(
+                device,
+                &format!("{ROOT}/scenes/dam_break_2d.toml"),
+                &[
+                    "solver.kind=wcsph".to_string(),
+                    r#"effects=["gravity", "viscosity", "artificial_viscosity", "density_diffusion"]"#
+                        .to_string(),
+                    "fluid.density_diffusion=0.1".to_string(),
+                    "fluid.initial_state=hydrostatic".to_string(),
+                    format!("solver.integrator={integrator}"),
+                ],
+                STEPS,
+                FORCE,
+            );
+        }
+    }
+}

@@ -232,6 +232,7 @@ fn rust_step_params_layout<const D: usize>() -> Vec<u64> {
         offset_of!(StepParams<D>, surface_tension_model),
         offset_of!(StepParams<D>, rotating_frame),
         offset_of!(StepParams<D>, phases),
+        offset_of!(StepParams<D>, density_diffusion),
     ];
     offsets.iter().map(|&o| o as u64).collect()
 }

@@ -133,6 +133,20 @@ pub trait Backend<const D: usize> {
     fn sort_by_cell(&mut self, fields: &mut Fields<D>, h: f32) -> Result<(), GridError>;
     /// Eq. (18): density of fluid particles by summation.
     fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
+    /// The continuity equation with [F19] density diffusion (`physics::density_diffusion`):
+    /// `Fields::density_rate` (allocated here on first use) of fluid particles,
+    /// `Σ_j m_j (u_i − u_j)·∇W_ρ` over every neighbour (a solid with its
+    /// `Fields::wall_velocity` where that field is allocated, its own velocity otherwise, as in
+    /// the force stage) plus the diffusion `D_i` of strength `params.density_diffusion` over
+    /// fluid neighbours; zero for solids.
+    fn density_rate(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
+    /// Symplectic Euler for the density: `ρ += dt dρ/dt`, fluid only; `dt` [s].
+    fn integrate_density(&mut self, fields: &mut Fields<D>, dt: f32);
+    /// SSP-RK3: remembers `ρ^n` (in `Fields::density_start` on the CPU, allocated here; in
+    /// device memory on CUDA, as the other step-start copies).
+    fn store_density_start(&mut self, fields: &mut Fields<D>);
+    /// One Shu–Osher stage of the density, fluid only: `ρ ← a ρ^n + b (ρ + dt dρ/dt)`; `dt` [s].
+    fn rk_density_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32);
     /// Eq. (19): pressure of fluid particles.
     fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Moving solids (`boundary::motion`): every solid particle of id `reference.first_id + k`

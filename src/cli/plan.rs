@@ -104,6 +104,10 @@ fn effect(scene: &Scene, e: Effect) -> String {
                 ),
             }
         }
+        Effect::DensityDiffusion => format!(
+            "density_diffusion delta = {}: density integrated by the continuity equation with Fourtakas et al. (2019) diffusion, instead of summed (18)",
+            scene.density_diffusion.unwrap_or(0.0)
+        ),
         Effect::Multiphase => {
             let mut phases: Vec<f64> = vec![scene.rho0];
             for fb in &scene.fluid_boxes {
@@ -315,7 +319,7 @@ fn stage_lines(out: &mut String, number: usize, stage: &Stage, plan: &[Stage], m
         out,
         "      reads {} -> writes {}",
         fields(&stage.reads_in(plan, multiphase)),
-        fields(stage.writes())
+        fields(&stage.writes_in(plan))
     );
 }
 

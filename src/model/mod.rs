@@ -31,6 +31,19 @@ impl ForceTerms {
     }
 }
 
+/// How the fluid's density evolves (the `density_diffusion` effect chooses).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum DensityEquation {
+    /// Eq. (18): summed over the neighbours at every stage (`Stage::Density`).
+    #[default]
+    Summation,
+    /// The continuity equation with [F19] density diffusion of strength
+    /// `StepParams::density_diffusion` (`physics::density_diffusion`): the rate
+    /// (`Stage::DensityRate`) integrated with positions and velocities
+    /// (`Stage::IntegrateDensity`), so density is state, not a function of positions.
+    ContinuityFourtakas2019,
+}
+
 /// How the pressure of solid particles is set (`Stage::WallPressure`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WallModel {

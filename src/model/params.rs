@@ -68,6 +68,10 @@ pub struct StepParams<const D: usize> {
     /// One fluid phase or several (the `multiphase` effect, [HA06]): which variant of the
     /// density, equation-of-state, pressure-force and correction stages both backends run.
     pub phases: Phases,
+    /// `δ` of [F19]'s density diffusion (dimensionless, `physics::density_diffusion`), read by
+    /// the `density_rate` stage, which only plans with the `density_diffusion` effect
+    /// (`DensityEquation`); 0 without it.
+    pub density_diffusion: Real,
 }
 
 impl<const D: usize> StepParams<D> {

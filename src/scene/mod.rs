@@ -92,6 +92,9 @@ pub struct Scene {
     /// The surface-tension model (`fluid.surface_tension_model`, default `surface_stress`);
     /// meaningful only with [`Effect::SurfaceTension`].
     pub surface_tension_model: crate::model::SurfaceTensionModel,
+    /// δ of the density diffusion (`fluid.density_diffusion`, dimensionless); `Some` iff
+    /// [`Effect::DensityDiffusion`] is on.
+    pub density_diffusion: Option<f64>,
     /// The fluid's initial state (`fluid.initial_state`, default uniform).
     pub initial_state: initial_state::InitialState,
     /// Initial fluid blocks, in file order (non-empty, non-overlapping).

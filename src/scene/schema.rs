@@ -29,6 +29,10 @@ pub enum Effect {
     /// \[kg/m^3\]; density, equation of state, pressure force and position correction use each
     /// particle's own rest density (`physics::multiphase`, Hu & Adams 2006).
     Multiphase,
+    /// The continuity equation with Fourtakas et al. (2019)'s density diffusion
+    /// `fluid.density_diffusion` (δ, dimensionless) in place of the summation (18): density is
+    /// integrated in time (`physics::density_diffusion`). `wcsph` only.
+    DensityDiffusion,
 }
 
 impl Effect {
@@ -36,7 +40,12 @@ impl Effect {
     pub fn all() -> Vec<Effect> {
         let mut all = vec![Effect::Gravity];
         all.extend(PairTerm::ALL.map(Effect::Pair));
-        all.extend([Effect::RotatingFrame, Effect::SurfaceTension, Effect::Multiphase]);
+        all.extend([
+            Effect::RotatingFrame,
+            Effect::SurfaceTension,
+            Effect::Multiphase,
+            Effect::DensityDiffusion,
+        ]);
         all
     }
 
@@ -48,6 +57,7 @@ impl Effect {
             Effect::RotatingFrame => "rotating_frame",
             Effect::SurfaceTension => "surface_tension",
             Effect::Multiphase => "multiphase",
+            Effect::DensityDiffusion => "density_diffusion",
         }
     }
 
@@ -256,6 +266,9 @@ pub struct FluidFile {
     /// (the pressure of a resting column, `scene::initial_state`); hydrostatic needs the
     /// `gravity` effect without a ramp.
     pub initial_state: Option<crate::scene::initial_state::InitialState>,
+    /// δ of the density diffusion (dimensionless, >= 0, typically 0.1); required iff the
+    /// `density_diffusion` effect is on.
+    pub density_diffusion: Option<f64>,
 }
 }
 

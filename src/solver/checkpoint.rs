@@ -363,6 +363,10 @@ impl<const D: usize> Checkpoint<D> {
                 normal: Vec::new(),
                 // Not stored: `Simulation::restore` takes it from the scene by id.
                 rest_density: Vec::new(),
+                // Recomputed by the `density_rate` stage before every use; the step start is
+                // stored by the step's first stage.
+                density_rate: Vec::new(),
+                density_start: Vec::new(),
             },
         })
     }

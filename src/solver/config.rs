@@ -4,8 +4,8 @@
 use super::escape;
 use super::plan::PlanInputs;
 use crate::math::Vector;
-use crate::model::SurfaceTensionModel;
 use crate::model::pair_terms::PairTermSettings;
+use crate::model::{DensityEquation, SurfaceTensionModel};
 
 /// The time integrator (scene `solver.integrator`, in `snake_case`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, serde::Deserialize)]
@@ -119,6 +119,9 @@ pub struct SimConfig<const D: usize> {
     pub rotation_centre: Vector<D>,
     /// Surface tension `σ` and its model; `None` when the scene has no `surface_tension` effect.
     pub surface_tension: Option<SurfaceTension>,
+    /// `δ` of [F19]'s density diffusion (dimensionless): the continuity equation replaces the
+    /// summation (18) (`model::DensityEquation`); `None` without the `density_diffusion` effect.
+    pub density_diffusion: Option<f64>,
     /// Fixed time step [s], or `None` for adaptive.
     pub dt: Option<f64>,
     /// CFL number of the adaptive step.
@@ -149,6 +152,10 @@ impl<const D: usize> SimConfig<D> {
             moving_solids,
             integrator: self.integrator,
             corrected: self.correction.is_some(),
+            density: match self.density_diffusion {
+                Some(_) => DensityEquation::ContinuityFourtakas2019,
+                None => DensityEquation::Summation,
+            },
         }
     }
 }

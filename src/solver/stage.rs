@@ -4,7 +4,8 @@
 //! Each stage also says what it implements (PAPER.md equation numbers; [A12] Adami, Hu & Adams,
 //! J. Comput. Phys. 231 (2012); [M92] Monaghan 1992; [MFZ97] Morris, Fox & Zhu 1997; [AAT13]
 //! Akinci, Akinci & Teschner 2013; [LNSZZ94] Lafaurie et al. 1994, the capillary stress;
-//! [M00a] Monaghan 2000, artificial stress; [WN11] Walker & Ni,
+//! [M00a] Monaghan 2000, artificial stress; [F19] Fourtakas et al., Comput. Fluids 190
+//! (2019), density diffusion; [WN11] Walker & Ni,
 //! SIAM J. Numer. Anal. 49 (2011), Anderson acceleration; [HA06] Hu & Adams 2006, the `multiphase` variants:
 //! [`MultiphaseVariant`]) and which particle fields it reads and
 //! writes, one function per piece (`sph plan` prints them), next to the stage itself so the two
@@ -15,8 +16,8 @@ use crate::fields::Field;
 use crate::model::pair_terms::{PairTerm, PairTerms};
 use crate::model::{ForceTerms, SurfaceTensionModel, WallModel};
 use Field::{
-    Acceleration, Density, Id, Kind, Mass, Normal, Position, PositionStart, Pressure, Velocity,
-    VelocityStart, WallVelocity,
+    Acceleration, Density, DensityRate, DensityStart, Id, Kind, Mass, Normal, Position, PositionStart,
+    Pressure, Velocity, VelocityStart, WallVelocity,
 };
 
 /// When in an integrator stage [`Stage::MoveSolids`] places the moving solids.
@@ -41,6 +42,10 @@ pub enum Stage {
     SortByCell,
     /// Eq. (18): density by summation.
     Density,
+    /// The continuity equation with [F19] density diffusion: `dρ/dt` of fluid particles
+    /// (`physics::density_diffusion`). Only with the `density_diffusion` effect, in place of
+    /// [`Stage::Density`].
+    DensityRate,
     /// Eq. (19): pressure from density.
     EquationOfState,
     /// Boundary: solid-particle pressure ([A12] eq. 27). Only in scenes with solids.
@@ -68,6 +73,12 @@ pub enum Stage {
     RkStage,
     /// Eqs. (23)–(24): the position correction loop (the `corrected` solver, section 2).
     Correction,
+    /// The fluid density advanced by [`Stage::DensityRate`]'s rate: with symplectic Euler at the
+    /// start of a step, `ρ += dt dρ/dt` with the last step's `dt` (the rate of the positions and
+    /// velocities that step reached, `solver::plan`); with SSP-RK3 at the end of each stage, the
+    /// Shu–Osher combination with the step-start density. Only with the `density_diffusion`
+    /// effect.
+    IntegrateDensity,
 }
 
 impl Stage {
@@ -77,6 +88,7 @@ impl Stage {
             Stage::MoveSolids(_) => "move_solids",
             Stage::SortByCell => "sort_by_cell",
             Stage::Density => "density",
+            Stage::DensityRate => "density_rate",
             Stage::EquationOfState => "equation_of_state",
             Stage::WallPressure(_) => "wall_pressure",
             Stage::WallVelocity => "wall_velocity",
@@ -88,6 +100,7 @@ impl Stage {
             Stage::Integrate => "integrate",
             Stage::RkStage => "rk_stage",
             Stage::Correction => "correct_positions",
+            Stage::IntegrateDensity => "integrate_density",
         }
     }
 
@@ -97,6 +110,7 @@ impl Stage {
             Stage::MoveSolids(_) => "x0 + d(t)",
             Stage::SortByCell => "section 3",
             Stage::Density => "(18)",
+            Stage::DensityRate => "continuity, [F19] diffusion",
             Stage::EquationOfState => "(19)",
             Stage::WallPressure(_) => "[A12] (27)",
             Stage::WallVelocity => "[A12] (22)-(23)",
@@ -118,6 +132,7 @@ impl Stage {
             Stage::Integrate => "(15)",
             Stage::RkStage => "(15), note 8",
             Stage::Correction => "(23)-(24)",
+            Stage::IntegrateDensity => "continuity, note 8",
         };
         text.to_string()
     }
@@ -131,6 +146,9 @@ impl Stage {
             }
             Stage::SortByCell => "cell keys, radix sort, reorder of every field, cell ranges",
             Stage::Density => "density by summation (fluid)",
+            Stage::DensityRate => {
+                "drho/dt = sum m_j (u_i - u_j).grad W (walls at the forces' velocity) + F19 diffusion of the non-hydrostatic density difference over fluid neighbours (fluid)"
+            }
             Stage::EquationOfState => "pressure from density, clamped at zero (note 6)",
             Stage::WallPressure(WallModel::ExtrapolatedOrSummed) => {
                 "solid pressure: extrapolated from the fluid, or (19) of its own density if larger"
@@ -167,6 +185,9 @@ impl Stage {
             Stage::Integrate => "symplectic Euler: u += a dt, then x += u dt (fluid)",
             Stage::RkStage => "one SSP-RK3 stage (the first also stores x^n, u^n)",
             Stage::Correction => "position correction loop, until the compression is below delta",
+            Stage::IntegrateDensity => {
+                "symplectic Euler: rho += dt drho/dt with the last step's dt and the rate of the state it reached; SSP-RK3: the stage with rho^n (the first also stores it) (fluid)"
+            }
         };
         text.to_string()
     }
@@ -177,6 +198,7 @@ impl Stage {
             Stage::MoveSolids(_) => &[Kind, Id],
             Stage::SortByCell => &[Position],
             Stage::Density => &[Position, Mass, Kind],
+            Stage::DensityRate => &[Position, Velocity, Density, Mass, Kind],
             Stage::EquationOfState => &[Density, Kind],
             Stage::WallPressure(_) => &[Position, Density, Pressure, Mass, Kind],
             Stage::WallVelocity => &[Position, Velocity, Kind],
@@ -204,6 +226,7 @@ impl Stage {
                 VelocityStart,
             ],
             Stage::Correction => &[Position, Density, Pressure, Mass, Kind],
+            Stage::IntegrateDensity => &[Density, DensityRate, Kind],
         }
     }
 
@@ -218,6 +241,8 @@ impl Stage {
         let reader = match self {
             Stage::Forces(t) => t.pair.contains(PairTerm::Viscosity),
             Stage::SolidForces(t) => t.contains(PairTerm::Viscosity),
+            // The continuity sum moves walls as the forces do.
+            Stage::DensityRate => true,
             _ => false,
         };
         if no_slip && reader {
@@ -225,6 +250,19 @@ impl Stage {
         }
         if multiphase && self.multiphase().is_some_and(|v| v.reads_rest_density) {
             fields.push(Field::RestDensity);
+        }
+        if *self == Stage::IntegrateDensity && plan.contains(&Stage::RkStage) {
+            fields.push(DensityStart);
+        }
+        fields
+    }
+
+    /// The particle fields the stage writes within `plan`: [`Stage::writes`], and with SSP-RK3
+    /// the step-start density [`Stage::IntegrateDensity`] stores.
+    pub fn writes_in(&self, plan: &[Stage]) -> Vec<Field> {
+        let mut fields = self.writes().to_vec();
+        if *self == Stage::IntegrateDensity && plan.contains(&Stage::RkStage) {
+            fields.push(DensityStart);
         }
         fields
     }
@@ -235,6 +273,7 @@ impl Stage {
             Stage::MoveSolids(_) => &[Position, Velocity],
             Stage::SortByCell => &Field::ALL,
             Stage::Density => &[Density],
+            Stage::DensityRate => &[DensityRate],
             Stage::EquationOfState => &[Pressure],
             Stage::WallPressure(_) => &[Density, Pressure],
             Stage::WallVelocity => &[WallVelocity],
@@ -245,6 +284,7 @@ impl Stage {
             Stage::Integrate => &[Position, Velocity],
             Stage::RkStage => &[Position, Velocity, PositionStart, VelocityStart],
             Stage::Correction => &[Position, Velocity, Density, Pressure],
+            Stage::IntegrateDensity => &[Density],
         }
     }
 

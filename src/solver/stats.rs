@@ -9,6 +9,11 @@ pub struct Clock {
     pub time: f64,
     /// Steps taken.
     pub step: u64,
+    /// The last step's `dt` [s] (0 before the first): with the `density_diffusion` effect and
+    /// symplectic Euler the density of that step's motion is advanced at the start of the next
+    /// (`solver::plan`), so a resumed run needs it. Absent from older checkpoints (read as 0).
+    #[serde(default)]
+    pub last_dt: f64,
 }
 
 /// What one step did.

@@ -19,7 +19,7 @@
 
 use super::stage::{SolidsAt, Stage};
 use super::timestep::{self, TimeStepInputs, TimeStepLimit};
-use super::{Correction, Simulation, StepError, StepReport};
+use super::{Correction, Integrator, Simulation, StepError, StepReport};
 use crate::backend::{SolidForceSource, SolidLoad, StateExtremes};
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::model::params::StepParams;
@@ -112,6 +112,7 @@ impl<const D: usize> Simulation<D> {
                             self.density_fresh = true;
                         }
                     }
+                    Stage::DensityRate => bk.density_rate(f, &params), // continuity, [F19]
                     Stage::EquationOfState => bk.equation_of_state(f, &params), // eq. (19)
                     Stage::WallPressure(model) => {
                         bk.wall_pressure(f, &params, model, &self.wall_acceleration); // [A12] eq. (27)
@@ -159,6 +160,16 @@ impl<const D: usize> Simulation<D> {
                         let weight = -integrator.correction_weights()[k] / report.dt.max(f64::MIN_POSITIVE);
                         add_guard_force(&mut solid_force, &guard.impulse, weight);
                     }
+                    Stage::IntegrateDensity => match integrator {
+                        // The last step's motion (`solver::plan`): rho^n = rho^(n-1) + dt R(x^n, u^n).
+                        Integrator::SymplecticEuler => bk.integrate_density(f, self.clock.last_dt as f32),
+                        Integrator::Rk3 => {
+                            if k == 0 {
+                                bk.store_density_start(f);
+                            }
+                            bk.rk_density_stage(f, report.dt as f32, a, b); // note 8
+                        }
+                    },
                     Stage::Correction => {
                         let tau = tau_frac * report.dt;
                         let impulse_force = self.correct(k, tau, tau, &params)?;
@@ -202,6 +213,7 @@ impl<const D: usize> Simulation<D> {
         s.max_surface_deficit = s.max_surface_deficit.max(e.max_surface_deficit);
         s.sum_mean_surface_deficit += e.mean_surface_deficit;
         self.clock.time += report.dt;
+        self.clock.last_dt = report.dt;
         self.clock.step += 1;
         // Every step starts from a fresh sort and density, so a step depends only on the fields
         // and a restart from a checkpoint is bit-identical (`solver::checkpoint`). The

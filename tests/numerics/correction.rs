@@ -220,6 +220,7 @@ fn config<const D: usize>(
         angular_velocity: None,
         rotation_centre: Vector::zeros(),
         surface_tension: None,
+        density_diffusion: None,
         dt: Some(dt),
         cfl: 0.2,
         domain_min: Vector::<D>::repeat(-100.0),

@@ -373,6 +373,8 @@ fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
         f.wall_velocity.push(vec(i, 5.0e4));
         f.normal.push(vec(i, 5.0e4));
         f.rest_density.push(500.0 + 3.0 * i as Real);
+        f.density_rate.push(-70.0 - 5.0 * i as Real);
+        f.density_start.push(900.0 + 7.0 * i as Real);
     }
     f
 }
@@ -395,6 +397,8 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         wall_velocity,
         normal,
         rest_density,
+        density_rate,
+        density_start,
     } = f;
     let n = original.len();
     for field_len in [
@@ -411,6 +415,8 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         wall_velocity.len(),
         normal.len(),
         rest_density.len(),
+        density_rate.len(),
+        density_start.len(),
     ] {
         assert_eq!(field_len, n);
     }
@@ -441,6 +447,11 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         );
         assert_eq!(normal[i], original.normal[o], "normal of {i}");
         assert_eq!(rest_density[i], original.rest_density[o], "rest_density of {i}");
+        assert_eq!(density_rate[i], original.density_rate[o], "density_rate of {i}");
+        assert_eq!(
+            density_start[i], original.density_start[o],
+            "density_start of {i}"
+        );
     }
 }
 

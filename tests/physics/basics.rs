@@ -261,6 +261,7 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             angular_velocity: None,
             rotation_centre: Vector::zeros(),
             surface_tension: None,
+            density_diffusion: None,
             dt: None,
             cfl: 0.2,
             domain_min: Vector::<D>::repeat(-10.0),

@@ -9,6 +9,7 @@ mod common;
 
 mod basics;
 mod dam_break_pressure;
+mod density_diffusion;
 mod gauges;
 mod multiphase;
 mod poiseuille;

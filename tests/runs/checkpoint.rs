@@ -83,6 +83,27 @@ fn wcsph_restart_is_bit_identical() {
     );
 }
 
+/// With the `density_diffusion` effect the density is state, and symplectic Euler advances it
+/// at the start of a step by the last step's `dt` (`Clock::last_dt`): both must come back.
+#[test]
+fn wcsph_with_density_diffusion_restart_is_bit_identical() {
+    for integrator in ["symplectic_euler", "rk3"] {
+        let integrator = format!("solver.integrator={integrator}");
+        straight_and_restarted(
+            "density_diffusion",
+            &[
+                "solver.kind=wcsph",
+                "particles.spacing=0.01",
+                r#"effects=["gravity", "viscosity", "artificial_viscosity", "density_diffusion"]"#,
+                "fluid.density_diffusion=0.1",
+                &integrator,
+            ],
+            100,
+            100,
+        );
+    }
+}
+
 #[test]
 fn corrected_restart_is_bit_identical() {
     straight_and_restarted("corrected", &["particles.spacing=0.01"], 15, 15);

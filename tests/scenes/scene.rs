@@ -243,6 +243,57 @@ fn viscosity_without_effect() {
     only_problem_at(&text, "fluid.viscosity", "viscosity = 1.0e-3", "not enabled");
 }
 
+/// `density_diffusion`: the effect needs `fluid.density_diffusion` (δ ≥ 0), the key needs the
+/// effect, and the corrected solver (density set by positions) refuses it at the key, saying why.
+#[test]
+fn density_diffusion_is_an_effect_with_its_fluid_key_for_wcsph_only() {
+    let on = edit(
+        &VALID_2D,
+        "effects = [\"gravity\", \"viscosity\"]",
+        "effects = [\"gravity\", \"viscosity\", \"density_diffusion\"]",
+    );
+    let with_key_text = edit(
+        &on,
+        "viscosity = 1.0e-3",
+        "viscosity = 1.0e-3\ndensity_diffusion = 0.1",
+    );
+    let scene = parse(&with_key_text).expect("valid with its key");
+    assert!(scene.has(Effect::DensityDiffusion));
+    assert_eq!(scene.density_diffusion, Some(0.1));
+
+    let ps = problems(parse(&on));
+    let p = with_key(&ps, "fluid.density_diffusion");
+    assert!(p.reason.contains("required because effect"), "{}", p.reason);
+
+    let negative = edit(
+        &with_key_text,
+        "density_diffusion = 0.1",
+        "density_diffusion = -0.1",
+    );
+    with_key(&problems(parse(&negative)), "fluid.density_diffusion");
+
+    let without = edit(
+        &VALID_2D,
+        "viscosity = 1.0e-3",
+        "viscosity = 1.0e-3\ndensity_diffusion = 0.1",
+    );
+    let ps = problems(parse(&without));
+    assert!(
+        with_key(&ps, "fluid.density_diffusion")
+            .reason
+            .contains("not enabled")
+    );
+
+    let corrected = edit(&with_key_text, "kind = \"wcsph\"", "kind = \"corrected\"");
+    let ps = problems(parse(&corrected));
+    let p = with_key(&ps, "fluid.density_diffusion");
+    assert!(
+        p.reason.contains("wcsph") && p.reason.contains("sets density by positions"),
+        "{}",
+        p.reason
+    );
+}
+
 /// Every pair term of `kernels/pair_terms.table` is read from the scene by its name: its
 /// effect needs its `[fluid]` key, a negative coefficient is refused, and the resolved scene
 /// carries it.

@@ -21,6 +21,7 @@ mod boundary;
 mod correction;
 mod correction_reference;
 mod density;
+mod density_rate;
 mod forces;
 mod integrate;
 mod solid_forces;

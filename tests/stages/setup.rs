@@ -214,6 +214,7 @@ pub fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         surface_tension_model: SurfaceTensionModel::SurfaceStress,
         rotating_frame: 1,
         phases: Phases::Single,
+        density_diffusion: 0.0,
     };
     (f, p)
 }
@@ -354,6 +355,8 @@ pub fn in_id_order<const D: usize>(f: &Fields<D>) -> Fields<D> {
     out.pressure = pick(&f.pressure);
     out.mass = pick(&f.mass);
     out.rest_density = pick(&f.rest_density);
+    out.density_rate = pick(&f.density_rate);
+    out.density_start = pick(&f.density_start);
     out.kind = at.iter().map(|&i| f.kind[i]).collect();
     out.id = at.iter().map(|&i| f.id[i]).collect();
     out

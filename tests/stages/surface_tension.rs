@@ -89,6 +89,7 @@ fn droplet<const D: usize>(
         surface_tension_model: model,
         rotating_frame: 0,
         phases,
+        density_diffusion: 0.0,
     };
     (f, p)
 }

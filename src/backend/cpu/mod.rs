@@ -21,6 +21,7 @@ use anderson::AndersonBuffers;
 mod anderson;
 mod correction;
 mod density;
+mod density_rate;
 mod forces;
 mod integrate;
 mod move_solids;
@@ -131,6 +132,22 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
         CpuBackend::equation_of_state(self, fields, params)
+    }
+
+    fn density_rate(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        CpuBackend::density_rate(self, fields, params)
+    }
+
+    fn integrate_density(&mut self, fields: &mut Fields<D>, dt: f32) {
+        CpuBackend::integrate_density(self, fields, dt)
+    }
+
+    fn store_density_start(&mut self, fields: &mut Fields<D>) {
+        CpuBackend::store_density_start(self, fields)
+    }
+
+    fn rk_density_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
+        CpuBackend::rk_density_stage(self, fields, dt, a, b)
     }
 
     fn move_solids(

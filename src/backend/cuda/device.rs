@@ -6,7 +6,7 @@
 //!
 //! This file holds the buffers, the construction, the transfers and the `Backend` methods, which
 //! call one `launch_<stage>` per stage; the stages live in child modules named as the kernel files
-//! they launch (`sort_by_cell`, `density`, `wall_pressure`, `move_solids`, `forces`,
+//! they launch (`sort_by_cell`, `density`, `density_rate`, `wall_pressure`, `move_solids`, `forces`,
 //! `solid_forces`, `surface_tension`, `state_extremes`, `integrate`, `correction`, `anderson`),
 //! as those of the CPU backend.
 
@@ -136,6 +136,12 @@ pub struct CudaBackend<const D: usize, K: Launch<D> = Gpu> {
     /// `surface_normals` (only scenes with the `surface_tension` effect run it). Recomputed after
     /// every sort before use, so the sort does not gather it.
     normal: Option<K::Buf<f32>>,
+    /// `dρ/dt` of the continuity equation ([F19]), allocated by the first `density_rate`
+    /// (only scenes with the `density_diffusion` effect run it).
+    density_rate: Option<K::Buf<f32>>,
+    /// The step-start density of SSP-RK3 with that effect, allocated by the first
+    /// `store_density_start`; the backend's scratch, as `position_start`.
+    density_start: Option<K::Buf<f32>>,
     error: Option<BackendError>,
 }
 
@@ -287,6 +293,8 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             keep_out_boxes: dev.alloc_zeros::<f32>(1).map_err(|e| up("allocating", e))?,
             keep_out_out: dev.alloc_zeros::<f64>(4).map_err(|e| up("allocating", e))?,
             normal: None,
+            density_rate: None,
+            density_start: None,
             error: None,
             dev,
         };
@@ -314,6 +322,8 @@ mod anderson;
 mod correction;
 #[path = "density.rs"]
 mod density;
+#[path = "density_rate.rs"]
+mod density_rate;
 #[path = "forces.rs"]
 mod forces;
 #[path = "integrate.rs"]
@@ -378,6 +388,8 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
             + self.solid_reference.as_ref().map_or(0, |b| b.num_bytes())
             + self.f.wall_velocity.as_ref().map_or(0, |b| b.num_bytes())
             + self.normal.as_ref().map_or(0, |b| b.num_bytes())
+            + self.density_rate.as_ref().map_or(0, |b| b.num_bytes())
+            + self.density_start.as_ref().map_or(0, |b| b.num_bytes())
             + self.f.rest_density.as_ref().map_or(0, |b| b.num_bytes())
             + self.anderson_buffers.as_ref().map_or(0, |b| b.num_bytes());
         if let Some(g) = &self.grid {
@@ -452,6 +464,14 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
         // The step-start copies are the backend's scratch of SSP-RK3; the host keeps none.
         fields.position_start.clear();
         fields.velocity_start.clear();
+        fields.density_start.clear();
+        match &self.density_rate {
+            Some(rate) => {
+                fields.density_rate = s.download(rate).map_err(e)?;
+                fields.density_rate.truncate(n);
+            }
+            None => fields.density_rate.clear(),
+        }
         match &self.normal {
             Some(normal) => {
                 fields.normal.resize(n, Vector::zeros());
@@ -485,6 +505,22 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
 
     fn equation_of_state(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
         self.launch_equation_of_state(params)
+    }
+
+    fn density_rate(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
+        self.launch_density_rate(params)
+    }
+
+    fn integrate_density(&mut self, _fields: &mut Fields<D>, dt: f32) {
+        self.launch_integrate_density(dt)
+    }
+
+    fn store_density_start(&mut self, _fields: &mut Fields<D>) {
+        self.launch_store_density_start()
+    }
+
+    fn rk_density_stage(&mut self, _fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
+        self.launch_rk_density_stage(dt, a, b)
     }
 
     fn predicted_density(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {

@@ -37,6 +37,8 @@ enum ScalarField {
     Pressure,
     Mass,
     RestDensity,
+    DensityRate,
+    DensityStart,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -109,6 +111,14 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             ScalarField::Pressure => &mut self.f.pressure,
             ScalarField::Mass => &mut self.f.mass,
             ScalarField::RestDensity => match self.f.rest_density.as_mut() {
+                Some(b) => b,
+                None => return,
+            },
+            ScalarField::DensityRate => match self.density_rate.as_mut() {
+                Some(b) => b,
+                None => return,
+            },
+            ScalarField::DensityStart => match self.density_start.as_mut() {
                 Some(b) => b,
                 None => return,
             },
@@ -230,6 +240,8 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             ScalarField::Pressure,
             ScalarField::Mass,
             ScalarField::RestDensity,
+            ScalarField::DensityRate,
+            ScalarField::DensityStart,
         ] {
             self.gather_scalar(sf);
         }

@@ -212,3 +212,41 @@ pub(super) fn initial_state(
     }
     state
 }
+
+/// `fluid.density_diffusion`: δ ≥ 0, required / allowed iff the `density_diffusion` effect is
+/// on; the effect with `multiphase` is refused ([F19]'s hydrostatic part and the continuity
+/// sum are written for one rest density).
+pub(super) fn density_diffusion(
+    c: &mut Checker,
+    fp: &KeyPath,
+    f: &crate::scene::schema::FluidFile,
+    effects: &[Effect],
+) -> Option<f64> {
+    let key = fp.k("density_diffusion");
+    let on = effects.contains(&Effect::DensityDiffusion);
+    if on && effects.contains(&Effect::Multiphase) {
+        c.err(
+            key.clone(),
+            "effect \"density_diffusion\" is not supported with \"multiphase\" (its hydrostatic part assumes one rest density)".into(),
+        );
+    }
+    match (f.density_diffusion, on) {
+        (Some(delta), true) => c.non_negative(key, delta),
+        (None, true) => {
+            c.err(
+                key,
+                "required because effect \"density_diffusion\" is enabled".into(),
+            );
+            None
+        }
+        (Some(_), false) => {
+            c.err(
+                key,
+                "given but effect \"density_diffusion\" is not enabled (add it to `effects` or remove this key)"
+                    .into(),
+            );
+            None
+        }
+        (None, false) => None,
+    }
+}

@@ -33,7 +33,7 @@ mod solids;
 mod step_bounds;
 
 use geometry::{check_box, check_geometry};
-use keys::{check_name, check_solver, initial_state, rotating_frame};
+use keys::{check_name, check_solver, density_diffusion, initial_state, rotating_frame};
 use memory::check_counts;
 pub use memory::{
     BASE_BYTES, ParticleBytes, frame_bytes_per_particle, particle_bytes, run_bytes, scene_particle_bytes,
@@ -329,6 +329,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
         );
     }
     let surface_tension_model = f.surface_tension_model.unwrap_or_default();
+    let density_diffusion = density_diffusion(&mut c, &fp, f, &effects);
     let initial_state = initial_state(&mut c, &fp, f, &effects, gravity_ramp);
 
     // [[fluid_box]]
@@ -423,6 +424,14 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
         }
     }
     let solver = check_solver(&mut c, &sp, sv);
+    if let Some(settings) = solver {
+        if settings.kind == SolverKind::Corrected && effects.contains(&Effect::DensityDiffusion) {
+            c.err(
+                fp.k("density_diffusion"),
+                "effect \"density_diffusion\" needs solver.kind = \"wcsph\": the corrected solver sets density by positions (the summation its correction drives to rho0), so there is no density to integrate".into(),
+            );
+        }
+    }
     if let (Some(Some(dt)), Some(settings), Some(h), Some(sound)) = (dt, solver, h, sound_speed) {
         check_acoustic_step(&mut c, &sp, dt, settings.kind, h, sound);
     }
@@ -475,6 +484,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
             rotation_centre: rotation_centre?,
             surface_tension,
             surface_tension_model,
+            density_diffusion,
             initial_state,
             fluid_boxes,
             solids,
