@@ -20,7 +20,8 @@ pub struct Fields<const D: usize> {
     pub velocity: Vec<Vector<D>>,
     /// Acceleration `dV/dt` of eq. (15) [m/s²]; zero for solids.
     pub acceleration: Vec<Vector<D>>,
-    /// Density `ρ` [kg/m³]: eq. (18) for fluid, the boundary model's value for solids.
+    /// Density `ρ` [kg/m³]: eq. (18) for fluid (with the `density_diffusion` effect integrated
+    /// by the continuity equation instead), the boundary model's value for solids.
     pub density: Vec<Real>,
     /// Pressure `p` [Pa]: eq. (19) for fluid, the boundary model's value for solids.
     pub pressure: Vec<Real>,

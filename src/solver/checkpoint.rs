@@ -3,8 +3,10 @@
 //!
 //! A step depends on the fields (positions, velocities, the last accelerations for the time
 //! step, densities, the pressures the `corrected` solver carries, masses, kinds, ids, in their
-//! current order), the clock, the run statistics and the last forces on solids; every step starts
-//! with a fresh sort (`step.rs`), so no grid or scratch state is needed.
+//! current order), the clock (with the last step's `dt`, by which symplectic Euler advances the
+//! density of the `density_diffusion` effect at the next step's start), the run statistics and
+//! the last forces on solids; every step starts with a fresh sort (`step.rs`), so no grid or
+//! scratch state is needed (the density rate is recomputed before every use).
 //!
 //! File layout (little endian): the magic `SPHCKPT1`, `u32` dimension, `u64` particle count,
 //! `u64` length and the JSON of [`Header`] (plus the caller's metadata), then the arrays

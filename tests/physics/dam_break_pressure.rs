@@ -176,7 +176,10 @@ fn far_wall_impacts(sets: &[&str]) -> (Impact, Impact) {
 /// (spikes 1.32 at a/25 and 1.82 at a/50), but the peaks are 3,346 Pa (a/25) and 9,936 Pa
 /// (a/50), 66 % apart; the front reaches the sensor at 0.559 s and 0.522 s. The continuity
 /// density keeps the pressure of the thin front that the summed density reads short of
-/// neighbours (at zero pressure), and at a/50 that front is resolved and hits harder.
+/// neighbours (at zero pressure), and at a/50 that front is resolved and hits harder. Without
+/// the diffusion (δ = 0) the peaks are 44,703 and 11,477 Pa (spikes 1.38, 3.0); with the walls
+/// at their own velocity in the continuity sum instead of the forces' no-slip velocity, 2,165 and
+/// 1,091 Pa (spikes 1.33, 2.52).
 #[test]
 #[ignore = "fails: with density_diffusion the spikes pass (1.32, 1.82) but the peaks are 3,346 Pa (a/25) and 9,936 Pa (a/50), 66 % apart"]
 fn far_wall_impact_converges_without_spikes_wcsph_density_diffusion() {
