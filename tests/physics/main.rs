@@ -10,6 +10,7 @@ mod common;
 mod basics;
 mod dam_break_pressure;
 mod gauges;
+mod impact_pressure;
 mod multiphase;
 mod poiseuille;
 mod rotating_frame;
