@@ -2,7 +2,7 @@
 
 use crate::scene::{
     GenerationReport, ParticleCounts, Scene, count_particles, frame_bytes_per_particle, generate::describe,
-    generate_reported, particle_bytes, run_bytes, scene_particle_bytes, skipped_references,
+    generate_reported, run_bytes, scene_particle_bytes, skipped_references, solver_particle_bytes,
 };
 use anyhow::Context;
 use std::path::Path;
@@ -147,7 +147,7 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
     }
     let per = scene_particle_bytes(&scene);
     let bytes = run_bytes(counts.total, counts.fluid, per).unwrap_or(u64::MAX);
-    let solver = particle_bytes(scene.dimension, scene.solver.kind);
+    let solver = solver_particle_bytes(&scene);
     let frames = if scene.write_frames {
         format!(
             ", {} per particle for {} frames",

@@ -47,7 +47,7 @@ pub use schema::{Effect, Integrator, ProbeKind, SceneFile, SolidShape, SolverKin
 pub use trim::{Body, MIN_GAP, Trimmed};
 pub use validate::{
     BASE_BYTES, ParticleBytes, frame_bytes_per_particle, particle_bytes, run_bytes, scene_particle_bytes,
-    validate,
+    solver_particle_bytes, validate,
 };
 
 /// A validated scene with all defaults resolved. Floats are `f64`, SI units.

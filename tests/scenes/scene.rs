@@ -260,6 +260,12 @@ fn density_diffusion_is_an_effect_with_its_fluid_key_for_wcsph_only() {
     let scene = parse(&with_key_text).expect("valid with its key");
     assert!(scene.has(Effect::DensityDiffusion));
     assert_eq!(scene.density_diffusion, Some(0.1));
+    // The memory estimate counts the rate (4 B per particle), and under SSP-RK3 the step-start
+    // density too (4 B more).
+    let bytes = |text: &str| sc::solver_particle_bytes(&parse(text).expect("valid")).per_particle;
+    let rk3 = |text: &str| edit(text, "kind = \"wcsph\"", "kind = \"wcsph\"\nintegrator = \"rk3\"");
+    assert_eq!(bytes(&with_key_text) - bytes(&VALID_2D), 4);
+    assert_eq!(bytes(&rk3(&with_key_text)) - bytes(&rk3(&VALID_2D)), 8);
 
     let ps = problems(parse(&on));
     let p = with_key(&ps, "fluid.density_diffusion");

@@ -48,6 +48,21 @@ pub fn particle_bytes(dim: usize, solver: crate::scene::SolverKind) -> ParticleB
     }
 }
 
+/// [`particle_bytes`] for `scene`'s dimension and solver, with the continuity equation's fields
+/// where the `density_diffusion` effect is on: the rate on every particle and, under SSP-RK3,
+/// the step-start density (`Field::DensityRate`, `Field::DensityStart`, one `f32` each) \[B\].
+pub fn solver_particle_bytes(scene: &Scene) -> ParticleBytes {
+    let mut bytes = particle_bytes(scene.dimension, scene.solver.kind);
+    if scene.density_diffusion.is_some() {
+        let copies = match scene.solver.integrator {
+            crate::solver::Integrator::Rk3 => 2,
+            crate::solver::Integrator::SymplecticEuler => 1,
+        };
+        bytes.per_particle += copies * std::mem::size_of::<crate::math::Real>() as u64;
+    }
+    bytes
+}
+
 /// Estimated peak resident memory per particle \[B\] that writing a frame adds, by the
 /// frame's `encoding`: its arrays encoded in memory (49 B per particle before encoding) while
 /// one raw array at a time is made (`output::vtu::write_vtu`). Measured as for
@@ -65,7 +80,7 @@ pub fn frame_bytes_per_particle(encoding: crate::output::Encoding) -> u64 {
 /// The estimated peak resident memory per particle \[B\] of `scene`'s run: the solver's
 /// state and, when the scene writes frames, the frame writer's.
 pub fn scene_particle_bytes(scene: &Scene) -> ParticleBytes {
-    let mut bytes = particle_bytes(scene.dimension, scene.solver.kind);
+    let mut bytes = solver_particle_bytes(scene);
     if scene.write_frames {
         bytes.per_particle += frame_bytes_per_particle(scene.output_encoding);
     }

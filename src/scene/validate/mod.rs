@@ -37,6 +37,7 @@ use keys::{check_name, check_solver, density_diffusion, initial_state, rotating_
 use memory::check_counts;
 pub use memory::{
     BASE_BYTES, ParticleBytes, frame_bytes_per_particle, particle_bytes, run_bytes, scene_particle_bytes,
+    solver_particle_bytes,
 };
 use probes::check_probe;
 pub use step_bounds::{CORRECTED_FLOW_FACTOR, CORRECTED_GRAVITY_FACTOR, corrected_step_bound};
