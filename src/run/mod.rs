@@ -130,11 +130,7 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
         } else {
             None
         },
-        density_diffusion: if scene.has(Effect::DensityDiffusion) {
-            scene.density_diffusion
-        } else {
-            None
-        },
+        density_diffusion: scene.density_diffusion,
         dt: scene.dt,
         cfl: scene.cfl,
         domain_min: vector(&scene.domain.min),
