@@ -56,6 +56,12 @@ pub struct Fields<const D: usize> {
     /// Density at the start of the step [kg/m³] (SSP-RK3 with the `density_diffusion` effect
     /// only; empty otherwise).
     pub density_start: Vec<Real>,
+    /// The pressure that acted on the fluid over the last integrator stage [Pa] (the
+    /// `corrected` solver only; empty otherwise): the velocity solve's `P` before it releases
+    /// to `min(P, P_start)`, or the carried pressure where no velocity solve ran. Pressure
+    /// probes read it (`probe::PressureReading::Acting`): the carried pressure forgets what
+    /// stopped a sheet at a wall (docs/method.md, "Impact pressure").
+    pub acting_pressure: Vec<Real>,
 }
 
 /// A field of [`Fields`] by name, for what a stage reads and writes (`Stage::reads`,
@@ -92,11 +98,13 @@ pub enum Field {
     DensityRate,
     /// [`Fields::density_start`].
     DensityStart,
+    /// [`Fields::acting_pressure`].
+    ActingPressure,
 }
 
 impl Field {
     /// Every field, in the order of [`Fields`] (what a reorder writes).
-    pub const ALL: [Field; 15] = [
+    pub const ALL: [Field; 16] = [
         Field::Position,
         Field::Velocity,
         Field::Acceleration,
@@ -112,6 +120,7 @@ impl Field {
         Field::RestDensity,
         Field::DensityRate,
         Field::DensityStart,
+        Field::ActingPressure,
     ];
 
     /// The field's name in [`Fields`].
@@ -132,6 +141,7 @@ impl Field {
             Field::RestDensity => "rest_density",
             Field::DensityRate => "density_rate",
             Field::DensityStart => "density_start",
+            Field::ActingPressure => "acting_pressure",
         }
     }
 }
@@ -228,6 +238,9 @@ impl<const D: usize> Fields<D> {
         if !self.density_start.is_empty() {
             gather(&mut self.density_start, perm, &mut scratch.real);
         }
+        if !self.acting_pressure.is_empty() {
+            gather(&mut self.acting_pressure, perm, &mut scratch.real);
+        }
     }
 
     /// Keeps only the particles `kept` (indices in increasing order) in every field, in that
@@ -260,13 +273,14 @@ impl<const D: usize> Fields<D> {
                 Field::RestDensity => self.rest_density.len() == n,
                 Field::DensityRate => self.density_rate.len() == n,
                 Field::DensityStart => self.density_start.len() == n,
+                Field::ActingPressure => self.acting_pressure.len() == n,
             }
     }
 
     /// Bytes per particle held by the always-present fields (for memory reports and scene
     /// validation); SSP-RK3 adds `2 D · 4`, no-slip walls (viscosity with solids) `D · 4`,
     /// surface tension `D · 4`, the `multiphase` effect 4, the `density_diffusion` effect 4
-    /// (and 4 more with SSP-RK3).
+    /// (and 4 more with SSP-RK3), the `corrected` solver 4 (the acting pressure).
     pub const BYTES_PER_PARTICLE: usize = 3 * D * 4 + 3 * 4 + 2 * 4;
 
     /// Bytes held by the fields' arrays.
@@ -282,7 +296,8 @@ impl<const D: usize> Fields<D> {
                 + self.kind.capacity() * 2
                 + self.rest_density.capacity()
                 + self.density_rate.capacity()
-                + self.density_start.capacity())
+                + self.density_start.capacity()
+                + self.acting_pressure.capacity())
                 * 4
     }
 }

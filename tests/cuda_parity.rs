@@ -128,6 +128,13 @@ fn compare<const D: usize>(
         gpu.sync_fields().expect("download");
         let (fa, fb) = (&cpu.fields, &gpu.fields);
         assert_eq!(fa.len(), fb.len());
+        // The probes' pressure (`probe::PressureReading`) comes back from the device where the
+        // CPU has it; its values are checked stage by stage in tests/stages/velocity_solve.rs.
+        assert_eq!(
+            fa.acting_pressure.len(),
+            fb.acting_pressure.len(),
+            "acting pressure on both backends or on neither"
+        );
         let (oa, ob) = (by_id(fa), by_id(fb));
         for (&i, &j) in oa.iter().zip(&ob) {
             assert_eq!(fa.id[i], fb.id[j]);

@@ -258,12 +258,17 @@ pub trait Backend<const D: usize> {
     /// sum (18) remembered by `begin_velocity_solve`); leaves the increments where
     /// `solid_forces` (`SolidForceSource::Correction`) reads them.
     fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32);
-    /// Ends the velocity solve. `keep`: the velocities stay, and every particle's pressure
-    /// keeps only what the solve released, `P = min(P, P_start)`. Otherwise velocity and
-    /// pressure go back to what `begin_velocity_solve` remembered. Either way `density` gets
-    /// back the sum (18) remembered there (positions did not move), in place of the predicted
-    /// density, without a neighbour pass.
+    /// Ends the velocity solve. `keep`: the velocities stay, `acting_pressure` gets the
+    /// solve's pressure `P` (what acted over the stage), and every particle's pressure keeps
+    /// only what the solve released, `P = min(P, P_start)`. Otherwise velocity and pressure go
+    /// back to what `begin_velocity_solve` remembered, and `acting_pressure` gets that pressure.
+    /// Either way `density` gets back the sum (18) remembered there (positions did not move),
+    /// in place of the predicted density, without a neighbour pass.
     fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool);
+    /// `acting_pressure = pressure` for every particle: what acted over a `corrected` stage
+    /// without a velocity solve (the start-up settle, a stage whose positions did not
+    /// converge): the carried pressure with the correction's increments.
+    fn record_acting_pressure(&mut self, fields: &mut Fields<D>);
     /// The no-penetration guard (`boundary::keep_out`): every fluid particle inside one of
     /// `boxes` is put `margin` [m] outside the face it came in through and loses the velocity
     /// that points into it, box after box in order (`KeepOutBox::push_out`). With

@@ -82,7 +82,21 @@ pub fn fluid_value<const D: usize>(
 
 /// The fluid pressure at `x` [Pa].
 pub fn pressure<const D: usize>(fields: &Fields<D>, kernel: &Smoothing<D>, x: &[f64]) -> f64 {
-    fluid_value(fields, kernel, x, |j| f64::from(fields.pressure[j]))
+    pressure_of(fields, &fields.pressure, kernel, x)
+}
+
+/// The interpolated fluid value of the per-particle pressures `values` [Pa] at `x`
+/// (`probe::PressureReading::values`); NaN where `values` does not hold one per particle.
+pub fn pressure_of<const D: usize>(
+    fields: &Fields<D>,
+    values: &[Real],
+    kernel: &Smoothing<D>,
+    x: &[f64],
+) -> f64 {
+    if values.len() != fields.len() {
+        return f64::NAN;
+    }
+    fluid_value(fields, kernel, x, |j| f64::from(values[j]))
 }
 
 /// The fluid velocity's component along `axis` at `x` [m/s].

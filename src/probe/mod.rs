@@ -36,18 +36,20 @@ use crate::boundary::solid_force::moment_about;
 use crate::fields::{FLUID, Fields};
 use crate::math::Real;
 use crate::output::{CsvTable, CsvValue, OutputError, force_unit};
-use crate::scene::{Averaging, Probe, ProbeKind, Scene, Sensor};
+use crate::scene::{Averaging, Probe, ProbeKind, Scene, Sensor, SolverKind};
 use crate::smoothing::Smoothing;
 use std::path::{Path, PathBuf};
 
 /// What a probe's reading depends on besides the particles: the scene's kernel support and
-/// domain.
+/// domain, and which pressure its solver's particles hold for a sensor.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProbeSpace {
     /// Kernel support radius `h` [m] of the interpolations.
     pub h: f64,
     /// Upper corner of the domain [m]: where a level gauge's line ends.
     pub domain_max: Vec<f64>,
+    /// The pressure a pressure probe interpolates.
+    pub pressure: PressureReading,
 }
 
 impl ProbeSpace {
@@ -56,6 +58,37 @@ impl ProbeSpace {
         ProbeSpace {
             h: scene.smoothing_length,
             domain_max: scene.domain.max.clone(),
+            pressure: PressureReading::of(scene.solver.kind),
+        }
+    }
+}
+
+/// Which particle pressure a pressure probe interpolates: the one that acted on the fluid over
+/// the last stage, as a transducer feels it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PressureReading {
+    /// `Fields::pressure`: `wcsph`'s equation of state (19), the pressure its force stage uses.
+    Carried,
+    /// `Fields::acting_pressure`: the `corrected` solver's velocity solve pressure `P`, before it
+    /// releases to what the next stage carries (docs/method.md, "Impact pressure"). The carried
+    /// pressure forgets what stopped a sheet at a wall: it reads zero through an impact.
+    Acting,
+}
+
+impl PressureReading {
+    /// The reading of a run with `solver`.
+    pub fn of(solver: SolverKind) -> PressureReading {
+        match solver {
+            SolverKind::Wcsph => PressureReading::Carried,
+            SolverKind::Corrected => PressureReading::Acting,
+        }
+    }
+
+    /// The per-particle pressures [Pa] this reading takes from `fields`.
+    pub fn values<const D: usize>(self, fields: &Fields<D>) -> &[Real] {
+        match self {
+            PressureReading::Carried => &fields.pressure,
+            PressureReading::Acting => &fields.acting_pressure,
         }
     }
 }
@@ -88,13 +121,14 @@ pub fn measure_loads<const D: usize>(
             _ => f64::NAN,
         }
     };
+    let pressure = space.pressure.values(fields);
     match probe.kind {
         ProbeKind::Pressure => match probe.sensor {
-            Sensor::Point => at_point(&|k, x| interpolate::pressure(fields, k, x)),
+            Sensor::Point => at_point(&|k, x| interpolate::pressure_of(fields, pressure, k, x)),
             Sensor::Face { diameter, normal } => at_point(&|k, x| {
                 let spacing = interpolate::FACE_SPACING * space.h;
                 interpolate::face_average::<D>(x, normal.min(D - 1), diameter, spacing, |y| {
-                    interpolate::pressure(fields, k, y)
+                    interpolate::pressure_of(fields, pressure, k, y)
                 })
             }),
         },

@@ -16,6 +16,7 @@
 //! renamed over `<path>`, so `<path>` always holds a complete
 //! checkpoint.
 
+use super::stage::Stage;
 use super::{Clock, RunStats, Simulation};
 use crate::backend::BackendError;
 use crate::fields::{FLUID, Fields};
@@ -193,6 +194,10 @@ impl<const D: usize> Simulation<D> {
             // Recomputed by every stage before use: allocated again, not stored.
             self.fields.wall_velocity = vec![Vector::zeros(); self.fields.len()];
         }
+        if self.plan.contains(&Stage::Correction) {
+            // Written by every stage before a probe reads it: not stored.
+            self.fields.acting_pressure.clone_from(&self.fields.pressure);
+        }
         self.clock = checkpoint.header.clock;
         // A checkpoint after the first step holds the settled state (a settle at step 0 that
         // was checkpointed before stepping runs again: it finds nothing left to move).
@@ -369,6 +374,8 @@ impl<const D: usize> Checkpoint<D> {
                 // stored by the step's first stage.
                 density_rate: Vec::new(),
                 density_start: Vec::new(),
+                // Not stored: `Simulation::restore` starts it from the restored pressure.
+                acting_pressure: Vec::new(),
             },
         })
     }

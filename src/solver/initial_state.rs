@@ -70,7 +70,9 @@ impl<const D: usize> Simulation<D> {
             // Before the first step particle i has id i (`Fields::push`).
             let p = pressure[f.id[i] as usize];
             f.pressure[i] = p as Real;
-            if !corrected {
+            if corrected {
+                f.acting_pressure[i] = p as Real;
+            } else {
                 let rho = f64::from(eos::density_from_pressure(p as Real, rho0 as Real, c2 as Real));
                 f.density[i] = rho as Real;
                 f.mass[i] = (f64::from(f.mass[i]) * rho / rho0) as Real;

@@ -188,6 +188,10 @@ impl<const D: usize> Simulation<D> {
             // [A12] no-slip walls: the viscous velocity of solids, only where it is used.
             fields.wall_velocity = vec![Vector::zeros(); fields.len()];
         }
+        if plan.contains(&Stage::Correction) {
+            // What the probes read before the first stage has acted: the carried pressure.
+            fields.acting_pressure.clone_from(&fields.pressure);
+        }
         Ok(Self {
             fields,
             backend: Box::new(CpuBackend::new()),

@@ -16,8 +16,8 @@ use crate::fields::Field;
 use crate::model::pair_terms::{PairTerm, PairTerms};
 use crate::model::{ForceTerms, SurfaceTensionModel, WallModel};
 use Field::{
-    Acceleration, Density, DensityRate, DensityStart, Id, Kind, Mass, Normal, Position, PositionStart,
-    Pressure, Velocity, VelocityStart, WallVelocity,
+    Acceleration, ActingPressure, Density, DensityRate, DensityStart, Id, Kind, Mass, Normal, Position,
+    PositionStart, Pressure, Velocity, VelocityStart, WallVelocity,
 };
 
 /// When in an integrator stage [`Stage::MoveSolids`] places the moving solids.
@@ -283,7 +283,7 @@ impl Stage {
             Stage::SolidForces(_) | Stage::TimeStep => &[],
             Stage::Integrate => &[Position, Velocity],
             Stage::RkStage => &[Position, Velocity, PositionStart, VelocityStart],
-            Stage::Correction => &[Position, Velocity, Density, Pressure],
+            Stage::Correction => &[Position, Velocity, Density, Pressure, ActingPressure],
             Stage::IntegrateDensity => &[Density],
         }
     }
@@ -520,7 +520,7 @@ impl SubStage {
                 "velocity = start + tau f^press(P - P_start)/rho, increments extrapolated to walls"
             }
             SubStage::EndVelocitySolve => {
-                "pressure keeps only what the solve released; given up (residual doubled or cap): velocity and pressure restored; density (18) restored"
+                "acting pressure = the solve's P, and pressure keeps only what the solve released; given up (residual doubled or cap): velocity and pressure restored, acting pressure = pressure; density (18) restored"
             }
         }
     }
@@ -572,7 +572,7 @@ impl SubStage {
             SubStage::PredictedDensity => &[Density],
             SubStage::MixVelocityPressure => &[Pressure],
             SubStage::VelocityFromPressure => &[Velocity, Pressure],
-            SubStage::EndVelocitySolve => &[Velocity, Pressure, Density],
+            SubStage::EndVelocitySolve => &[Velocity, Pressure, Density, ActingPressure],
         }
     }
 }

@@ -532,6 +532,8 @@ impl<const D: usize> Simulation<D> {
                 self.backend.synchronize();
                 self.velocity_solve_seconds += t0.elapsed().as_secs_f64();
             }
+        } else {
+            self.backend.record_acting_pressure(&mut self.fields);
         }
         self.grid_fresh = drift <= RESORT_DRIFT * h;
         self.density_fresh = true;

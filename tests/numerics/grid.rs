@@ -375,6 +375,7 @@ fn distinct_fields<const D: usize>(n: usize) -> Fields<D> {
         f.rest_density.push(500.0 + 3.0 * i as Real);
         f.density_rate.push(-70.0 - 5.0 * i as Real);
         f.density_start.push(900.0 + 7.0 * i as Real);
+        f.acting_pressure.push(40.0 + 11.0 * i as Real);
     }
     f
 }
@@ -399,6 +400,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         rest_density,
         density_rate,
         density_start,
+        acting_pressure,
     } = f;
     let n = original.len();
     for field_len in [
@@ -417,6 +419,7 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         rest_density.len(),
         density_rate.len(),
         density_start.len(),
+        acting_pressure.len(),
     ] {
         assert_eq!(field_len, n);
     }
@@ -451,6 +454,10 @@ fn assert_moved_together<const D: usize>(f: &Fields<D>, original: &Fields<D>, ex
         assert_eq!(
             density_start[i], original.density_start[o],
             "density_start of {i}"
+        );
+        assert_eq!(
+            acting_pressure[i], original.acting_pressure[o],
+            "acting_pressure of {i}"
         );
     }
 }

@@ -42,6 +42,28 @@ impl Rng {
 ///   ([`SHALLOW_SENSOR`], where the solver's pressure itself falls short).
 #[test]
 fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
+    hydrostatic_tank("wcsph");
+}
+
+/// The resting tank of [`hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest`] with the
+/// `corrected` solver, held to the same figures: its sensors read the pressure that acted in
+/// the last stage (`probe::PressureReading::Acting`), which at rest must be the hydrostatic one.
+///
+/// Measured (mean over 4–5 s, Xeon 2-core): the floor load, the gauge and the velocity probe
+/// pass; the sensors in the middle of the tank read 1.3–2.6 % high, those on the wall's face
+/// 1.8 % (z = 0.4 m), 3.7 % (0.25 m) and 6.9 % (0.1 m) high. The carried pressure reads the wall
+/// 0.9 %, 2.9 % and 6.3 % high: the excess is the corrected solver's own pressure next to a
+/// wall at depth (the velocity solve adds under 1 %), where the correction holds the fluid off
+/// the wall particles.
+#[test]
+#[ignore = "fails: corrected's pressure on the wall's face reads 3.7 % (0.25 m deep) and 6.9 % (0.4 m deep) above rho0 g (H - z)"]
+fn corrected_hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
+    hydrostatic_tank("corrected");
+}
+
+/// The shipped resting tank with `solver`, its probes and floor load checked (see
+/// [`hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest`]).
+fn hydrostatic_tank(solver: &str) {
     let path = Path::new("scenes/hydrostatic_2d.toml");
     let mut text = std::fs::read_to_string(path).expect("shipped scene");
     let heights = [0.1, 0.25, 0.4];
@@ -51,7 +73,8 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
     }
     text += "\n[[probe]]\nname = \"gauge\"\nkind = \"level\"\npoint = [0.5, 0.0]\n";
     text += "\n[[probe]]\nname = \"current\"\nkind = \"velocity\"\naxis = \"y\"\npoint = [0.5, 0.25]\n";
-    let scene = parse_scene(&text, "hydrostatic_2d.toml with probes", &[]).expect("scene with probes");
+    let sets = [format!("solver.kind={solver}")];
+    let scene = parse_scene(&text, "hydrostatic_2d.toml with probes", &sets).expect("scene with probes");
     let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
     let mut log = ProbeLog::create(&scene, None, 0.01).expect("probe log");
     let (g, depth, width, rho0) = (9.81, 0.5, 1.0, 1000.0);
@@ -105,18 +128,21 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
         assert!(late.len() >= 90, "{name}: a sample every 0.01 s");
         late.iter().sum::<f64>() / late.len() as f64
     };
+    let mut failures = Vec::new();
     for (k, z) in heights.iter().enumerate() {
         let want = rho0 * g * (depth - z);
         let tolerance = if depth - z < 0.2 { SHALLOW_SENSOR } else { 0.03 };
         for name in [format!("wall{k}"), format!("middle{k}")] {
             let got = mean(&name);
-            eprintln!("{name} at z = {z}: {got:.1} Pa, rho0 g (H - z) = {want:.1} Pa");
-            assert!(
-                (got - want).abs() <= tolerance * want,
-                "{name} at z = {z}: {got:.1} Pa, rho0 g (H - z) = {want:.1} Pa"
-            );
+            eprintln!("{solver} {name} at z = {z}: {got:.1} Pa, rho0 g (H - z) = {want:.1} Pa");
+            if (got - want).abs() > tolerance * want {
+                failures.push(format!(
+                    "{name} at z = {z}: {got:.1} Pa, rho0 g (H - z) = {want:.1} Pa"
+                ));
+            }
         }
     }
+    assert!(failures.is_empty(), "{solver}: {}", failures.join("; "));
     let level = mean("gauge");
     assert!(
         (level - depth).abs() <= scene.spacing / 2.0,

@@ -11,7 +11,6 @@ mod basics;
 mod dam_break_pressure;
 mod density_diffusion;
 mod gauges;
-mod impact_pressure;
 mod multiphase;
 mod poiseuille;
 mod rotating_frame;

@@ -357,6 +357,7 @@ pub fn in_id_order<const D: usize>(f: &Fields<D>) -> Fields<D> {
     out.rest_density = pick(&f.rest_density);
     out.density_rate = pick(&f.density_rate);
     out.density_start = pick(&f.density_start);
+    out.acting_pressure = pick(&f.acting_pressure);
     out.kind = at.iter().map(|&i| f.kind[i]).collect();
     out.id = at.iter().map(|&i| f.id[i]).collect();
     out

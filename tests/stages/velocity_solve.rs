@@ -400,8 +400,9 @@ fn velocity_solve_sweeps_are_anderson_mixed_projected_jacobi() {
 }
 
 /// `end_velocity_solve` in `out` after the solve left `last`: kept, `P = min(P, P_start)` (a NaN
-/// start takes the solve's, as `f32::min`) and the solve's velocities; given up, the start's
-/// pressure and velocity; either way the start's density and positions; all bitwise.
+/// start takes the solve's, as `f32::min`), the solve's velocities and its `P` as the acting
+/// pressure; given up, the start's pressure and velocity, and the start's pressure as the acting
+/// one; either way the start's density and positions; all bitwise.
 fn check_end<const D: usize>(
     under: Under,
     label: &str,
@@ -421,6 +422,13 @@ fn check_end<const D: usize>(
             got.to_bits(),
             want.to_bits(),
             "{under:?} {label} keep {keep}: particle {i}: P {got} against {want}"
+        );
+        let acted = if keep { last.pressure[i] } else { start.pressure[i] };
+        let got = out.acting_pressure[i];
+        assert_eq!(
+            got.to_bits(),
+            acted.to_bits(),
+            "{under:?} {label} keep {keep}: particle {i}: acting pressure {got} against {acted}"
         );
         let velocity = if keep {
             &last.velocity[i]
@@ -497,4 +505,38 @@ fn check_end_velocity_solve<const D: usize>(seed: u64) {
 fn end_velocity_solve_keeps_the_released_pressure_or_restores_the_start() {
     check_end_velocity_solve::<2>(0x0123_4567_89ab_cdef);
     check_end_velocity_solve::<3>(0xfedc_ba98_7654_3210);
+}
+
+/// `record_acting_pressure`: every particle's acting pressure is its pressure, bitwise (a NaN
+/// too), on every backend.
+fn check_record_acting_pressure<const D: usize>(seed: u64) {
+    let (mut f, p) = solve_scene::<D>(seed, DensityKernel::ScaledSpiky, Phases::Single);
+    for (i, p) in f.pressure.iter_mut().enumerate() {
+        *p = 100.0 + i as f32 * 0.37;
+    }
+    f.pressure[0] = f32::NAN;
+    let start = in_id_order(&f);
+    for under in backends() {
+        let (out, ()) = under.run(&f, &p, |b, f| b.record_acting_pressure(f));
+        let out = in_id_order(&out);
+        for i in 0..start.len() {
+            let want = start.pressure[i].to_bits();
+            assert_eq!(
+                out.acting_pressure[i].to_bits(),
+                want,
+                "{under:?} {D}D: particle {i}"
+            );
+            assert_eq!(
+                out.pressure[i].to_bits(),
+                want,
+                "{under:?} {D}D: pressure of {i} stays"
+            );
+        }
+    }
+}
+
+#[test]
+fn record_acting_pressure_copies_the_pressure() {
+    check_record_acting_pressure::<2>(0x5555_0000_1111_2222);
+    check_record_acting_pressure::<3>(0x6666_7777_8888_9999);
 }

@@ -238,6 +238,7 @@ impl<const D: usize> CpuBackend<D> {
 
     pub(super) fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {
         if keep {
+            fields.acting_pressure.clone_from(&fields.pressure);
             let start = &self.pressure_solve_start;
             fields
                 .pressure
@@ -247,6 +248,7 @@ impl<const D: usize> CpuBackend<D> {
         } else {
             fields.velocity.clone_from(&self.velocity_solve_start);
             fields.pressure.clone_from(&self.pressure_solve_start);
+            fields.acting_pressure.clone_from(&fields.pressure);
         }
         // Positions did not move: the sum (18) is still the one remembered at the start.
         fields.density.clone_from(&self.density_solve_start);

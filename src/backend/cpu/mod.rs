@@ -254,6 +254,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         CpuBackend::end_velocity_solve(self, fields, keep)
     }
 
+    fn record_acting_pressure(&mut self, fields: &mut Fields<D>) {
+        fields.acting_pressure.clone_from(&fields.pressure);
+    }
+
     fn keep_out(
         &mut self,
         fields: &mut Fields<D>,

@@ -270,6 +270,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         }
         // The saved buffers hold at least one entry; `copy` moves the fields' lengths back.
         if keep {
+            self.launch_record_acting_pressure();
             let n = self.n as u32;
             launch!(
                 self,
@@ -282,9 +283,27 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 .copy(&self.velocity_solve_start, &mut self.f.velocity)
                 .and_then(|()| self.dev.copy(&self.pressure_solve_start, &mut self.f.pressure));
             record(&mut self.error, "restoring the velocities and pressures", r);
+            self.launch_record_acting_pressure();
         }
         // Positions did not move: the sum (18) is still the one remembered at the start.
         let r = self.dev.copy(&self.density_solve_start, &mut self.f.density);
         record(&mut self.error, "restoring the densities", r);
+    }
+
+    /// `acting_pressure = pressure` (`Backend::record_acting_pressure`); the buffer is made at
+    /// the first use where the uploaded fields had none.
+    pub(super) fn launch_record_acting_pressure(&mut self) {
+        if self.error.is_some() {
+            return;
+        }
+        if self.f.acting_pressure.is_none() {
+            let r = self.dev.alloc_zeros::<f32>(self.n.max(1));
+            self.f.acting_pressure = record(&mut self.error, "allocating the acting pressure", r);
+        }
+        let Some(acting) = self.f.acting_pressure.as_mut() else {
+            return;
+        };
+        let r = self.dev.copy(&self.f.pressure, acting);
+        record(&mut self.error, "recording the acting pressure", r);
     }
 }

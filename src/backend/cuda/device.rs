@@ -62,6 +62,9 @@ struct DeviceFields<K: Memory> {
     /// run on `StepParams::phases` and [`multiphase_rest`] reports a plan of several phases
     /// on a backend built without it.
     rest_density: Option<K::Buf<f32>>,
+    /// `Fields::acting_pressure` where the fields carry it (the `corrected` solver), written by
+    /// `end_velocity_solve` and `record_acting_pressure`.
+    acting_pressure: Option<K::Buf<f32>>,
 }
 
 /// The dense cell grid and the sort's buffers.
@@ -255,6 +258,11 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             } else {
                 Some(upload(&dev, &fields.rest_density)?)
             },
+            acting_pressure: if fields.acting_pressure.is_empty() {
+                None
+            } else {
+                Some(upload(&dev, &fields.acting_pressure)?)
+            },
         };
         let zeros_f32 = |len: usize| {
             dev.alloc_zeros::<f32>(len.max(1))
@@ -403,6 +411,10 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
         if let Some(rest) = &self.f.rest_density {
             fields.rest_density = s.download(rest).map_err(e)?;
             fields.rest_density.truncate(n);
+        }
+        if let Some(acting) = &self.f.acting_pressure {
+            fields.acting_pressure = s.download(acting).map_err(e)?;
+            fields.acting_pressure.truncate(n);
         }
         // The step-start copies are the backend's scratch of SSP-RK3; the host keeps none.
         fields.position_start.clear();
@@ -571,5 +583,9 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
 
     fn end_velocity_solve(&mut self, _fields: &mut Fields<D>, keep: bool) {
         self.launch_end_velocity_solve(keep)
+    }
+
+    fn record_acting_pressure(&mut self, _fields: &mut Fields<D>) {
+        self.launch_record_acting_pressure()
     }
 }

@@ -39,6 +39,7 @@ enum ScalarField {
     RestDensity,
     DensityRate,
     DensityStart,
+    ActingPressure,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -119,6 +120,10 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 None => return,
             },
             ScalarField::DensityStart => match self.density_start.as_mut() {
+                Some(b) => b,
+                None => return,
+            },
+            ScalarField::ActingPressure => match self.f.acting_pressure.as_mut() {
                 Some(b) => b,
                 None => return,
             },
@@ -242,6 +247,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             ScalarField::RestDensity,
             ScalarField::DensityRate,
             ScalarField::DensityStart,
+            ScalarField::ActingPressure,
         ] {
             self.gather_scalar(sf);
         }

@@ -50,7 +50,9 @@ pub fn particle_bytes(dim: usize, solver: crate::scene::SolverKind) -> ParticleB
 
 /// [`particle_bytes`] for `scene`'s dimension and solver, with the continuity equation's fields
 /// where the `density_diffusion` effect is on: the rate on every particle and, under SSP-RK3,
-/// the step-start density (`Field::DensityRate`, `Field::DensityStart`, one `f32` each) \[B\].
+/// the step-start density (`Field::DensityRate`, `Field::DensityStart`, one `f32` each), and
+/// with `corrected` the pressure that acted over the last stage (`Field::ActingPressure`, one
+/// `f32`, not in the calibration above) \[B\].
 pub fn solver_particle_bytes(scene: &Scene) -> ParticleBytes {
     let mut bytes = particle_bytes(scene.dimension, scene.solver.kind);
     if scene.density_diffusion.is_some() {
@@ -59,6 +61,9 @@ pub fn solver_particle_bytes(scene: &Scene) -> ParticleBytes {
             crate::solver::Integrator::SymplecticEuler => 1,
         };
         bytes.per_particle += copies * std::mem::size_of::<crate::math::Real>() as u64;
+    }
+    if scene.solver.kind == crate::scene::SolverKind::Corrected {
+        bytes.per_particle += std::mem::size_of::<crate::math::Real>() as u64;
     }
     bytes
 }
