@@ -28,6 +28,8 @@ pub struct PlanInputs {
     /// How fluid density evolves: summed (18), or integrated by the continuity equation with
     /// density diffusion (the `density_diffusion` effect, `wcsph` only).
     pub density: DensityEquation,
+    /// The scene has a damping zone (`physics::damping_zone`).
+    pub damping_zone: bool,
 }
 
 /// The stages of one integrator stage, in order (PAPER.md sections 1 and 2).
@@ -110,6 +112,11 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         }
         plan.push(Stage::Correction);
     }
+    if inputs.damping_zone {
+        // On the stage's final velocities; the driver runs it once a step, after the last
+        // integrator stage.
+        plan.push(Stage::DampingZone);
+    }
     plan
 }
 
@@ -151,6 +158,7 @@ mod tests {
             integrator: Integrator::SymplecticEuler,
             corrected: false,
             density: DensityEquation::Summation,
+            damping_zone: false,
         }
     }
 

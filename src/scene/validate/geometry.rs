@@ -29,7 +29,7 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
     }
     let extents: Vec<Aabb> = scene.solids.iter().map(|s| solid_extent(s, dx, layers)).collect();
     for (i, (s, ext)) in scene.solids.iter().zip(&extents).enumerate() {
-        if let Some(m) = &s.motion {
+        if let Some(m) = s.motion.as_ref().map(Motion::sway) {
             // The box the moving solid sweeps: |d_k(t)| <= |A_k| since |r sin| <= 1.
             let swept = Aabb {
                 min: ext
