@@ -56,9 +56,9 @@ mod tests {
     /// to deep water (kd = 20), and has the two limits: `ω ≈ k √(g d)` and `ω² ≈ g k`.
     #[test]
     fn wavenumber_solves_the_dispersion_relation_in_any_depth() {
-        let g = 9.81;
+        let g: f64 = 9.81;
         for &kd in &[0.05, 0.3, 1.0, 1.3, 3.0, 20.0] {
-            let d = 0.4;
+            let d: f64 = 0.4;
             let k_true = kd / d;
             let omega = (g * k_true * (k_true * d).tanh()).sqrt();
             let k = wavenumber(omega, d, g);
