@@ -318,6 +318,36 @@ mod tests {
     }
 
     #[test]
+    fn the_damping_zone_runs_last_and_only_with_a_zone() {
+        for integrator in [Integrator::SymplecticEuler, Integrator::Rk3] {
+            for corrected in [false, true] {
+                let with = plan(PlanInputs {
+                    damping_zone: true,
+                    integrator,
+                    corrected,
+                    ..inputs()
+                });
+                assert_eq!(
+                    with.last(),
+                    Some(&Stage::DampingZone),
+                    "{integrator:?} {corrected}"
+                );
+                assert_eq!(with.iter().filter(|s| **s == Stage::DampingZone).count(), 1);
+                let without = plan(PlanInputs {
+                    integrator,
+                    corrected,
+                    ..inputs()
+                });
+                assert!(
+                    !without.contains(&Stage::DampingZone),
+                    "a flume-less scene pays nothing"
+                );
+                assert_eq!(&with[..with.len() - 1], &without[..]);
+            }
+        }
+    }
+
+    #[test]
     fn moving_solids_are_placed_before_the_forces_and_before_each_correction() {
         let wcsph = plan(PlanInputs {
             solids: true,
