@@ -1,6 +1,7 @@
 //! Prescribed rigid motion of a solid (scene `[[solid]] motion = { kind = ..., ... }`), one of
-//! the kinds of [`Motion`]: a sway, the forcing of a sloshing tank, or a piston wave maker
-//! ([`Piston`]), the same translation with its stroke from first-order wave-maker theory.
+//! the kinds of [`Motion`]: a sway, the forcing of a sloshing tank, a piston wave maker
+//! ([`Piston`]), the same translation with its stroke from first-order wave-maker theory, or a
+//! displacement time series (`boundary::series`).
 //!
 //! The solid translates as a whole by `d(t) = A f(t)` [m], with the amplitude vector `A` [m] and
 //! the scalar profile
@@ -27,6 +28,7 @@
 //! simulated time [s] from the start of the run. Evaluated in f64 and rounded to f32 once, so
 //! both backends place the particles from the same numbers.
 
+use super::series::DisplacementSeries;
 use crate::math::{Real, Vector};
 
 /// A rigid sway `d(t) = A r(t) sin(2π t / T)` (module doc).
@@ -48,6 +50,8 @@ pub enum Motion {
     Sway(Sway),
     /// `kind = "piston"`: the amplitude is the stroke that makes a wave of the given height.
     Piston(Piston),
+    /// `kind = "series"`: the displacement along a direction from a time series.
+    Series(DisplacementSeries),
 }
 
 impl From<Sway> for Motion {
@@ -62,25 +66,58 @@ impl Motion {
         match self {
             Motion::Sway(_) => "sway",
             Motion::Piston(_) => "piston",
+            Motion::Series(_) => "series",
         }
     }
 
-    /// The translation the solid performs.
-    pub fn sway(&self) -> Sway {
+    /// The sinusoidal translation the solid performs (`None` for a time series).
+    pub fn sway(&self) -> Option<Sway> {
         match self {
-            Motion::Sway(s) => s.clone(),
-            Motion::Piston(p) => p.sway(),
+            Motion::Sway(s) => Some(s.clone()),
+            Motion::Piston(p) => Some(p.sway()),
+            Motion::Series(_) => None,
         }
     }
 
-    /// Displacement, velocity and acceleration at time `t` [s] ([`Sway::kinematics`]).
+    /// Displacement, velocity and acceleration at time `t` [s] ([`Sway::kinematics`], or the
+    /// series' spline along its direction).
     pub fn kinematics<const D: usize>(&self, t: f64) -> SolidKinematics<D> {
-        self.sway().kinematics(t)
+        match self {
+            Motion::Sway(s) => s.kinematics(t),
+            Motion::Piston(p) => p.sway().kinematics(t),
+            Motion::Series(s) => along(&s.direction, s.profile(t)),
+        }
     }
 
-    /// An upper bound of the solid's speed [m/s] ([`Sway::max_speed`]).
+    /// An upper bound of the solid's speed [m/s] ([`Sway::max_speed`],
+    /// `DisplacementSeries::bounds`).
     pub fn max_speed(&self) -> f64 {
-        self.sway().max_speed()
+        match self {
+            Motion::Series(s) => s.bounds().1,
+            _ => self.sway().map_or(0.0, |s| s.max_speed()),
+        }
+    }
+
+    /// Per axis, an upper bound of `|d_k(t)|` [m] over all times: how far the solid sweeps.
+    pub fn reach(&self) -> Vec<f64> {
+        match self {
+            Motion::Series(s) => s.direction.iter().map(|n| n.abs() * s.bounds().0).collect(),
+            _ => self
+                .sway()
+                .map(|s| s.amplitude.iter().map(|a| a.abs()).collect())
+                .unwrap_or_default(),
+        }
+    }
+}
+
+/// Kinematics of the scalar profile `f` along the vector `v` (`v f`, `v f'`, `v f''`), rounded
+/// to f32.
+fn along<const D: usize>(v: &[f64], f: Profile) -> SolidKinematics<D> {
+    let scaled = |c: f64| Vector::<D>::from_fn(|k, _| (v.get(k).copied().unwrap_or(0.0) * c) as Real);
+    SolidKinematics {
+        displacement: scaled(f.value),
+        velocity: scaled(f.rate),
+        acceleration: scaled(f.curvature),
     }
 }
 
@@ -223,14 +260,7 @@ impl Sway {
 
     /// Displacement, velocity and acceleration at time `t` [s], rounded to f32.
     pub fn kinematics<const D: usize>(&self, t: f64) -> SolidKinematics<D> {
-        let f = self.profile(t);
-        let scaled =
-            |c: f64| Vector::<D>::from_fn(|k, _| (self.amplitude.get(k).copied().unwrap_or(0.0) * c) as Real);
-        SolidKinematics {
-            displacement: scaled(f.value),
-            velocity: scaled(f.rate),
-            acceleration: scaled(f.curvature),
-        }
+        along(&self.amplitude, self.profile(t))
     }
 
     /// An upper bound of the speed `|d'(t)|` [m/s] over all times: `|A| (ω + max s'/t_r)`, with
@@ -333,7 +363,7 @@ mod tests {
         let ratio = crate::physics::waves::piston_height_per_stroke(k * d);
         assert!((piston.stroke() * ratio / piston.wave_height - 1.0).abs() < 1e-12);
         let motion = Motion::Piston(piston.clone());
-        let sway = motion.sway();
+        let sway = motion.sway().expect("a sine");
         assert_eq!(sway.amplitude, vec![0.5 * piston.stroke(), 0.0]);
         assert_eq!((sway.period, sway.ramp), (1.1, 2.0));
         assert_eq!(motion.kinematics::<2>(3.7), sway.kinematics::<2>(3.7));

@@ -177,6 +177,10 @@ pub(crate) fn check(scene: &Scene) -> Vec<RawProblem> {
                 m.value(mp.k("period"), piston.period, Rule::Positive);
                 m.value(mp.k("ramp"), piston.ramp, Rule::ZeroOr);
             }
+            Some(Motion::Series(series)) => {
+                m.values(mp.k("file"), &series.displacement, Rule::ZeroOr);
+                m.values(mp.k("file"), &series.time, Rule::Coordinate);
+            }
             None => {}
         }
     }

@@ -489,6 +489,10 @@ impl<'de> Deserialize<'de> for AxisFile {
 ///   along the unit `direction` with the amplitude `S/2`, `S` the stroke that makes waves of
 ///   height `H` and period `T` on water `d` deep by first-order wave-maker theory
 ///   (`boundary::motion::Piston`, Dean & Dalrymple 1991 eqs. 4.20 and 6.20). Needs gravity.
+/// - `kind = "series"`: `motion = { kind = "series", file = "stroke.csv", direction = [..] }`:
+///   the displacement along the unit `direction` from a CSV file of `t_s, displacement_m`
+///   samples (a header line first), joined by a natural cubic spline
+///   (`boundary::series`); held at the first and last sample outside them. No period or ramp.
 ///
 /// Without `ramp` (or `ramp = 0`) `r = 1`; with it the amplitude grows from 0 over the first
 /// `t_r` seconds as `r = s(t/t_r)`, `s(x) = 10x³ − 15x⁴ + 6x⁵`, whose first two derivatives
@@ -505,16 +509,19 @@ pub struct MotionFile {
     pub kind: Option<MotionKind>,
     /// Sway: amplitude `A` \[m\], `dimension` entries.
     pub amplitude: Option<Vec<f64>>,
-    /// Period `T` \[s\], > 0 (the piston's: the wave's).
-    pub period: f64,
+    /// Sway and piston: period `T` \[s\], > 0 (the piston's: the wave's).
+    pub period: Option<f64>,
     /// Ramp time `t_r` \[s\], >= 0; default 0 (no ramp).
     pub ramp: Option<f64>,
     /// Piston: target wave height `H` \[m\], crest to trough, > 0.
     pub wave_height: Option<f64>,
     /// Piston: still-water depth `d` \[m\] in front of the piston, > 0.
     pub depth: Option<f64>,
-    /// Piston: direction of the stroke, `dimension` entries, not all zero.
+    /// Piston and series: direction of the stroke, `dimension` entries, not all zero.
     pub direction: Option<Vec<f64>>,
+    /// Series: the CSV file of the displacement samples, relative to the scene file's directory
+    /// (or absolute).
+    pub file: Option<String>,
 }
 
 /// `motion.kind`: what prescribes a solid's translation.
@@ -525,6 +532,8 @@ pub enum MotionKind {
     Sway,
     /// A piston wave maker: the amplitude from a target wave.
     Piston,
+    /// A displacement time series read from a file.
+    Series,
 }
 
 /// `[solver]`: time integration.

@@ -253,15 +253,18 @@ impl<const D: usize> Simulation<D> {
                 Motion::Piston(p) => [p.wave_height, p.depth, p.gravity]
                     .iter()
                     .all(|v| v.is_finite() && *v > 0.0),
+                // `DisplacementSeries::new` checked its samples.
+                Motion::Series(s) => s.direction.len() == D && s.direction.iter().all(|n| n.is_finite()),
             };
-            let m = motion.sway();
             let ok = piston_ok
-                && m.period.is_finite()
-                && m.period > 0.0
-                && m.ramp.is_finite()
-                && m.ramp >= 0.0
-                && m.amplitude.len() == D
-                && m.amplitude.iter().all(|a| a.is_finite());
+                && motion.sway().is_none_or(|m| {
+                    m.period.is_finite()
+                        && m.period > 0.0
+                        && m.ramp.is_finite()
+                        && m.ramp >= 0.0
+                        && m.amplitude.len() == D
+                        && m.amplitude.iter().all(|a| a.is_finite())
+                });
             if !ok {
                 return Err(invalid(format!("not a valid motion: {motion:?}")));
             }

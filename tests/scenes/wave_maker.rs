@@ -28,7 +28,7 @@ fn piston_resolves_to_the_stroke_of_wave_maker_theory() {
     let kd = p.wavenumber() * p.depth;
     // Dean & Dalrymple's numbers for this wave: kd = 1.198, H/S = 1.157 (by hand).
     assert!((kd - 1.198).abs() < 1e-3, "kd {kd}");
-    let sway = Motion::Piston(p.clone()).sway();
+    let sway = Motion::Piston(p.clone()).sway().expect("a sine");
     let stroke = 2.0 * sway.amplitude[0];
     assert!((stroke * piston_height_per_stroke(kd) / 0.04 - 1.0).abs() < 1e-12);
     assert!((stroke - 0.0346).abs() < 1e-4, "stroke {stroke}");
@@ -105,4 +105,62 @@ fn damping_zone_keys_are_checked() {
     with_key(&problems(parse(&weak)), "damping_zone.strength");
     let unknown = edit(&text, "strength = 10.0", "strength = 10.0\nwidth = 1.0");
     assert!(parse(&unknown).is_err(), "unknown key in [damping_zone]");
+}
+
+/// A piston driven by a displacement series: the flume with `kind = "series"` and a CSV of the
+/// piston's own sine (0.0173 m, T = 1.1 s, every 10 ms, no ramp) moves as the sine does, to the
+/// spline's interpolation error (1e-4 of the amplitude here); a missing file and a bad line are
+/// errors at `motion.file` naming the file.
+#[test]
+fn a_series_piston_follows_its_samples() {
+    let dir = crate::common::scratch_dir("wave_maker_series");
+    let (a, w) = (0.0173, std::f64::consts::TAU / 1.1);
+    let mut csv = String::from("t_s,x_m\n");
+    for i in 0..=1000 {
+        let t = f64::from(i) * 0.01;
+        csv += &format!("{t},{}\n", a * (w * t).sin());
+    }
+    std::fs::write(dir.join("stroke.csv"), csv).expect("writable");
+    let series = r#"motion = { kind = "series", file = "stroke.csv", direction = [2.0, 0.0] }"#;
+    let text = edit(&flume(), PISTON, series);
+    std::fs::write(dir.join("flume.toml"), &text).expect("writable");
+    let scene = load_scene(&dir.join("flume.toml"), &[]).expect("a series piston");
+    let motion = scene.solids[1].motion.clone().expect("moves");
+    assert!(matches!(motion, Motion::Series(_)), "{motion:?}");
+    for i in 1..200 {
+        let t = 0.5 + f64::from(i) * 0.037;
+        let k = motion.kinematics::<2>(t);
+        let want = a * (w * t).sin();
+        assert!(
+            (f64::from(k.displacement[0]) - want).abs() < 1e-4 * a + 1e-8,
+            "d at {t}"
+        );
+        assert!(
+            (f64::from(k.velocity[0]) - a * w * (w * t).cos()).abs() < 1e-3 * a * w,
+            "d' at {t}"
+        );
+        assert_eq!(k.displacement[1], 0.0);
+    }
+    let reach = motion.reach();
+    assert!(reach[0] >= a && reach[0] < 1.02 * a, "{reach:?}");
+    let missing = text.replace("stroke.csv", "nowhere.csv");
+    std::fs::write(dir.join("missing.toml"), &missing).expect("writable");
+    let e = load_scene(&dir.join("missing.toml"), &[]).expect_err("no file");
+    let p = with_key(e.problems(), "solid[1].motion.file").clone();
+    assert!(p.reason.contains("nowhere.csv"), "{p:?}");
+    std::fs::write(dir.join("bad.csv"), "t_s,x_m\n0,0\n0.1\n").expect("writable");
+    let bad = text.replace("stroke.csv", "bad.csv");
+    std::fs::write(dir.join("bad.toml"), &bad).expect("writable");
+    let e = load_scene(&dir.join("bad.toml"), &[]).expect_err("bad line");
+    let p = with_key(e.problems(), "solid[1].motion.file").clone();
+    assert!(
+        p.reason.contains("bad.csv") && p.reason.contains("line 3"),
+        "{p:?}"
+    );
+    let timed = text.replace(
+        "direction = [2.0, 0.0] }",
+        "direction = [2.0, 0.0], period = 1.0 }",
+    );
+    let p = with_key(&problems(parse(&timed)), "solid[1].motion.period").clone();
+    assert!(p.reason.contains("\"series\""), "{p:?}");
 }

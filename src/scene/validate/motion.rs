@@ -3,32 +3,44 @@
 
 use super::*;
 use crate::boundary::motion::{Motion, Piston};
+use crate::boundary::series::DisplacementSeries;
 use crate::scene::DampingZoneSpec;
 use crate::scene::schema::{DampingZoneFile, MotionKind};
 
-/// A solid's `motion` table: a positive period, a non-negative ramp, and the keys of its kind
-/// (sway: finite amplitudes, not all zero; piston: positive wave height and depth, a direction
-/// not zero, and gravity `g` [m/s²], the scene's `|fluid.gravity|`); a key of the other kind is
-/// an error. The swept box is checked with the geometry.
+/// A solid's `motion` table: the keys of its kind (sway: finite amplitudes, not all zero;
+/// piston: positive wave height and depth, a direction not zero, and gravity `g` [m/s²], the
+/// scene's `|fluid.gravity|`; both a positive period and a non-negative ramp; series: a
+/// direction not zero and a readable file of samples, relative to `dir`); a key of another kind
+/// is an error. The swept box is checked with the geometry.
 pub(super) fn check_motion(
     c: &mut Checker,
     path: &KeyPath,
     m: &MotionFile,
     dim: Option<usize>,
     g: Option<f64>,
+    dir: &Path,
 ) -> Option<Motion> {
     let kind = m.kind.unwrap_or(MotionKind::Sway);
     let kind_name = match kind {
         MotionKind::Sway => "sway",
         MotionKind::Piston => "piston",
+        MotionKind::Series => "series",
     };
     let foreign: &[(&str, bool)] = match kind {
         MotionKind::Sway => &[
             ("wave_height", m.wave_height.is_some()),
             ("depth", m.depth.is_some()),
             ("direction", m.direction.is_some()),
+            ("file", m.file.is_some()),
         ],
-        MotionKind::Piston => &[("amplitude", m.amplitude.is_some())],
+        MotionKind::Piston => &[("amplitude", m.amplitude.is_some()), ("file", m.file.is_some())],
+        MotionKind::Series => &[
+            ("amplitude", m.amplitude.is_some()),
+            ("wave_height", m.wave_height.is_some()),
+            ("depth", m.depth.is_some()),
+            ("period", m.period.is_some()),
+            ("ramp", m.ramp.is_some()),
+        ],
     };
     let mut ok = true;
     for (key, given) in foreign {
@@ -42,10 +54,22 @@ pub(super) fn check_motion(
             ok = false;
         }
     }
-    let period = c.positive(path.k("period"), m.period);
+    // A series has neither period nor ramp (refused above as foreign keys).
+    let timed = kind != MotionKind::Series;
+    let period = match (m.period, timed) {
+        (Some(t), true) => c.positive(path.k("period"), t),
+        (None, true) => {
+            c.err(
+                path.k("period"),
+                format!("required for motion.kind = \"{kind_name}\""),
+            );
+            None
+        }
+        (_, false) => None,
+    };
     let ramp = match m.ramp {
-        Some(r) => c.non_negative(path.k("ramp"), r),
-        None => Some(0.0),
+        Some(r) if timed => c.non_negative(path.k("ramp"), r),
+        _ => Some(0.0),
     };
     let required = |c: &mut Checker, key: &str, v: Option<f64>| match v {
         Some(v) => c.positive(path.k(key), v),
@@ -75,29 +99,14 @@ pub(super) fn check_motion(
                 ramp: ramp?,
             })
         }
+        MotionKind::Series => {
+            let direction = check_direction(c, path, m, dim)?;
+            Motion::Series(read_series(c, path, m, dir, direction)?)
+        }
         MotionKind::Piston => {
             let wave_height = required(c, "wave_height", m.wave_height);
             let depth = required(c, "depth", m.depth);
-            let direction = match &m.direction {
-                Some(n) => c.vector(path.k("direction"), n, dim),
-                None => {
-                    c.err(
-                        path.k("direction"),
-                        "required for motion.kind = \"piston\"".into(),
-                    );
-                    None
-                }
-            };
-            let norm = direction
-                .as_ref()
-                .map(|n| n.iter().map(|x| x * x).sum::<f64>().sqrt());
-            if norm == Some(0.0) {
-                c.err(
-                    path.k("direction"),
-                    "all entries are 0: give the direction the piston strokes along".into(),
-                );
-                return None;
-            }
+            let direction = check_direction(c, path, m, dim);
             let gravity = match g {
                 Some(g) if g > 0.0 => Some(g),
                 _ => {
@@ -108,18 +117,67 @@ pub(super) fn check_motion(
                     None
                 }
             };
-            let (direction, norm) = (direction?, norm?);
             Motion::Piston(Piston {
                 wave_height: wave_height?,
                 period: period?,
                 depth: depth?,
                 gravity: gravity?,
-                direction: direction.iter().map(|x| x / norm).collect(),
+                direction: direction?,
                 ramp: ramp?,
             })
         }
     };
     ok.then_some(motion)
+}
+
+/// `motion.direction` (piston, series): `dimension` finite entries, not all zero; normalised.
+fn check_direction(c: &mut Checker, path: &KeyPath, m: &MotionFile, dim: Option<usize>) -> Option<Vec<f64>> {
+    let Some(n) = &m.direction else {
+        c.err(path.k("direction"), "required for this motion.kind".into());
+        return None;
+    };
+    let n = c.vector(path.k("direction"), n, dim)?;
+    let norm = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if norm == 0.0 {
+        c.err(
+            path.k("direction"),
+            "all entries are 0: give the direction the solid moves along".into(),
+        );
+        return None;
+    }
+    Some(n.iter().map(|x| x / norm).collect())
+}
+
+/// `motion.file` (series): the samples of the CSV file at `dir`/`file`; a missing or bad file is
+/// an error naming it.
+fn read_series(
+    c: &mut Checker,
+    path: &KeyPath,
+    m: &MotionFile,
+    dir: &Path,
+    direction: Vec<f64>,
+) -> Option<DisplacementSeries> {
+    let Some(file) = &m.file else {
+        c.err(path.k("file"), "required for motion.kind = \"series\"".into());
+        return None;
+    };
+    let full = dir.join(file);
+    let text = match std::fs::read_to_string(&full) {
+        Ok(t) => t,
+        Err(e) => {
+            c.err(path.k("file"), format!("cannot read {}: {e}", full.display()));
+            return None;
+        }
+    };
+    let series =
+        DisplacementSeries::parse(&text).and_then(|(t, s)| DisplacementSeries::new(file, t, s, direction));
+    match series {
+        Ok(s) => Some(s),
+        Err(e) => {
+            c.err(path.k("file"), format!("{}: {e}", full.display()));
+            None
+        }
+    }
 }
 
 /// `[damping_zone]`: `start` and `end` of `dimension` finite entries, distinct (either may lie

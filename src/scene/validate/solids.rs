@@ -119,7 +119,7 @@ pub(super) fn check_solid(
     let ok = check_name(c, path.k("name"), &s.name, &earlier, "solid");
     let motion = match &s.motion {
         None => Some(None),
-        Some(m) => check_motion(c, &path.k("motion"), m, dim, g).map(Some),
+        Some(m) => check_motion(c, &path.k("motion"), m, dim, g, dir).map(Some),
     };
     let dim = dim?;
     let volume = check_shape(c, &path, &ShapeKeys::solid(s), dim, dir);
