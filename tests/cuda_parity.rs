@@ -293,6 +293,22 @@ fn sloshing_tanks_match_the_cpu() {
     }
 }
 
+/// The wave flume (`scenes/wave_flume_2d.toml`): a piston (`move_solids` with a piston's
+/// motion, started without the ramp so it moves at full speed from the first step) and the
+/// `damping_zone` stage, with the continuity equation of its `density_diffusion` effect.
+#[test]
+fn wave_flume_matches_the_cpu() {
+    for device in devices() {
+        check(
+            device,
+            &format!("{ROOT}/scenes/wave_flume_2d.toml"),
+            &["solid.1.motion.ramp=0".to_string()],
+            STEPS,
+            FORCE,
+        );
+    }
+}
+
 /// A mesh solid (`tests/scenes/mesh_obstacle_3d.toml`: the STL obstacle of `scenes/meshes` in a
 /// small 3D dam break): its particles and the force on it go through the same stages as a box's.
 #[test]

@@ -13,6 +13,7 @@ use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::Vector;
 use crate::model::pair_terms::PairTerms;
+use crate::physics::damping_zone::DampingZone;
 use params::StepParams;
 
 /// What `Backend::solid_forces` gives per solid: the fluid's force `F = Σ_s f_s` [N] (slots
@@ -147,6 +148,10 @@ pub trait Backend<const D: usize> {
     fn store_density_start(&mut self, fields: &mut Fields<D>);
     /// One Shu–Osher stage of the density, fluid only: `ρ ← a ρ^n + b (ρ + dt dρ/dt)`; `dt` [s].
     fn rk_density_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32);
+    /// The damping zone ([AEA17], `physics::damping_zone`): the velocity of every fluid particle
+    /// at `x` is multiplied by `zone.velocity_factor(x, dt)`; `dt` [s] the step. Solids are
+    /// untouched.
+    fn damping_zone(&mut self, fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32);
     /// Eq. (19): pressure of fluid particles.
     fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Moving solids (`boundary::motion`): every solid particle of id `reference.first_id + k`

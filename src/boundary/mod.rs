@@ -32,6 +32,7 @@
 
 pub mod keep_out;
 pub mod motion;
+pub mod series;
 pub mod solid_force;
 pub mod wall_pressure;
 pub mod wall_velocity;

@@ -1,5 +1,7 @@
-//! Prescribed rigid motion of a solid (scene `[[solid]] motion = { ... }`): a sway, the forcing
-//! of a sloshing tank.
+//! Prescribed rigid motion of a solid (scene `[[solid]] motion = { kind = ..., ... }`), one of
+//! the kinds of [`Motion`]: a sway, the forcing of a sloshing tank, a piston wave maker
+//! ([`Piston`]), the same translation with its stroke from first-order wave-maker theory, or a
+//! displacement time series (`boundary::series`).
 //!
 //! The solid translates as a whole by `d(t) = A f(t)` [m], with the amplitude vector `A` [m] and
 //! the scalar profile
@@ -26,6 +28,7 @@
 //! simulated time [s] from the start of the run. Evaluated in f64 and rounded to f32 once, so
 //! both backends place the particles from the same numbers.
 
+use super::series::DisplacementSeries;
 use crate::math::{Real, Vector};
 
 /// A rigid sway `d(t) = A r(t) sin(2π t / T)` (module doc).
@@ -37,6 +40,141 @@ pub struct Sway {
     pub period: f64,
     /// Ramp time `t_r` [s], >= 0 (0: no ramp).
     pub ramp: f64,
+}
+
+/// A solid's prescribed motion, the kind the scene chooses (`motion.kind`). Each kind is a
+/// rigid translation `d(t)`; the stages (`move_solids`) only see its kinematics.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Motion {
+    /// `kind = "sway"` (the default): the amplitude is given.
+    Sway(Sway),
+    /// `kind = "piston"`: the amplitude is the stroke that makes a wave of the given height.
+    Piston(Piston),
+    /// `kind = "series"`: the displacement along a direction from a time series.
+    Series(DisplacementSeries),
+}
+
+impl From<Sway> for Motion {
+    fn from(sway: Sway) -> Self {
+        Motion::Sway(sway)
+    }
+}
+
+impl Motion {
+    /// The scene's name of the kind.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Motion::Sway(_) => "sway",
+            Motion::Piston(_) => "piston",
+            Motion::Series(_) => "series",
+        }
+    }
+
+    /// The sinusoidal translation the solid performs (`None` for a time series).
+    pub fn sway(&self) -> Option<Sway> {
+        match self {
+            Motion::Sway(s) => Some(s.clone()),
+            Motion::Piston(p) => Some(p.sway()),
+            Motion::Series(_) => None,
+        }
+    }
+
+    /// Displacement, velocity and acceleration at time `t` [s] ([`Sway::kinematics`], or the
+    /// series' spline along its direction).
+    pub fn kinematics<const D: usize>(&self, t: f64) -> SolidKinematics<D> {
+        match self {
+            Motion::Sway(s) => s.kinematics(t),
+            Motion::Piston(p) => p.sway().kinematics(t),
+            Motion::Series(s) => along(&s.direction, s.profile(t)),
+        }
+    }
+
+    /// An upper bound of the solid's speed [m/s] ([`Sway::max_speed`],
+    /// `DisplacementSeries::bounds`).
+    pub fn max_speed(&self) -> f64 {
+        match self {
+            Motion::Series(s) => s.bounds().1,
+            _ => self.sway().map_or(0.0, |s| s.max_speed()),
+        }
+    }
+
+    /// Per axis, an upper bound of `|d_k(t)|` [m] over all times: how far the solid sweeps.
+    pub fn reach(&self) -> Vec<f64> {
+        match self {
+            Motion::Series(s) => s.direction.iter().map(|n| n.abs() * s.bounds().0).collect(),
+            _ => self
+                .sway()
+                .map(|s| s.amplitude.iter().map(|a| a.abs()).collect())
+                .unwrap_or_default(),
+        }
+    }
+}
+
+/// Kinematics of the scalar profile `f` along the vector `v` (`v f`, `v f'`, `v f''`), rounded
+/// to f32.
+fn along<const D: usize>(v: &[f64], f: Profile) -> SolidKinematics<D> {
+    let scaled = |c: f64| Vector::<D>::from_fn(|k, _| (v.get(k).copied().unwrap_or(0.0) * c) as Real);
+    SolidKinematics {
+        displacement: scaled(f.value),
+        velocity: scaled(f.rate),
+        acceleration: scaled(f.curvature),
+    }
+}
+
+/// A piston wave maker: a rigid translation along `direction` whose stroke makes, by linear
+/// wave-maker theory, a progressive wave of height `H` and period `T` on water `d` deep
+/// (`physics::waves`, [DD91] Dean & Dalrymple 1991, §6.2):
+///
+/// ```text
+/// ω² = g k tanh(k d)                              (dispersion, [DD91] eq. 4.20)
+/// S = H / (2 (cosh 2kd − 1) / (sinh 2kd + 2kd))   (Biésel's transfer function, [DD91] eq. 6.20)
+/// d(t) = (S/2) n r(t) sin(ω t)                    (the sway of amplitude S/2 along the unit n)
+/// ```
+///
+/// with the ramp `r` of the module doc. The wave is first-order: its height is `H` far (a few
+/// depths) from the piston, where the evanescent modes of the paddle have died out.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Piston {
+    /// Target wave height `H` [m] (crest to trough), > 0.
+    pub wave_height: f64,
+    /// Wave period `T` [s], > 0.
+    pub period: f64,
+    /// Still-water depth `d` [m] at the piston, > 0.
+    pub depth: f64,
+    /// `|g|` [m/s²], > 0: the scene's gravity.
+    pub gravity: f64,
+    /// Unit direction `n` of the stroke, one entry per axis.
+    pub direction: Vec<f64>,
+    /// Ramp time `t_r` [s], >= 0 (0: no ramp).
+    pub ramp: f64,
+}
+
+impl Piston {
+    /// The wavenumber `k` [1/m] of the wave ([DD91] eq. 4.20).
+    pub fn wavenumber(&self) -> f64 {
+        crate::physics::waves::wavenumber(std::f64::consts::TAU / self.period, self.depth, self.gravity)
+    }
+
+    /// The wavelength `L = 2π/k` [m].
+    pub fn wavelength(&self) -> f64 {
+        std::f64::consts::TAU / self.wavenumber()
+    }
+
+    /// The stroke `S` [m], the piston's full excursion: `H` over Biésel's `H/S` ([DD91] eq. 6.20).
+    pub fn stroke(&self) -> f64 {
+        let kd = self.wavenumber() * self.depth;
+        self.wave_height / crate::physics::waves::piston_height_per_stroke(kd)
+    }
+
+    /// The translation: amplitude `S/2` along `direction`, the wave's period and the ramp.
+    pub fn sway(&self) -> Sway {
+        let half = 0.5 * self.stroke();
+        Sway {
+            amplitude: self.direction.iter().map(|n| half * n).collect(),
+            period: self.period,
+            ramp: self.ramp,
+        }
+    }
 }
 
 /// The scalar profile `f` of a [`Sway`] and its first two time derivatives at one time.
@@ -122,14 +260,7 @@ impl Sway {
 
     /// Displacement, velocity and acceleration at time `t` [s], rounded to f32.
     pub fn kinematics<const D: usize>(&self, t: f64) -> SolidKinematics<D> {
-        let f = self.profile(t);
-        let scaled =
-            |c: f64| Vector::<D>::from_fn(|k, _| (self.amplitude.get(k).copied().unwrap_or(0.0) * c) as Real);
-        SolidKinematics {
-            displacement: scaled(f.value),
-            velocity: scaled(f.rate),
-            acceleration: scaled(f.curvature),
-        }
+        along(&self.amplitude, self.profile(t))
     }
 
     /// An upper bound of the speed `|d'(t)|` [m/s] over all times: `|A| (ω + max s'/t_r)`, with
@@ -212,6 +343,31 @@ mod tests {
             fastest > 0.5 * bound,
             "the bound {bound} is not loose by more than 2x ({fastest})"
         );
+    }
+
+    /// The piston's stroke makes H from Biésel's function: S H/S = H, the amplitude S/2 along
+    /// the unit direction, and k solves the dispersion relation (each to f64 rounding).
+    #[test]
+    fn piston_sways_by_half_the_stroke_biesel_gives() {
+        let piston = Piston {
+            wave_height: 0.03,
+            period: 1.1,
+            depth: 0.3,
+            gravity: 9.81,
+            direction: vec![1.0, 0.0],
+            ramp: 2.0,
+        };
+        let (k, d) = (piston.wavenumber(), piston.depth);
+        let w = std::f64::consts::TAU / piston.period;
+        assert!((9.81 * k * (k * d).tanh() / (w * w) - 1.0).abs() < 1e-12);
+        let ratio = crate::physics::waves::piston_height_per_stroke(k * d);
+        assert!((piston.stroke() * ratio / piston.wave_height - 1.0).abs() < 1e-12);
+        let motion = Motion::Piston(piston.clone());
+        let sway = motion.sway().expect("a sine");
+        assert_eq!(sway.amplitude, vec![0.5 * piston.stroke(), 0.0]);
+        assert_eq!((sway.period, sway.ramp), (1.1, 2.0));
+        assert_eq!(motion.kinematics::<2>(3.7), sway.kinematics::<2>(3.7));
+        assert_eq!(motion.max_speed(), sway.max_speed());
     }
 
     /// Without a ramp, d = A sin(ωt) exactly at quarter periods.

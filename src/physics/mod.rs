@@ -8,6 +8,7 @@
 
 pub mod artificial_viscosity;
 pub mod correction;
+pub mod damping_zone;
 pub mod density;
 pub mod density_diffusion;
 pub mod eos;
@@ -20,3 +21,4 @@ pub mod rotating_frame;
 pub mod surface_stress;
 pub mod surface_tension;
 pub mod viscosity;
+pub mod waves;

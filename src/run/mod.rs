@@ -138,6 +138,7 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
         integrator: integrator(scene),
         correction: correction(scene),
         on_escape: scene.solver.on_escape,
+        damping_zone: scene.damping_zone.as_ref().map(|z| z.zone()),
     }
 }
 

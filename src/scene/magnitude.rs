@@ -15,6 +15,7 @@
 
 use super::validate::{RawProblem, num};
 use super::{KeyPath, Scene};
+use crate::boundary::motion::Motion;
 use crate::physics::pair::ViscousMedium;
 use crate::smoothing::Smoothing;
 
@@ -163,11 +164,24 @@ pub(crate) fn check(scene: &Scene) -> Vec<RawProblem> {
         let path = key("solid").i(i);
         m.values(path.k("min"), &s.region.min, Rule::Coordinate);
         m.values(path.k("max"), &s.region.max, Rule::Coordinate);
-        if let Some(sway) = &s.motion {
-            let mp = path.k("motion");
-            m.values(mp.k("amplitude"), &sway.amplitude, Rule::ZeroOr);
-            m.value(mp.k("period"), sway.period, Rule::Positive);
-            m.value(mp.k("ramp"), sway.ramp, Rule::ZeroOr);
+        let mp = path.k("motion");
+        match &s.motion {
+            Some(Motion::Sway(sway)) => {
+                m.values(mp.k("amplitude"), &sway.amplitude, Rule::ZeroOr);
+                m.value(mp.k("period"), sway.period, Rule::Positive);
+                m.value(mp.k("ramp"), sway.ramp, Rule::ZeroOr);
+            }
+            Some(Motion::Piston(piston)) => {
+                m.value(mp.k("wave_height"), piston.wave_height, Rule::Positive);
+                m.value(mp.k("depth"), piston.depth, Rule::Positive);
+                m.value(mp.k("period"), piston.period, Rule::Positive);
+                m.value(mp.k("ramp"), piston.ramp, Rule::ZeroOr);
+            }
+            Some(Motion::Series(series)) => {
+                m.values(mp.k("file"), &series.displacement, Rule::ZeroOr);
+                m.values(mp.k("file"), &series.time, Rule::Coordinate);
+            }
+            None => {}
         }
     }
     if let Some(dt) = scene.dt {

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use crate::geometry::Volume;
 
-pub use crate::boundary::motion::Sway;
+pub use crate::boundary::motion::{Motion, Piston, Sway};
 
 pub(crate) mod count;
 pub mod generate;
@@ -124,6 +124,29 @@ pub struct Scene {
     pub fluid_only: bool,
     /// Probes (`[[probe]]`), in file order, with unique names.
     pub probes: Vec<Probe>,
+    /// The damping zone (`[damping_zone]`), if any.
+    pub damping_zone: Option<DampingZoneSpec>,
+}
+
+/// A validated `[damping_zone]` (`physics::damping_zone`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DampingZoneSpec {
+    /// Where the damping starts \[m\], `dimension` entries.
+    pub start: Vec<f64>,
+    /// Where it reaches full strength \[m\], `dimension` entries, not `start`.
+    pub end: Vec<f64>,
+    /// `β` \[1/s\], > 0.
+    pub strength: f64,
+}
+
+impl DampingZoneSpec {
+    /// The default `strength` \[1/s\]: DualSPHysics' `redumax`.
+    pub const DEFAULT_STRENGTH: f64 = 10.0;
+
+    /// The zone as the `damping_zone` stage uses it (f32, `D` components).
+    pub fn zone<const D: usize>(&self) -> crate::physics::damping_zone::DampingZone<D> {
+        crate::physics::damping_zone::DampingZone::new(&self.start, &self.end, self.strength)
+    }
 }
 
 impl Scene {
@@ -342,8 +365,8 @@ pub struct Solid {
     pub region: Aabb,
     /// Container without lid (always `false` for [`SolidShape::Box`]).
     pub open_top: bool,
-    /// Prescribed rigid translation (`motion = {...}`); `None` for a fixed solid.
-    pub motion: Option<Sway>,
+    /// Prescribed rigid translation (`motion = {...}`) of its kind; `None` for a fixed solid.
+    pub motion: Option<Motion>,
     /// The volume the solid fills at `t = 0` \[m\]: [`Volume::Aabb`] for an unrotated box and
     /// for a container's inside (which its walls surround), else the shape's own volume.
     pub volume: Volume,

@@ -6,6 +6,7 @@ use super::plan::PlanInputs;
 use crate::math::Vector;
 use crate::model::pair_terms::PairTermSettings;
 use crate::model::{DensityEquation, SurfaceTensionModel};
+use crate::physics::damping_zone::DampingZone;
 
 /// The time integrator (scene `solver.integrator`, in `snake_case`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, serde::Deserialize)]
@@ -136,6 +137,9 @@ pub struct SimConfig<const D: usize> {
     pub correction: Option<Correction>,
     /// What a step does with a fluid particle outside the domain ([`escape`]).
     pub on_escape: escape::EscapePolicy,
+    /// The damping zone (`physics::damping_zone`): the plan's `damping_zone` stage relaxes the
+    /// fluid's velocity there; `None`: no zone, no stage.
+    pub damping_zone: Option<DampingZone<D>>,
 }
 
 impl<const D: usize> SimConfig<D> {
@@ -156,6 +160,7 @@ impl<const D: usize> SimConfig<D> {
                 Some(_) => DensityEquation::ContinuityFourtakas2019,
                 None => DensityEquation::Summation,
             },
+            damping_zone: self.damping_zone.is_some(),
         }
     }
 }

@@ -28,6 +28,8 @@ pub struct PlanInputs {
     /// How fluid density evolves: summed (18), or integrated by the continuity equation with
     /// density diffusion (the `density_diffusion` effect, `wcsph` only).
     pub density: DensityEquation,
+    /// The scene has a damping zone (`physics::damping_zone`).
+    pub damping_zone: bool,
 }
 
 /// The stages of one integrator stage, in order (PAPER.md sections 1 and 2).
@@ -110,6 +112,11 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         }
         plan.push(Stage::Correction);
     }
+    if inputs.damping_zone {
+        // On the stage's final velocities; the driver runs it once a step, after the last
+        // integrator stage.
+        plan.push(Stage::DampingZone);
+    }
     plan
 }
 
@@ -151,6 +158,7 @@ mod tests {
             integrator: Integrator::SymplecticEuler,
             corrected: false,
             density: DensityEquation::Summation,
+            damping_zone: false,
         }
     }
 
@@ -307,6 +315,36 @@ mod tests {
             !p.iter().any(|s| matches!(s, Stage::MoveSolids(_))),
             "fixed solids cost nothing"
         );
+    }
+
+    #[test]
+    fn the_damping_zone_runs_last_and_only_with_a_zone() {
+        for integrator in [Integrator::SymplecticEuler, Integrator::Rk3] {
+            for corrected in [false, true] {
+                let with = plan(PlanInputs {
+                    damping_zone: true,
+                    integrator,
+                    corrected,
+                    ..inputs()
+                });
+                assert_eq!(
+                    with.last(),
+                    Some(&Stage::DampingZone),
+                    "{integrator:?} {corrected}"
+                );
+                assert_eq!(with.iter().filter(|s| **s == Stage::DampingZone).count(), 1);
+                let without = plan(PlanInputs {
+                    integrator,
+                    corrected,
+                    ..inputs()
+                });
+                assert!(
+                    !without.contains(&Stage::DampingZone),
+                    "a flume-less scene pays nothing"
+                );
+                assert_eq!(&with[..with.len() - 1], &without[..]);
+            }
+        }
     }
 
     #[test]

@@ -6,7 +6,7 @@ use super::{Clock, RunStats, SetupError, SimConfig, SurfaceTension};
 use crate::backend::Backend;
 use crate::backend::cpu::CpuBackend;
 use crate::boundary::keep_out::KeepOutBox;
-use crate::boundary::motion::{SolidKinematics, SolidReference, Sway};
+use crate::boundary::motion::{Motion, SolidKinematics, SolidReference};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::model::SurfaceTensionModel;
@@ -75,7 +75,7 @@ pub struct Simulation<const D: usize> {
     /// The solids' volumes for the no-penetration guard (`boundary::keep_out`); empty: no guard.
     pub(super) keep_out: Vec<KeepOutBox<D>>,
     /// Prescribed motion of each solid (`None`: fixed), in scene order.
-    pub(super) motions: Vec<Option<Sway>>,
+    pub(super) motions: Vec<Option<Motion>>,
     /// `x0` of the solid particles by id; empty unless a solid moves.
     pub(super) solid_reference: SolidReference<D>,
     /// Kinematics of each solid at its last placement; empty unless a solid moves.
@@ -84,7 +84,7 @@ pub struct Simulation<const D: usize> {
     pub(super) wall_acceleration: Vec<Vector<D>>,
     /// Time [s] the moving solids were last placed at, if they were since the fields were set.
     pub(super) solids_placed_at: Option<f64>,
-    /// Bound of the moving solids' speed [m/s] (`Sway::max_speed`), a flow speed for the time
+    /// Bound of the moving solids' speed [m/s] (`Motion::max_speed`), a flow speed for the time
     /// step; 0 when nothing moves.
     pub(super) wall_speed: f64,
     /// The smallest rest density of any phase [kg/m³] (`config.rho0` unless
@@ -236,7 +236,7 @@ impl<const D: usize> Simulation<D> {
     /// # Errors
     /// [`SetupError::Invalid`] when `motions` does not have one entry per solid, a motion is not
     /// finite (period ≤ 0, negative ramp, non-finite or missing amplitude), or steps were taken.
-    pub fn with_solid_motion(mut self, motions: Vec<Option<Sway>>) -> Result<Self, SetupError> {
+    pub fn with_solid_motion(mut self, motions: Vec<Option<Motion>>) -> Result<Self, SetupError> {
         let invalid = |reason: String| SetupError::Invalid {
             key: "solid.motion",
             reason,
@@ -251,20 +251,35 @@ impl<const D: usize> Simulation<D> {
         if self.clock.step != 0 {
             return Err(invalid("motions must be given before the first step".into()));
         }
-        for m in motions.iter().flatten() {
-            let ok = m.period.is_finite()
-                && m.period > 0.0
-                && m.ramp.is_finite()
-                && m.ramp >= 0.0
-                && m.amplitude.len() == D
-                && m.amplitude.iter().all(|a| a.is_finite());
+        for motion in motions.iter().flatten() {
+            let piston_ok = match motion {
+                Motion::Sway(_) => true,
+                Motion::Piston(p) => [p.wave_height, p.depth, p.gravity]
+                    .iter()
+                    .all(|v| v.is_finite() && *v > 0.0),
+                // `DisplacementSeries::new` checked its samples.
+                Motion::Series(s) => s.direction.len() == D && s.direction.iter().all(|n| n.is_finite()),
+            };
+            let ok = piston_ok
+                && motion.sway().is_none_or(|m| {
+                    m.period.is_finite()
+                        && m.period > 0.0
+                        && m.ramp.is_finite()
+                        && m.ramp >= 0.0
+                        && m.amplitude.len() == D
+                        && m.amplitude.iter().all(|a| a.is_finite())
+                });
             if !ok {
-                return Err(invalid(format!("not a valid sway: {m:?}")));
+                return Err(invalid(format!("not a valid motion: {motion:?}")));
             }
         }
         let moving = motions.iter().any(Option::is_some);
         self.plan = plan::plan(self.config.plan_inputs(!self.solid_names.is_empty(), moving));
-        self.wall_speed = motions.iter().flatten().map(Sway::max_speed).fold(0.0, f64::max);
+        self.wall_speed = motions
+            .iter()
+            .flatten()
+            .map(Motion::max_speed)
+            .fold(0.0, f64::max);
         self.motions = motions;
         self.solids_placed_at = None;
         if !moving {
@@ -358,7 +373,7 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The prescribed motion of each solid (`None`: fixed), in scene order.
-    pub fn solid_motions(&self) -> &[Option<Sway>] {
+    pub fn solid_motions(&self) -> &[Option<Motion>] {
         &self.motions
     }
 

@@ -6,7 +6,8 @@
 //! Akinci, Akinci & Teschner 2013; [LNSZZ94] Lafaurie et al. 1994, the capillary stress;
 //! [M00a] Monaghan 2000, artificial stress; [F19] Fourtakas et al., Comput. Fluids 190
 //! (2019), density diffusion; [WN11] Walker & Ni,
-//! SIAM J. Numer. Anal. 49 (2011), Anderson acceleration; [HA06] Hu & Adams 2006, the `multiphase` variants:
+//! SIAM J. Numer. Anal. 49 (2011), Anderson acceleration; [AEA17] Altomare et al., Coastal Eng.
+//! 127 (2017), the damping zone; [HA06] Hu & Adams 2006, the `multiphase` variants:
 //! [`MultiphaseVariant`]) and which particle fields it reads and
 //! writes, one function per piece (`sph plan` prints them), next to the stage itself so the two
 //! cannot drift apart. [`SubStage`] does the same for the steps the driver (`solver::step`) runs
@@ -79,6 +80,10 @@ pub enum Stage {
     /// Shu–Osher combination with the step-start density. Only with the `density_diffusion`
     /// effect.
     IntegrateDensity,
+    /// The damping zone ([AEA17] Altomare et al. 2017, `physics::damping_zone`): fluid
+    /// velocities relaxed towards zero, once a step after the last integrator stage. Only in
+    /// scenes with a `[damping_zone]`.
+    DampingZone,
 }
 
 impl Stage {
@@ -101,6 +106,7 @@ impl Stage {
             Stage::RkStage => "rk_stage",
             Stage::Correction => "correct_positions",
             Stage::IntegrateDensity => "integrate_density",
+            Stage::DampingZone => "damping_zone",
         }
     }
 
@@ -133,6 +139,7 @@ impl Stage {
             Stage::RkStage => "(15), note 8",
             Stage::Correction => "(23)-(24)",
             Stage::IntegrateDensity => "continuity, note 8",
+            Stage::DampingZone => "[AEA17]",
         };
         text.to_string()
     }
@@ -188,6 +195,9 @@ impl Stage {
             Stage::IntegrateDensity => {
                 "symplectic Euler: rho += dt drho/dt with the last step's dt and the rate of the state it reached; SSP-RK3: the stage with rho^n (the first also stores it) (fluid)"
             }
+            Stage::DampingZone => {
+                "u *= max(0, 1 - dt beta r^2), r the depth into the damping zone (fluid; once a step, after the last integrator stage)"
+            }
         };
         text.to_string()
     }
@@ -227,6 +237,7 @@ impl Stage {
             ],
             Stage::Correction => &[Position, Density, Pressure, Mass, Kind],
             Stage::IntegrateDensity => &[Density, DensityRate, Kind],
+            Stage::DampingZone => &[Position, Velocity, Kind],
         }
     }
 
@@ -285,6 +296,7 @@ impl Stage {
             Stage::RkStage => &[Position, Velocity, PositionStart, VelocityStart],
             Stage::Correction => &[Position, Velocity, Density, Pressure, ActingPressure],
             Stage::IntegrateDensity => &[Density],
+            Stage::DampingZone => &[Velocity],
         }
     }
 

@@ -177,6 +177,14 @@ impl<const D: usize> Simulation<D> {
                         let w = integrator.correction_weights()[k] * tau / report.dt.max(f64::MIN_POSITIVE);
                         add_force(&mut solid_force, &impulse_force, w);
                     }
+                    Stage::DampingZone => {
+                        // Once a step, on u^{n+1} ([AEA17]); the plan has it only with a zone.
+                        if let (true, Some(zone)) =
+                            (k + 1 == integrator.stages().len(), &self.config.damping_zone)
+                        {
+                            bk.damping_zone(f, zone, report.dt as f32);
+                        }
+                    }
                 }
                 if let Some(t0) = started {
                     self.backend.synchronize();

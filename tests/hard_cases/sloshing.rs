@@ -69,7 +69,12 @@ fn run_checked<const D: usize>(scene: &Scene, mut sim: Simulation<D>) -> Record 
     );
     assert_eq!(scene.solids.len(), 1, "{name}: one tank");
     let tank = &scene.solids[0];
-    let sway = tank.motion.clone().expect("the tank moves");
+    let sway = tank
+        .motion
+        .as_ref()
+        .expect("the tank moves")
+        .sway()
+        .expect("a sway");
     // x0 of every solid particle from the scene's own generation: solids follow the fluid's ids.
     let layout = generate::<D>(scene).expect("generates");
     let first = layout.fluid_position.len();
@@ -183,7 +188,12 @@ fn amplitude_at(time: &[f64], f: &[f64], from: f64, w: f64) -> f64 {
 /// The end [s] of the second period after the ramp (or the scene's end): the window of the
 /// kinetic-energy checks.
 fn second_period_end(scene: &Scene) -> f64 {
-    let sway = scene.solids[0].motion.clone().expect("moves");
+    let sway = scene.solids[0]
+        .motion
+        .as_ref()
+        .expect("moves")
+        .sway()
+        .expect("a sway");
     (sway.ramp + 2.0 * sway.period).min(scene.end_time)
 }
 
@@ -198,7 +208,12 @@ fn second_period_end(scene: &Scene) -> f64 {
 /// carried rigidly, would need.
 fn check_forcing(scene: &Scene, moving: &Record, rest_kinetic: Option<f64>, fluid_mass: f64) {
     let name = scene.name.clone().unwrap_or_default();
-    let sway = scene.solids[0].motion.clone().expect("moves");
+    let sway = scene.solids[0]
+        .motion
+        .as_ref()
+        .expect("moves")
+        .sway()
+        .expect("a sway");
     let w = sway.omega();
     let after_ramp = sway.ramp;
     let at = second_period_end(scene);
@@ -265,7 +280,12 @@ fn check_forcing(scene: &Scene, moving: &Record, rest_kinetic: Option<f64>, flui
 fn rest_kinetic<const D: usize>(scene: &Scene) -> f64 {
     let at = second_period_end(scene);
     let mut rest = scene.clone();
-    let sway = rest.solids[0].motion.take().expect("moves");
+    let sway = rest.solids[0]
+        .motion
+        .take()
+        .expect("moves")
+        .sway()
+        .expect("a sway");
     let mut sim = build::<D>(&rest);
     assert!(
         !sim.plan().iter().any(|s| s.name() == "move_solids"),

@@ -233,6 +233,7 @@ fn config<const D: usize>(
             relaxation: 0.5,
         }),
         on_escape: Default::default(),
+        damping_zone: None,
     }
 }
 

@@ -295,6 +295,7 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             integrator: Default::default(),
             correction: None,
             on_escape: Default::default(),
+            damping_zone: None,
         };
         let mut sim = Simulation::new(config, &x, &u, &[]).expect("builds");
         let p0 = sim.fluid_momentum();

@@ -15,3 +15,4 @@ mod multiphase;
 mod poiseuille;
 mod rotating_frame;
 mod surface_tension;
+mod waves;

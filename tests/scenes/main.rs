@@ -10,3 +10,4 @@ mod scene;
 mod scene_fuzz;
 mod scene_solver;
 mod shipped;
+mod wave_maker;

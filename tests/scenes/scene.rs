@@ -802,11 +802,23 @@ fn with_motion(motion: &str) -> String {
 fn solid_motion_resolves_to_a_sway() {
     let text = with_motion("{ amplitude = [0.02, 0.0], period = 1.5, ramp = 0.5 }");
     let scene = parse(&text).expect("valid motion");
-    let sway = scene.solids[0].motion.clone().expect("the tank moves");
+    let sway = scene.solids[0]
+        .motion
+        .as_ref()
+        .expect("the tank moves")
+        .sway()
+        .expect("a sway");
     assert_eq!(sway.amplitude, vec![0.02, 0.0]);
     assert_eq!((sway.period, sway.ramp), (1.5, 0.5));
     let no_ramp = parse(&with_motion("{ amplitude = [0.02, 0.01], period = 2.0 }")).expect("valid");
-    assert_eq!(no_ramp.solids[0].motion.as_ref().map(|m| m.ramp), Some(0.0));
+    assert_eq!(
+        no_ramp.solids[0]
+            .motion
+            .as_ref()
+            .and_then(|m| m.sway())
+            .map(|s| s.ramp),
+        Some(0.0)
+    );
     assert_eq!(
         parse(&VALID_2D).expect("valid").solids[0].motion,
         None,

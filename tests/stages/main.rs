@@ -20,6 +20,7 @@ mod anderson_reference;
 mod boundary;
 mod correction;
 mod correction_reference;
+mod damping_zone;
 mod density;
 mod density_rate;
 mod forces;

@@ -16,10 +16,12 @@ use crate::fields::{Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector};
 use crate::neighbour_list::{NeighbourList, Neighbours};
+use crate::physics::damping_zone::DampingZone;
 use anderson::AndersonBuffers;
 
 mod anderson;
 mod correction;
+mod damping_zone;
 mod density;
 mod density_rate;
 mod forces;
@@ -136,6 +138,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn density_rate(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
         CpuBackend::density_rate(self, fields, params)
+    }
+
+    fn damping_zone(&mut self, fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32) {
+        CpuBackend::damping_zone(self, fields, zone, dt)
     }
 
     fn integrate_density(&mut self, fields: &mut Fields<D>, dt: f32) {

@@ -25,6 +25,7 @@ use crate::grid::GridError;
 use crate::math::{Real, Vector};
 use crate::model::pair_terms::PairTerms;
 use crate::model::params::StepParams;
+use crate::physics::damping_zone::DampingZone;
 use crate::physics::multiphase::Phases;
 use crate::solver::anderson::AndersonState;
 use cudarc::driver::CudaContext;
@@ -328,6 +329,8 @@ macro_rules! launch {
 mod anderson;
 #[path = "correction.rs"]
 mod correction;
+#[path = "damping_zone.rs"]
+mod damping_zone;
 #[path = "density.rs"]
 mod density;
 #[path = "density_rate.rs"]
@@ -464,6 +467,10 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
 
     fn density_rate(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
         self.launch_density_rate(params)
+    }
+
+    fn damping_zone(&mut self, _fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32) {
+        self.launch_damping_zone(zone, dt)
     }
 
     fn integrate_density(&mut self, _fields: &mut Fields<D>, dt: f32) {

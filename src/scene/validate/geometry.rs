@@ -30,29 +30,26 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
     let extents: Vec<Aabb> = scene.solids.iter().map(|s| solid_extent(s, dx, layers)).collect();
     for (i, (s, ext)) in scene.solids.iter().zip(&extents).enumerate() {
         if let Some(m) = &s.motion {
-            // The box the moving solid sweeps: |d_k(t)| <= |A_k| since |r sin| <= 1.
+            // The box the moving solid sweeps: |d_k(t)| <= reach_k (a sine: |A_k|, |r sin| <= 1).
+            let reach = m.reach();
             let swept = Aabb {
-                min: ext
-                    .min
-                    .iter()
-                    .zip(&m.amplitude)
-                    .map(|(x, a)| x - a.abs())
-                    .collect(),
-                max: ext
-                    .max
-                    .iter()
-                    .zip(&m.amplitude)
-                    .map(|(x, a)| x + a.abs())
-                    .collect(),
+                min: ext.min.iter().zip(&reach).map(|(x, a)| x - a).collect(),
+                max: ext.max.iter().zip(&reach).map(|(x, a)| x + a).collect(),
+            };
+            // The key that sets how far it moves.
+            let key = match m {
+                Motion::Sway(_) => "amplitude",
+                Motion::Piston(_) => "wave_height",
+                Motion::Series(_) => "file",
             };
             if let Some(k) = outside_axis(&swept, domain, tol) {
                 c.err(
-                    KeyPath::key("solid").i(i).k("motion").k("amplitude"),
+                    KeyPath::key("solid").i(i).k("motion").k(key),
                     format!(
                         "solid \"{}\" sweeps {} while moving by ±{} m on axis {}, outside the domain {}",
                         s.name,
                         fmt_box(&swept),
-                        num(m.amplitude[k].abs()),
+                        num(reach[k]),
                         axis_name(k),
                         fmt_box(domain)
                     ),

@@ -1,4 +1,4 @@
-//! Single-table rules: names of solids and probes, a solid's `motion`, the `[solver]`
+//! Single-table rules: names of solids and probes, the `[solver]`
 //! settings and the rotating frame's keys.
 
 use super::*;
@@ -25,34 +25,6 @@ pub(super) fn check_name(c: &mut Checker, path: KeyPath, name: &str, earlier: &[
         return true;
     }
     false
-}
-
-/// A solid's `motion` table (`schema::MotionFile`): finite amplitudes, not all zero, a positive
-/// period, a non-negative ramp. The swept box is checked with the geometry.
-pub(super) fn check_motion(
-    c: &mut Checker,
-    path: &KeyPath,
-    m: &MotionFile,
-    dim: Option<usize>,
-) -> Option<Sway> {
-    let amplitude = c.vector(path.k("amplitude"), &m.amplitude, dim);
-    if amplitude.as_ref().is_some_and(|a| a.iter().all(|&x| x == 0.0)) {
-        c.err(
-            path.k("amplitude"),
-            "all entries are 0, so the solid would not move (remove `motion` for a fixed solid)".into(),
-        );
-        return None;
-    }
-    let period = c.positive(path.k("period"), m.period);
-    let ramp = match m.ramp {
-        Some(r) => c.non_negative(path.k("ramp"), r),
-        None => Some(0.0),
-    };
-    Some(Sway {
-        amplitude: amplitude?,
-        period: period?,
-        ramp: ramp?,
-    })
 }
 
 /// The `[solver]` scheme settings; `corrected`-only keys are an error with `wcsph`.

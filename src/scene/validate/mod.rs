@@ -24,10 +24,12 @@ use super::{
     Aabb, FluidBox, KeyPath, Location, Probe, ProbeReference, Problem, Scene, SceneError, Solid,
     SolverSettings, Sway,
 };
+use crate::boundary::motion::Motion;
 
 mod geometry;
 mod keys;
 mod memory;
+mod motion;
 mod probes;
 mod solids;
 mod step_bounds;
@@ -403,8 +405,12 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
 
     // [[solid]]
     let mut solids = Vec::new();
+    // |g| [m/s²] for a piston's dispersion relation.
+    let g_norm = gravity
+        .as_ref()
+        .map(|g| g.iter().map(|x| x * x).sum::<f64>().sqrt());
     for i in 0..file.solid.len() {
-        match solids::check_solid(&mut c, file, i, dim, dir) {
+        match solids::check_solid(&mut c, file, i, dim, dir, g_norm) {
             Some(s) => solids.push(s),
             None => boxes_ok = false,
         }
@@ -468,6 +474,11 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
     let output_encoding = out.and_then(|o| o.encoding).unwrap_or_default();
     let fluid_only = out.and_then(|o| o.fluid_only).unwrap_or(false);
 
+    let damping_zone = match &file.damping_zone {
+        Some(z) => motion::check_damping_zone(&mut c, z, dim).map(Some),
+        None => Some(None),
+    };
+
     let resolved = (|| {
         Some(Scene {
             name: file.name.clone(),
@@ -500,6 +511,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
             output_encoding,
             fluid_only,
             probes,
+            damping_zone: damping_zone?,
         })
     })();
     match resolved {

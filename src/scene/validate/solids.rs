@@ -13,7 +13,8 @@ use std::sync::Arc;
 
 use nalgebra::{Unit, Vector3};
 
-use super::keys::{check_motion, check_name};
+use super::keys::check_name;
+use super::motion::check_motion;
 use super::{Checker, KeyPath, num};
 use crate::geometry::{Mesh, Placement, Volume, read::read_triangles, rotation};
 use crate::scene::schema::{AxisFile, FluidBoxFile, NumberOrVector, SceneFile, SolidFile, SolidShape};
@@ -110,6 +111,7 @@ pub(super) fn check_solid(
     i: usize,
     dim: Option<usize>,
     dir: &Path,
+    g: Option<f64>,
 ) -> Option<Solid> {
     let s = file.solid.get(i)?;
     let path = KeyPath::key("solid").i(i);
@@ -117,7 +119,7 @@ pub(super) fn check_solid(
     let ok = check_name(c, path.k("name"), &s.name, &earlier, "solid");
     let motion = match &s.motion {
         None => Some(None),
-        Some(m) => check_motion(c, &path.k("motion"), m, dim).map(Some),
+        Some(m) => check_motion(c, &path.k("motion"), m, dim, g, dir).map(Some),
     };
     let dim = dim?;
     let volume = check_shape(c, &path, &ShapeKeys::solid(s), dim, dir);

@@ -58,7 +58,7 @@ pub const CORRECTED_FLOW_FACTOR: f64 = 0.1;
 /// `min(k_g sqrt(h / |g|), k_u h / |u|max)` over the terms that apply (gravity given and
 /// non-zero; a fluid box or moving wall with a non-zero speed), `None` when neither applies.
 /// `h` is the support radius [m], `gravity` [m/s²], the speeds from the fluid boxes' initial
-/// velocities and the solids' `Sway::max_speed` [m/s]. The corrected solver has no acoustic
+/// velocities and the solids' `Motion::max_speed` [m/s]. The corrected solver has no acoustic
 /// limit (its pressure does not come from eq. (19)); these are the measured limits of its
 /// start-up and of impacts (`CORRECTED_GRAVITY_FACTOR`, `CORRECTED_FLOW_FACTOR`).
 pub fn corrected_step_bound(
@@ -95,7 +95,7 @@ pub(super) fn corrected_step_terms(
             solids
                 .iter()
                 .filter_map(|s| s.motion.as_ref())
-                .map(Sway::max_speed),
+                .map(Motion::max_speed),
         )
         .fold(0.0, f64::max);
     if !(g.is_finite() && speed.is_finite()) {

@@ -1,0 +1,210 @@
+//! A solid's `motion` table (`schema::MotionFile`) into a [`Motion`] of the kind it names, and
+//! the `[damping_zone]` table, the wave flume's other end.
+
+use super::*;
+use crate::boundary::motion::{Motion, Piston};
+use crate::boundary::series::DisplacementSeries;
+use crate::scene::DampingZoneSpec;
+use crate::scene::schema::{DampingZoneFile, MotionKind};
+
+/// A solid's `motion` table: the keys of its kind (sway: finite amplitudes, not all zero;
+/// piston: positive wave height and depth, a direction not zero, and gravity `g` [m/s²], the
+/// scene's `|fluid.gravity|`; both a positive period and a non-negative ramp; series: a
+/// direction not zero and a readable file of samples, relative to `dir`); a key of another kind
+/// is an error. The swept box is checked with the geometry.
+pub(super) fn check_motion(
+    c: &mut Checker,
+    path: &KeyPath,
+    m: &MotionFile,
+    dim: Option<usize>,
+    g: Option<f64>,
+    dir: &Path,
+) -> Option<Motion> {
+    let kind = m.kind.unwrap_or(MotionKind::Sway);
+    let kind_name = match kind {
+        MotionKind::Sway => "sway",
+        MotionKind::Piston => "piston",
+        MotionKind::Series => "series",
+    };
+    let foreign: &[(&str, bool)] = match kind {
+        MotionKind::Sway => &[
+            ("wave_height", m.wave_height.is_some()),
+            ("depth", m.depth.is_some()),
+            ("direction", m.direction.is_some()),
+            ("file", m.file.is_some()),
+        ],
+        MotionKind::Piston => &[("amplitude", m.amplitude.is_some()), ("file", m.file.is_some())],
+        MotionKind::Series => &[
+            ("amplitude", m.amplitude.is_some()),
+            ("wave_height", m.wave_height.is_some()),
+            ("depth", m.depth.is_some()),
+            ("period", m.period.is_some()),
+            ("ramp", m.ramp.is_some()),
+        ],
+    };
+    let mut ok = true;
+    for (key, given) in foreign {
+        if *given {
+            c.err(
+                path.k(key),
+                format!(
+                    "not a key of motion.kind = \"{kind_name}\" (remove it, or choose the kind it belongs to)"
+                ),
+            );
+            ok = false;
+        }
+    }
+    // A series has neither period nor ramp (refused above as foreign keys).
+    let timed = kind != MotionKind::Series;
+    let period = match (m.period, timed) {
+        (Some(t), true) => c.positive(path.k("period"), t),
+        (None, true) => {
+            c.err(
+                path.k("period"),
+                format!("required for motion.kind = \"{kind_name}\""),
+            );
+            None
+        }
+        (_, false) => None,
+    };
+    let ramp = match m.ramp {
+        Some(r) if timed => c.non_negative(path.k("ramp"), r),
+        _ => Some(0.0),
+    };
+    let required = |c: &mut Checker, key: &str, v: Option<f64>| match v {
+        Some(v) => c.positive(path.k(key), v),
+        None => {
+            c.err(path.k(key), format!("required for motion.kind = \"{kind_name}\""));
+            None
+        }
+    };
+    let motion = match kind {
+        MotionKind::Sway => {
+            let Some(a) = &m.amplitude else {
+                c.err(path.k("amplitude"), "required for motion.kind = \"sway\"".into());
+                return None;
+            };
+            let amplitude = c.vector(path.k("amplitude"), a, dim);
+            if amplitude.as_ref().is_some_and(|a| a.iter().all(|&x| x == 0.0)) {
+                c.err(
+                    path.k("amplitude"),
+                    "all entries are 0, so the solid would not move (remove `motion` for a fixed solid)"
+                        .into(),
+                );
+                return None;
+            }
+            Motion::Sway(Sway {
+                amplitude: amplitude?,
+                period: period?,
+                ramp: ramp?,
+            })
+        }
+        MotionKind::Series => {
+            let direction = check_direction(c, path, m, dim)?;
+            Motion::Series(read_series(c, path, m, dir, direction)?)
+        }
+        MotionKind::Piston => {
+            let wave_height = required(c, "wave_height", m.wave_height);
+            let depth = required(c, "depth", m.depth);
+            let direction = check_direction(c, path, m, dim);
+            let gravity = match g {
+                Some(g) if g > 0.0 => Some(g),
+                _ => {
+                    c.err(
+                        path.k("kind"),
+                        "a piston wave maker needs gravity (effect \"gravity\" with a non-zero fluid.gravity): its stroke comes from the dispersion relation of gravity waves".into(),
+                    );
+                    None
+                }
+            };
+            Motion::Piston(Piston {
+                wave_height: wave_height?,
+                period: period?,
+                depth: depth?,
+                gravity: gravity?,
+                direction: direction?,
+                ramp: ramp?,
+            })
+        }
+    };
+    ok.then_some(motion)
+}
+
+/// `motion.direction` (piston, series): `dimension` finite entries, not all zero; normalised.
+fn check_direction(c: &mut Checker, path: &KeyPath, m: &MotionFile, dim: Option<usize>) -> Option<Vec<f64>> {
+    let Some(n) = &m.direction else {
+        c.err(path.k("direction"), "required for this motion.kind".into());
+        return None;
+    };
+    let n = c.vector(path.k("direction"), n, dim)?;
+    let norm = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if norm == 0.0 {
+        c.err(
+            path.k("direction"),
+            "all entries are 0: give the direction the solid moves along".into(),
+        );
+        return None;
+    }
+    Some(n.iter().map(|x| x / norm).collect())
+}
+
+/// `motion.file` (series): the samples of the CSV file at `dir`/`file`; a missing or bad file is
+/// an error naming it.
+fn read_series(
+    c: &mut Checker,
+    path: &KeyPath,
+    m: &MotionFile,
+    dir: &Path,
+    direction: Vec<f64>,
+) -> Option<DisplacementSeries> {
+    let Some(file) = &m.file else {
+        c.err(path.k("file"), "required for motion.kind = \"series\"".into());
+        return None;
+    };
+    let full = dir.join(file);
+    let text = match std::fs::read_to_string(&full) {
+        Ok(t) => t,
+        Err(e) => {
+            c.err(path.k("file"), format!("cannot read {}: {e}", full.display()));
+            return None;
+        }
+    };
+    let series =
+        DisplacementSeries::parse(&text).and_then(|(t, s)| DisplacementSeries::new(file, t, s, direction));
+    match series {
+        Ok(s) => Some(s),
+        Err(e) => {
+            c.err(path.k("file"), format!("{}: {e}", full.display()));
+            None
+        }
+    }
+}
+
+/// `[damping_zone]`: `start` and `end` of `dimension` finite entries, distinct (either may lie
+/// outside the domain: the zone may reach past the tank's end); `strength` > 0.
+pub(super) fn check_damping_zone(
+    c: &mut Checker,
+    z: &DampingZoneFile,
+    dim: Option<usize>,
+) -> Option<DampingZoneSpec> {
+    let path = KeyPath::key("damping_zone");
+    let start = c.vector(path.k("start"), &z.start, dim);
+    let end = c.vector(path.k("end"), &z.end, dim);
+    let strength = match z.strength {
+        Some(b) => c.positive(path.k("strength"), b),
+        None => Some(DampingZoneSpec::DEFAULT_STRENGTH),
+    };
+    let (start, end) = (start?, end?);
+    if start == end {
+        c.err(
+            path.k("end"),
+            "equals `start`: the zone needs a length (its direction is from start to end)".into(),
+        );
+        return None;
+    }
+    Some(DampingZoneSpec {
+        start,
+        end,
+        strength: strength?,
+    })
+}
