@@ -143,8 +143,7 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
 }
 
 /// What the stage plan of a validated scene depends on (`solver::plan`): the plan inputs of its
-/// settings ([`sim_config`], `SimConfig::plan_inputs`), so a scene's plan is the one its
-/// simulation runs.
+/// settings ([`sim_config`]), so a scene's plan is the one its simulation runs.
 pub fn plan_inputs(scene: &Scene) -> crate::solver::plan::PlanInputs {
     let solids = !scene.solids.is_empty();
     let moving = scene.solids.iter().any(|s| s.motion.is_some());
