@@ -10,9 +10,11 @@
 /// the segment from the step's start position `from` (SSP-RK3) enters the box (the axis entered
 /// last, ties to the lower axis); otherwise, or when `from` is inside the box, the nearest face
 /// (ties: lower axis, lower side). With has_from, fluid outside a box whose segment from `from`
-/// passes through the box's interior is put back the same way. Per push, `out[4 s]` counts one and `out[4 s + 1 + k]` adds
-/// the fluid's momentum change `m du_k` [kg m/s] for the box's solid `s` (the host zeroes `out`,
-/// 4 doubles per solid). Twin of `KeepOutBox::push_out`.
+/// passes through the box's interior is put back the same way. Per push, for the box's solid `s`,
+/// `out[7 s]` counts one, `out[7 s + 1 + k]` adds the fluid's momentum change `m du_k`
+/// [kg m/s] and `out[7 s + 4 + k]` its angular momentum about the origin `x × m du`
+/// [kg m²/s] at the pushed position (`keep_out::push_moment`; the host zeroes `out`, 7 doubles
+/// per solid). Twin of `KeepOutBox::push_out`.
 SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float margin,
                      const u32* __restrict__ kind, const float* __restrict__ mass,
                      const float* __restrict__ from, u32 has_from, float* __restrict__ pos,
@@ -87,9 +89,17 @@ SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float marg
             x.c[axis] = lo[axis] - margin;
             if (relative > 0.0f) u.c[axis] = wall[axis];
         }
-        double* slot = out + 4 * (size_t)wall[D];
+        double* slot = out + 7 * (size_t)wall[D];
+        const double dp = (double)mass[i] * ((double)u.c[axis] - (double)before);
+        double r[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < D; ++k) r[k] = (double)x.c[k];
+        double p[3] = {0.0, 0.0, 0.0};
+        p[axis] = dp;
         atomicAdd(slot, 1.0);
-        atomicAdd(slot + 1 + axis, (double)mass[i] * ((double)u.c[axis] - (double)before));
+        atomicAdd(slot + 1 + axis, dp);
+        atomicAdd(slot + 4, r[1] * p[2] - r[2] * p[1]);
+        atomicAdd(slot + 5, r[2] * p[0] - r[0] * p[2]);
+        atomicAdd(slot + 6, r[0] * p[1] - r[1] * p[0]);
         moved = true;
     }
     if (moved) {

@@ -16,7 +16,8 @@
 //! The volumes are axis-aligned boxes in the solid's frame: a `box` solid is one, a `container`
 //! is the union of its wall slabs (`KeepOutBox::container`).
 
-use crate::math::{Real, Vector};
+use crate::boundary::solid_force::cross;
+use crate::math::{Real, Vector, to_xyz};
 
 /// One axis-aligned solid volume [m] that fluid must stay out of.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,6 +39,18 @@ pub struct KeepOutReport {
     pub pushes: u64,
     /// Momentum given to the fluid by each solid [kg m/s] (2D: per unit depth).
     pub impulse: Vec<[f64; 3]>,
+    /// Its angular momentum about the origin [kg m²/s] (2D: per unit depth, in the z slot):
+    /// [`push_moment`] of every push, so the solid's moment balances as its force does.
+    pub angular_impulse: Vec<[f64; 3]>,
+}
+
+/// The angular momentum about the origin [kg m²/s] of a push that changed the momentum along
+/// `axis` by `dp` [kg m/s] and left the particle at `x` [m]: `x × dp e_axis` (2D: z = 0, the
+/// moment `x dp_y − y dp_x` in the z slot).
+pub fn push_moment<const D: usize>(x: &Vector<D>, axis: usize, dp: f64) -> [f64; 3] {
+    let mut p = [0.0; 3];
+    p[axis] = dp;
+    cross(to_xyz(x), p)
 }
 
 impl KeepOutReport {
@@ -46,6 +59,7 @@ impl KeepOutReport {
         Self {
             pushes: 0,
             impulse: vec![[0.0; 3]; solids],
+            angular_impulse: vec![[0.0; 3]; solids],
         }
     }
 }
@@ -224,6 +238,18 @@ impl<const D: usize> KeepOutBox<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_push_moment_is_x_cross_the_momentum_change() {
+        // 2D: the z moment `x dp_y − y dp_x`.
+        let x = Vector::<2>::new(2.0, 3.0);
+        assert_eq!(push_moment(&x, 0, 1.5), [0.0, 0.0, -4.5]);
+        assert_eq!(push_moment(&x, 1, 1.5), [0.0, 0.0, 3.0]);
+        // 3D: e.g. a push along z at (1, 2, 3) turns about x by y dp and about y by −x dp.
+        let x = Vector::<3>::new(1.0, 2.0, 3.0);
+        assert_eq!(push_moment(&x, 2, 2.0), [4.0, -2.0, 0.0]);
+        assert_eq!(push_moment(&x, 0, 2.0), [0.0, 6.0, -4.0]);
+    }
 
     #[test]
     fn a_particle_inside_lands_on_the_nearest_face_and_stops_going_in() {

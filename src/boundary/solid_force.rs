@@ -31,7 +31,7 @@ pub fn force_on_solid<const D: usize, const TERMS: u32>(
 }
 
 /// Cross product `a × b` of two three-component vectors.
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],

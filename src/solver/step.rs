@@ -158,7 +158,7 @@ impl<const D: usize> Simulation<D> {
                         // The guard's momentum change, weighted as the stage's own changes.
                         let guard = self.keep_out();
                         let weight = -integrator.correction_weights()[k] / report.dt.max(f64::MIN_POSITIVE);
-                        add_guard_force(&mut solid_force, &guard.impulse, weight);
+                        add_guard_force(&mut solid_force, &guard, weight);
                     }
                     Stage::IntegrateDensity => match integrator {
                         // The last step's motion (`solver::plan`): rho^n = rho^(n-1) + dt R(x^n, u^n).
@@ -521,7 +521,7 @@ impl<const D: usize> Simulation<D> {
             if guard.pushes > 0 {
                 drift = f64::INFINITY;
             }
-            add_guard_force(&mut solid_force, &guard.impulse, -1.0 / tau);
+            add_guard_force(&mut solid_force, &guard, -1.0 / tau);
         };
         // The velocity solve, only after a stage whose positions converged (the start-up settle
         // gives no velocity).
@@ -579,12 +579,13 @@ impl<const D: usize> Simulation<D> {
 }
 
 /// Adds `weight` times the no-penetration guard's impulse on each solid [N s]
-/// (`boundary::keep_out`) to the force slots of `total`. The guard reports no point of
-/// application, so its share is not in the moment (docs/output.md, "Probes").
-fn add_guard_force(total: &mut [SolidLoad], impulse: &[[f64; 3]], weight: f64) {
-    for (t, j) in total.iter_mut().zip(impulse) {
+/// (`boundary::keep_out`) to the force slots of `total`, and its angular impulse about the
+/// origin (at the pushed particles) to the moment slots.
+fn add_guard_force(total: &mut [SolidLoad], guard: &KeepOutReport, weight: f64) {
+    for ((t, j), l) in total.iter_mut().zip(&guard.impulse).zip(&guard.angular_impulse) {
         for c in 0..3 {
             t[c] += weight * j[c];
+            t[3 + c] += weight * l[c];
         }
     }
 }

@@ -9,7 +9,7 @@ use crate::setup::{
     use_phases,
 };
 use sph::backend::WallModel;
-use sph::boundary::keep_out::{KeepOutBox, KeepOutReport};
+use sph::boundary::keep_out::{KeepOutBox, KeepOutReport, push_moment};
 use sph::boundary::motion::{SolidKinematics, SolidReference};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
@@ -457,6 +457,7 @@ fn check_keep_out<const D: usize>(seed: u64, from_step_start: bool, plate_solid:
         let (r, got) = (in_id_order(&before), in_id_order(&out));
         let mut want = KeepOutReport::none(2);
         let mut magnitude = [[0.0f64; 3]; 2];
+        let mut angular_magnitude = [[0.0f64; 3]; 2];
         let mut outside_moved = 0;
         for id in 0..r.len() {
             assert_eq!(
@@ -475,6 +476,11 @@ fn check_keep_out<const D: usize>(seed: u64, from_step_start: bool, plate_solid:
                         if let Some(slot) = want.impulse.get_mut(b.solid as usize) {
                             slot[axis] += dp;
                             magnitude[b.solid as usize][axis] += dp.abs();
+                            let moment = push_moment(&x, axis, dp);
+                            for c in 0..3 {
+                                want.angular_impulse[b.solid as usize][c] += moment[c];
+                                angular_magnitude[b.solid as usize][c] += moment[c].abs();
+                            }
                         }
                     }
                 }
@@ -507,8 +513,21 @@ fn check_keep_out<const D: usize>(seed: u64, from_step_start: bool, plate_solid:
                 if magnitude[s][k] > 0.0 {
                     worst = worst.max(diff / magnitude[s][k]);
                 }
+                // The angular impulse: the same pushes' `x × dp` at the pushed position, summed
+                // in another order.
+                let diff = (report.angular_impulse[s][k] - want.angular_impulse[s][k]).abs();
+                assert!(
+                    diff <= IMPULSE_ORDER * angular_magnitude[s][k],
+                    "{under:?} {D}D: angular impulse on solid {s} axis {k}: {} want {}",
+                    report.angular_impulse[s][k],
+                    want.angular_impulse[s][k]
+                );
             }
         }
+        assert!(
+            angular_magnitude[0].iter().sum::<f64>() > 0.0,
+            "{under:?} {D}D: the pushes carry angular momentum"
+        );
         eprintln!(
             "{under:?} {D}D keep_out from_step_start {from_step_start}: {} pushes, {outside_moved} \
              crossings, worst impulse |Δ| / Σ|terms| {worst:.2e}",

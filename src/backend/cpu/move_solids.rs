@@ -2,11 +2,15 @@
 //! `kernels/keep_out.cu`).
 
 use super::CpuBackend;
-use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
+use crate::boundary::keep_out::{KeepOutBox, KeepOutReport, push_moment};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::{FLUID, Fields};
 use crate::math::Vector;
 use rayon::prelude::*;
+
+/// One push of the guard: the solid, the axis, the fluid's momentum change along it [kg m/s]
+/// and that change's angular momentum about the origin [kg m²/s].
+type Push = (u32, usize, f64, [f64; 3]);
 
 impl<const D: usize> CpuBackend<D> {
     pub(super) fn move_solids(
@@ -50,9 +54,9 @@ impl<const D: usize> CpuBackend<D> {
         } else {
             &[]
         };
-        // Each particle's pushes (solid, axis, m Δu), gathered in index order and summed in that
+        // Each particle's pushes (`Push`), gathered in index order and summed in that
         // order, so the result does not depend on the thread count.
-        let pushes: Vec<Vec<(u32, usize, f64)>> = fields
+        let pushes: Vec<Vec<Push>> = fields
             .position
             .par_iter_mut()
             .zip(fields.velocity.par_iter_mut())
@@ -66,17 +70,22 @@ impl<const D: usize> CpuBackend<D> {
                 for b in boxes {
                     let before = *u;
                     if let Some(axis) = b.push_out(x, u, margin, from) {
-                        let du = f64::from(u[axis]) - f64::from(before[axis]);
-                        mine.push((b.solid, axis, f64::from(mass[i]) * du));
+                        let dp = f64::from(mass[i]) * (f64::from(u[axis]) - f64::from(before[axis]));
+                        mine.push((b.solid, axis, dp, push_moment(x, axis, dp)));
                     }
                 }
                 (!mine.is_empty()).then_some(mine)
             })
             .collect();
-        for (solid, axis, dp) in pushes.into_iter().flatten() {
+        for (solid, axis, dp, moment) in pushes.into_iter().flatten() {
             report.pushes += 1;
             if let Some(slot) = report.impulse.get_mut(solid as usize) {
                 slot[axis] += dp;
+            }
+            if let Some(slot) = report.angular_impulse.get_mut(solid as usize) {
+                for c in 0..3 {
+                    slot[c] += moment[c];
+                }
             }
         }
         report

@@ -3,6 +3,10 @@
 
 use super::*;
 
+/// Doubles per solid in the guard's sums (`kernels/keep_out.cu`): the push count, the momentum
+/// change (3) and its angular momentum about the origin (3).
+const KEEP_OUT_SLOT: usize = 7;
+
 impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
     pub(super) fn launch_move_solids(
         &mut self,
@@ -79,8 +83,8 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             .max()
             .unwrap_or(0)
             .max(solids);
-        if self.keep_out_out.len() < 4 * slots {
-            let r = self.dev.alloc_zeros::<f64>(4 * slots);
+        if self.keep_out_out.len() < KEEP_OUT_SLOT * slots {
+            let r = self.dev.alloc_zeros::<f64>(KEEP_OUT_SLOT * slots);
             match record(&mut self.error, "allocating the guard's sums", r) {
                 Some(b) => self.keep_out_out = b,
                 None => return report,
@@ -111,9 +115,13 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         );
         let out = self.dev.download(&self.keep_out_out);
         if let Some(v) = record(&mut self.error, "copying the guard's sums", out) {
-            report.pushes = (0..slots).map(|s| v[4 * s] as u64).sum();
+            let at = |s: usize| s * KEEP_OUT_SLOT;
+            report.pushes = (0..slots).map(|s| v[at(s)] as u64).sum();
             for (s, slot) in report.impulse.iter_mut().enumerate() {
-                slot.copy_from_slice(&v[4 * s + 1..4 * s + 4]);
+                slot.copy_from_slice(&v[at(s) + 1..at(s) + 4]);
+            }
+            for (s, slot) in report.angular_impulse.iter_mut().enumerate() {
+                slot.copy_from_slice(&v[at(s) + 4..at(s) + 7]);
             }
         }
         report
