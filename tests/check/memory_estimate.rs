@@ -2,8 +2,8 @@
 //! particle and one per fluid particle by dimension and solver, and the frame writer's share)
 //! against the peak resident set a run reaches (`summary.json` `extra.peak_resident_bytes`,
 //! Linux): within 10 % on every shipped scene with both solvers, as the scene runs (frames
-//! written), on 2 threads. Measured on the Xeon 2-core VM: −5.2 % to +6.6 %, with about 3 %
-//! run-to-run spread.
+//! written), on 2 threads. Measured on the Xeon 2-core VM (commit after 215e6e3, base 7.75 MiB):
+//! −6.4 % to +4.3 %, with about 3 % run-to-run spread.
 
 use crate::common::run::SPH as BIN;
 use sph::output::read_summary;
