@@ -1,0 +1,78 @@
+//! The scene file's keys of moving boundaries and wave flumes (`[[solid]] motion`,
+//! `[damping_zone]`), as deserialized, before validation (`scene::validate::motion`).
+
+use serde::Deserialize;
+
+/// `[[solid]] motion = { kind = ..., ... }`: a prescribed rigid translation of the solid, of the
+/// kind `kind` (default `"sway"`; `boundary::motion::Motion`). `t` is the simulated time \[s\].
+///
+/// - `kind = "sway"`: `motion = { amplitude = [A_x, A_y(, A_z)], period = T, ramp = t_r }`; the
+///   solid translates by `d(t) = A r(t) sin(2π t / T)` \[m\].
+/// - `kind = "piston"`: `motion = { kind = "piston", wave_height = H, period = T, depth = d,
+///   direction = [n_x, n_y(, n_z)], ramp = t_r }`, a piston wave maker: the same translation
+///   along the unit `direction` with the amplitude `S/2`, `S` the stroke that makes waves of
+///   height `H` and period `T` on water `d` deep by first-order wave-maker theory
+///   (`boundary::motion::Piston`, Dean & Dalrymple 1991 eqs. 4.20 and 6.20). Needs gravity.
+/// - `kind = "series"`: `motion = { kind = "series", file = "stroke.csv", direction = [..] }`:
+///   the displacement along the unit `direction` from a CSV file of `t_s, displacement_m`
+///   samples (a header line first), joined by a natural cubic spline
+///   (`boundary::series`); held at the first and last sample outside them. No period or ramp.
+///
+/// Without `ramp` (or `ramp = 0`) `r = 1`; with it the amplitude grows from 0 over the first
+/// `t_r` seconds as `r = s(t/t_r)`, `s(x) = 10x³ − 15x⁴ + 6x⁵`, whose first two derivatives
+/// vanish at both ends, so the start is not impulsive (`boundary::motion` gives the exact
+/// derivatives used for the wall velocity and acceleration). Rules: `amplitude` (sway) has
+/// `dimension` finite entries, not all zero; `wave_height`, `depth` (piston) > 0; `direction`
+/// (piston) has `dimension` finite entries, not all zero (it is normalised); `period` > 0;
+/// `ramp` >= 0; a key of the other kind is an error; the solid swept over its amplitude per
+/// axis stays inside the domain.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionFile {
+    /// The kind of motion; default `sway`.
+    pub kind: Option<MotionKind>,
+    /// Sway: amplitude `A` \[m\], `dimension` entries.
+    pub amplitude: Option<Vec<f64>>,
+    /// Sway and piston: period `T` \[s\], > 0 (the piston's: the wave's).
+    pub period: Option<f64>,
+    /// Ramp time `t_r` \[s\], >= 0; default 0 (no ramp).
+    pub ramp: Option<f64>,
+    /// Piston: target wave height `H` \[m\], crest to trough, > 0.
+    pub wave_height: Option<f64>,
+    /// Piston: still-water depth `d` \[m\] in front of the piston, > 0.
+    pub depth: Option<f64>,
+    /// Piston and series: direction of the stroke, `dimension` entries, not all zero.
+    pub direction: Option<Vec<f64>>,
+    /// Series: the CSV file of the displacement samples, relative to the scene file's directory
+    /// (or absolute).
+    pub file: Option<String>,
+}
+
+/// `motion.kind`: what prescribes a solid's translation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MotionKind {
+    /// The amplitude is given.
+    Sway,
+    /// A piston wave maker: the amplitude from a target wave.
+    Piston,
+    /// A displacement time series read from a file.
+    Series,
+}
+
+/// `[damping_zone]`: `start = [x0..]`, `end = [x1..]` \[m\], `strength = β` \[1/s\]. Every step the
+/// velocity of a fluid particle at `x` is multiplied by `max(0, 1 − Δt β r²)`, `r` the depth
+/// past the plane through `start` towards the parallel plane through `end` as a fraction of
+/// their distance, clamped to [0, 1] (`physics::damping_zone`, Altomare et al. 2017). Rules:
+/// `start`, `end` have `dimension` finite entries and differ; `strength` > 0, default 10.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingZoneFile {
+    /// A point of the plane where the damping starts (zero strength) \[m\].
+    pub start: Vec<f64>,
+    /// A point of the plane where it reaches full strength \[m\]; the zone's direction is
+    /// from `start` to `end`.
+    pub end: Vec<f64>,
+    /// `β` \[1/s\], > 0; default 10 (DualSPHysics' `redumax`).
+    pub strength: Option<f64>,
+}
