@@ -185,15 +185,20 @@ fn amplitude_at(time: &[f64], f: &[f64], from: f64, w: f64) -> f64 {
     2.0 / span * (re * re + im * im).sqrt()
 }
 
+/// The sinusoidal motion of the scene's tank (its one solid).
+fn tank_sway(scene: &Scene) -> sph::scene::Sway {
+    scene.solids[0]
+        .motion
+        .as_ref()
+        .expect("the tank moves")
+        .sway()
+        .expect("a sway")
+}
+
 /// The end [s] of the second period after the ramp (or the scene's end): the window of the
 /// kinetic-energy checks.
 fn second_period_end(scene: &Scene) -> f64 {
-    let sway = scene.solids[0]
-        .motion
-        .as_ref()
-        .expect("moves")
-        .sway()
-        .expect("a sway");
+    let sway = tank_sway(scene);
     (sway.ramp + 2.0 * sway.period).min(scene.end_time)
 }
 
@@ -208,12 +213,7 @@ fn second_period_end(scene: &Scene) -> f64 {
 /// carried rigidly, would need.
 fn check_forcing(scene: &Scene, moving: &Record, rest_kinetic: Option<f64>, fluid_mass: f64) {
     let name = scene.name.clone().unwrap_or_default();
-    let sway = scene.solids[0]
-        .motion
-        .as_ref()
-        .expect("moves")
-        .sway()
-        .expect("a sway");
+    let sway = tank_sway(scene);
     let w = sway.omega();
     let after_ramp = sway.ramp;
     let at = second_period_end(scene);
