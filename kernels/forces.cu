@@ -62,6 +62,7 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
         }
         c.u_j = vload(vel, j);
         c.viscous_u_j = kind[j] == SPH_FLUID ? c.u_j : vload(wall_vel, j);
+        c.wall = kind[j] != SPH_FLUID;
         a = add_pair_terms<TERMS>(a, p, c);
     });
     vstore(acc, i, a);

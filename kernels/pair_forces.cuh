@@ -48,12 +48,14 @@ struct Pair {
     float rho_i, rho_j, m_j;
     vec_t grad_w;
     Smoothing s;
+    bool wall;  // one of the two is a solid particle
 };
 
-/// [M92] between the pair's particles. Twin of `artificial_viscosity::pair_acceleration`.
+/// [M92] between the pair's particles, alpha times the wall factor across a wall. Twin of `artificial_viscosity::pair_acceleration`.
 __device__ __forceinline__ vec_t artificial_viscosity_pair(const StepParams& p, const Pair& c) {
+    const float factor = c.wall ? p.artificial_viscosity_wall_factor : 1.0f;
     const vec_t u_ij = vsub(c.u_i, c.u_j);
-    return artificial_viscous_acceleration(p.pair.alpha, p.c, p.h, c.x_ij, c.r2, u_ij, c.rho_i, c.rho_j,
+    return artificial_viscous_acceleration(p.pair.alpha * factor, p.c, p.h, c.x_ij, c.r2, u_ij, c.rho_i, c.rho_j,
                                            c.m_j, c.grad_w);
 }
 

@@ -41,6 +41,7 @@ __device__ __forceinline__ void solid_forces_body(u32 n, const StepParams& p, co
     const u32 stride = gridDim.x * blockDim.x;
     Pair c;
     c.s = smoothing(p.h);
+    c.wall = true;
     u32 current = SPH_FLUID;
     vec_t total = vzero();
     double moment[3] = {0.0, 0.0, 0.0};

@@ -85,6 +85,7 @@ struct StepParams {
     u32 rotating_frame;             // 1 with the rotating_frame effect, else 0
     u32 phases;                     // SPH_PHASES_SINGLE or SPH_PHASES_MULTI ([HA06])
     float density_diffusion;        // delta of [F19] density diffusion (0 without the effect)
+    float artificial_viscosity_wall_factor;  // factor on alpha between fluid and solid particles
 };
 
 /// `physics::density::DensityKernel`.

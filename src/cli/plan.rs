@@ -9,6 +9,7 @@
 
 use crate::fields::Field;
 use crate::model::SurfaceTensionModel;
+use crate::model::pair_terms::PairTerm;
 use crate::run::{correction, plan_inputs};
 use crate::scene::{Effect, ProbeKind, Scene, load_scene};
 use crate::solver::Integrator;
@@ -85,7 +86,14 @@ fn effect(scene: &Scene, e: Effect) -> String {
                 u => format!(" {u}"),
             };
             let value = scene.pair_terms.get(term).unwrap_or(0.0);
-            format!("{} {} = {value}{unit}", term.name(), term.symbol())
+            let reach = match term {
+                PairTerm::ArtificialViscosity => format!(
+                    ", times {} between fluid and solid particles",
+                    scene.artificial_viscosity_wall_factor
+                ),
+                _ => String::new(),
+            };
+            format!("{} {} = {value}{unit}{reach}", term.name(), term.symbol())
         }
         Effect::RotatingFrame => format!(
             "rotating_frame Omega = {} rad/s about the axis through {} m: Coriolis and centrifugal force",

@@ -72,6 +72,10 @@ pub struct StepParams<const D: usize> {
     /// the `density_rate` stage, which only plans with the `density_diffusion` effect
     /// (`DensityEquation`); 0 without it.
     pub density_diffusion: Real,
+    /// The factor on the artificial viscosity's `α` between a fluid and a solid particle
+    /// (dimensionless, the scene's `fluid.artificial_viscosity_wall_factor`, default 1;
+    /// `physics::artificial_viscosity::DEFAULT_WALL_FACTOR`).
+    pub artificial_viscosity_wall_factor: Real,
 }
 
 impl<const D: usize> StepParams<D> {

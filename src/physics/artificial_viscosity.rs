@@ -13,6 +13,16 @@ use super::pair::{Pair, ViscousMedium};
 use crate::math::{Real, Vector};
 use crate::model::params::StepParams;
 
+/// The default of the scene's `fluid.artificial_viscosity_wall_factor`: the factor on `α` between
+/// a fluid and a solid particle (DualSPHysics' `ViscoBoundFactor`, default 1 there too).
+///
+/// Why a factor: at a wall the term is a bulk viscosity `≈ ρ α C |u_n|` on the fluid that
+/// approaches it (5 kPa for α = 0.05, C = 35 m/s, 3 m/s), of the order of the stagnation pressure
+/// `ρ u²/2` of an impact, so it takes a wall's impact load off the pressure that sensors read, and
+/// along a floor it acts as a friction of the same order. Its purpose, damping acoustic noise in
+/// the fluid, needs only the fluid pairs (docs/method.md, "Impact pressure").
+pub const DEFAULT_WALL_FACTOR: f64 = 1.0;
+
 /// [M92] eq. (4.1): acceleration [m/s²] of `i` due to `j`, `−m_j Π_ij ∇W_ij`, with
 /// `Π_ij = −α C μ_ij / ρ̄_ij`, `μ_ij = ĥ u_ij·x_ij / (r² + 0.01 ĥ²)` for approaching particles
 /// (`u_ij·x_ij < 0`, else 0), `ĥ = h/2` the smoothing length, `ρ̄_ij` the mean density.
@@ -59,12 +69,18 @@ pub fn equivalent_viscosity(alpha: f64, c: f64, h: f64, dimension: usize) -> f64
 }
 
 /// [`artificial_viscous_acceleration`] between the pair's particles, with `α = params.pair.alpha`
-/// (the `artificial_viscosity` line of `kernels/pair_terms.table`).
+/// (the `artificial_viscosity` line of `kernels/pair_terms.table`), times
+/// `params.artificial_viscosity_wall_factor` for a fluid–solid pair.
 #[inline(always)]
 pub fn pair_acceleration<const D: usize>(params: &StepParams<D>, pair: &Pair<'_, D>) -> Vector<D> {
+    let factor = if pair.wall {
+        params.artificial_viscosity_wall_factor
+    } else {
+        1.0
+    };
     let u_ij = pair.u_i - pair.u_j;
     artificial_viscous_acceleration(
-        params.pair.alpha,
+        params.pair.alpha * factor,
         params.c,
         params.h,
         pair.x_ij,

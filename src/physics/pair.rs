@@ -32,6 +32,8 @@ pub struct Pair<'a, const D: usize> {
     pub grad_w: &'a Vector<D>,
     /// The kernels for the step's `h`.
     pub kernel: &'a Smoothing<D>,
+    /// Whether one of the two is a solid particle (a fluid–wall pair).
+    pub wall: bool,
 }
 
 /// What a term's step viscosity depends on (`PairTerm::step_viscosity`).

@@ -130,6 +130,7 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
         } else {
             None
         },
+        artificial_viscosity_wall_factor: scene.artificial_viscosity_wall_factor,
         density_diffusion: scene.density_diffusion,
         dt: scene.dt,
         cfl: scene.cfl,

@@ -92,6 +92,10 @@ pub struct Scene {
     /// The surface-tension model (`fluid.surface_tension_model`, default `surface_stress`);
     /// meaningful only with [`Effect::SurfaceTension`].
     pub surface_tension_model: crate::model::SurfaceTensionModel,
+    /// The factor on the artificial viscosity's α between fluid and solid particles
+    /// (`fluid.artificial_viscosity_wall_factor`, default 1); meaningful only with the
+    /// `artificial_viscosity` effect.
+    pub artificial_viscosity_wall_factor: f64,
     /// δ of the density diffusion (`fluid.density_diffusion`, dimensionless); `Some` iff
     /// [`Effect::DensityDiffusion`] is on.
     pub density_diffusion: Option<f64>,

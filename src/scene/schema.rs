@@ -269,6 +269,9 @@ pub struct FluidFile {
     /// The surface-tension model, `"surface_stress"` (default) or `"akinci"`; only with the
     /// `surface_tension` effect.
     pub surface_tension_model: Option<crate::model::SurfaceTensionModel>,
+    /// The factor on the artificial viscosity's α between fluid and solid particles, >= 0
+    /// (default 1, DualSPHysics' `ViscoBoundFactor`); only with the `artificial_viscosity` effect.
+    pub artificial_viscosity_wall_factor: Option<f64>,
     /// The fluid's initial state, `"uniform"` (default: `ρ0`, no pressure) or `"hydrostatic"`
     /// (the pressure of a resting column, `scene::initial_state`); hydrostatic needs the
     /// `gravity` effect without a ramp.

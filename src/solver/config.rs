@@ -120,6 +120,9 @@ pub struct SimConfig<const D: usize> {
     pub rotation_centre: Vector<D>,
     /// Surface tension `σ` and its model; `None` when the scene has no `surface_tension` effect.
     pub surface_tension: Option<SurfaceTension>,
+    /// The factor on the artificial viscosity's α between fluid and solid particles
+    /// (dimensionless, `physics::artificial_viscosity::DEFAULT_WALL_FACTOR` by default).
+    pub artificial_viscosity_wall_factor: f64,
     /// `δ` of [F19]'s density diffusion (dimensionless): the continuity equation replaces the
     /// summation (18) (`model::DensityEquation`); `None` without the `density_diffusion` effect.
     pub density_diffusion: Option<f64>,

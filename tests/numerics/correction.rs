@@ -220,6 +220,7 @@ fn config<const D: usize>(
         angular_velocity: None,
         rotation_centre: Vector::zeros(),
         surface_tension: None,
+        artificial_viscosity_wall_factor: 1.0,
         density_diffusion: None,
         dt: Some(dt),
         cfl: 0.2,

@@ -287,6 +287,7 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             angular_velocity: None,
             rotation_centre: Vector::zeros(),
             surface_tension: None,
+            artificial_viscosity_wall_factor: 1.0,
             density_diffusion: None,
             dt: None,
             cfl: 0.2,

@@ -162,6 +162,7 @@ fn a_lone_particle_moves_in_a_straight_line_in_the_inertial_frame() {
             angular_velocity: Some(omega),
             rotation_centre: to_d(centre),
             surface_tension: None,
+            artificial_viscosity_wall_factor: 1.0,
             density_diffusion: None,
             dt: Some(dt),
             cfl: 0.2,

@@ -243,6 +243,50 @@ fn viscosity_without_effect() {
     only_problem_at(&text, "fluid.viscosity", "viscosity = 1.0e-3", "not enabled");
 }
 
+/// `fluid.artificial_viscosity_wall_factor`: 1 by default, read when given, negative an error
+/// at the key, and the key without the `artificial_viscosity` effect an error saying so.
+#[test]
+fn artificial_viscosity_wall_factor_qualifies_the_artificial_viscosity() {
+    let on = edit(
+        &VALID_2D,
+        "effects = [\"gravity\", \"viscosity\"]",
+        "effects = [\"gravity\", \"viscosity\", \"artificial_viscosity\"]",
+    );
+    let on = edit(
+        &on,
+        "viscosity = 1.0e-3",
+        "viscosity = 1.0e-3\nartificial_viscosity = 0.05",
+    );
+    assert_eq!(parse(&on).expect("valid").artificial_viscosity_wall_factor, 1.0);
+    let given = edit(
+        &on,
+        "artificial_viscosity = 0.05",
+        "artificial_viscosity = 0.05\nartificial_viscosity_wall_factor = 0.0",
+    );
+    assert_eq!(
+        parse(&given).expect("valid").artificial_viscosity_wall_factor,
+        0.0
+    );
+    let negative = edit(&given, "wall_factor = 0.0", "wall_factor = -0.5");
+    problem_at(
+        &negative,
+        "fluid.artificial_viscosity_wall_factor",
+        "wall_factor = -0.5",
+        "",
+    );
+    let without = edit(
+        &VALID_2D,
+        "viscosity = 1.0e-3",
+        "viscosity = 1.0e-3\nartificial_viscosity_wall_factor = 0.5",
+    );
+    only_problem_at(
+        &without,
+        "fluid.artificial_viscosity_wall_factor",
+        "artificial_viscosity_wall_factor",
+        "not enabled",
+    );
+}
+
 /// `density_diffusion`: the effect needs `fluid.density_diffusion` (δ ≥ 0), the key needs the
 /// effect, and the corrected solver (density set by positions) refuses it at the key, saying why.
 #[test]

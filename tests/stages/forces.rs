@@ -24,7 +24,8 @@ type Pairs<const D: usize> = Vec<Vec<(usize, Vector<D>, f32)>>;
 /// of its terms' magnitudes (gravity and the rotating frame included): gravity, the rotating
 /// frame ([B67] §3.2) when asked, and per neighbour (fluid or solid) the pressure term (16), or
 /// [HA06]'s `−(p_i V_i² + p_j V_j²) ∇W/m_i` with several phases, the artificial viscosity
-/// ([M92]) and (17) scaled by `viscosity_scale`, a solid neighbour carrying its no-slip velocity
+/// ([M92], its α times `p.artificial_viscosity_wall_factor` with a solid neighbour) and (17)
+/// scaled by `viscosity_scale`, a solid neighbour carrying its no-slip velocity
 /// where `wall_velocity` is allocated.
 fn reference_acceleration<const D: usize>(
     f: &Fields<D>,
@@ -63,8 +64,13 @@ fn reference_acceleration<const D: usize>(
         });
         if terms.pair.contains(PairTerm::ArtificialViscosity) {
             let u_ij = u_i - f.velocity[j];
+            let factor = if f.kind[j] == FLUID {
+                1.0
+            } else {
+                p.artificial_viscosity_wall_factor
+            };
             add(artificial_viscous_acceleration(
-                p.pair.alpha,
+                p.pair.alpha * factor,
                 p.c,
                 p.h,
                 &d,
@@ -120,8 +126,9 @@ fn largest_change<const D: usize>(want: &[(Vector<D>, f64)], other: &[(Vector<D>
         .fold(0.0, f64::max)
 }
 
-fn check_forces<const D: usize>(seed: u64, phases: Phases, no_slip: bool) {
-    let (f, p) = forces_scene::<D>(seed, phases, no_slip);
+fn check_forces<const D: usize>(seed: u64, phases: Phases, no_slip: bool, wall_factor: f32) {
+    let (f, mut p) = forces_scene::<D>(seed, phases, no_slip);
+    p.artificial_viscosity_wall_factor = wall_factor;
     let reference = in_id_order(&f);
     let n = reference.len();
     let pairs: Pairs<D> = (0..n).map(|i| neighbours(&reference, p.h, i)).collect();
@@ -151,6 +158,16 @@ fn check_forces<const D: usize>(seed: u64, phases: Phases, no_slip: bool) {
                 ..terms
             };
             variants.push((term.label(), all(&reference, &p, without)));
+        }
+        if terms.pair.contains(PairTerm::ArtificialViscosity) {
+            let other = StepParams {
+                artificial_viscosity_wall_factor: 1.0 - wall_factor,
+                ..p
+            };
+            variants.push((
+                "the artificial viscosity's wall factor",
+                all(&reference, &other, terms),
+            ));
         }
         if terms.rotating_frame {
             let without = ForceTerms {
@@ -187,7 +204,7 @@ fn check_forces<const D: usize>(seed: u64, phases: Phases, no_slip: bool) {
             );
         }
 
-        let what = format!("forces {terms:?} {phases:?} no-slip {no_slip}");
+        let what = format!("forces {terms:?} {phases:?} no-slip {no_slip} wall factor {wall_factor}");
         for under in backends() {
             let (out, ()) = under.run(&f, &p, |b, f| b.forces(f, &p, terms));
             let got = by_id(&out, &out.acceleration);
@@ -214,13 +231,23 @@ fn check_forces<const D: usize>(seed: u64, phases: Phases, no_slip: bool) {
 #[test]
 fn forces_are_the_brute_force_sums_for_every_term_set() {
     for phases in [Phases::Single, Phases::Multi] {
-        check_forces::<2>(0x9e37_79b9_7f4a_7c15, phases, true);
-        check_forces::<3>(0x2545_f491_4f6c_dd1d, phases, true);
+        check_forces::<2>(0x9e37_79b9_7f4a_7c15, phases, true, 1.0);
+        check_forces::<3>(0x2545_f491_4f6c_dd1d, phases, true, 1.0);
+    }
+}
+
+/// `fluid.artificial_viscosity_wall_factor`: [M92]'s α between fluid and solid particles times
+/// the factor, on every backend; at 0 it acts between fluid particles only.
+#[test]
+fn the_wall_factor_scales_the_artificial_viscosity_across_walls() {
+    for factor in [0.0, 0.25] {
+        check_forces::<2>(0x5eed_0fa1_15ee_d001, Phases::Single, true, factor);
+        check_forces::<3>(0x0ddb_a11c_0ffe_e002, Phases::Single, true, factor);
     }
 }
 
 #[test]
 fn without_no_slip_velocities_a_solid_carries_its_own_velocity_in_17() {
-    check_forces::<2>(0x0123_4567_89ab_cdef, Phases::Single, false);
-    check_forces::<3>(0xfedc_ba98_7654_3210, Phases::Single, false);
+    check_forces::<2>(0x0123_4567_89ab_cdef, Phases::Single, false, 1.0);
+    check_forces::<3>(0xfedc_ba98_7654_3210, Phases::Single, false, 1.0);
 }

@@ -215,6 +215,7 @@ pub fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         rotating_frame: 1,
         phases: Phases::Single,
         density_diffusion: 0.0,
+        artificial_viscosity_wall_factor: 1.0,
     };
     (f, p)
 }

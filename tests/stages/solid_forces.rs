@@ -128,7 +128,7 @@ fn reference_forces<const D: usize>(
                     PairTerm::ArtificialViscosity => {
                         let u_sj = f.velocity[s] - f.velocity[j];
                         artificial_viscous_acceleration(
-                            p.pair.alpha,
+                            p.pair.alpha * p.artificial_viscosity_wall_factor,
                             p.c,
                             p.h,
                             &d,
@@ -179,8 +179,9 @@ fn reference_forces<const D: usize>(
     (force, tol)
 }
 
-fn check_solid_forces<const D: usize>(seed: u64, source: SolidForceSource, phases: Phases) {
+fn check_solid_forces<const D: usize>(seed: u64, source: SolidForceSource, phases: Phases, wall_factor: f32) {
     let (mut f, mut p) = scene::<D>(seed);
+    p.artificial_viscosity_wall_factor = wall_factor;
     add_strays(&mut f, &p, seed ^ 0x5151);
     use_phases(&mut f, &mut p, phases, true);
     let r = in_id_order(&f);
@@ -190,7 +191,7 @@ fn check_solid_forces<const D: usize>(seed: u64, source: SolidForceSource, phase
         SolidForceSource::Correction => reference_increments(&r, &p),
     };
     let (want, tol) = reference_forces(&r, &p, terms, &pressure, Variant::Stage);
-    let what = format!("{D}D {source:?} {phases:?}");
+    let what = format!("{D}D {source:?} {phases:?} wall factor {wall_factor}");
     // Each term moves some solid's force far beyond the tolerance, so none passes vacuously.
     let effect = |(other, _): (Vec<[f64; 6]>, Vec<[f64; 6]>)| {
         (0..SOLIDS)
@@ -203,11 +204,25 @@ fn check_solid_forces<const D: usize>(seed: u64, source: SolidForceSource, phase
         "pressure",
         effect(reference_forces(&r, &p, terms, &no_pressure, Variant::Stage)),
     )];
+    // With a wall factor of 0 [M92] has no part in a wall's load: checked as an effect of 0.
+    let free = wall_factor == 0.0;
     for term in terms.iter() {
         let without = terms.without(term);
+        let e = effect(reference_forces(&r, &p, without, &pressure, Variant::Stage));
+        if free && term == PairTerm::ArtificialViscosity {
+            assert_eq!(e, 0.0, "{what}: the walls take no artificial viscosity");
+            continue;
+        }
+        effects.push((term.label(), e));
+    }
+    if terms.contains(PairTerm::ArtificialViscosity) {
+        let other = StepParams {
+            artificial_viscosity_wall_factor: 1.0 - wall_factor,
+            ..p
+        };
         effects.push((
-            term.label(),
-            effect(reference_forces(&r, &p, without, &pressure, Variant::Stage)),
+            "artificial viscosity's wall factor",
+            effect(reference_forces(&r, &other, terms, &pressure, Variant::Stage)),
         ));
     }
     if terms.contains(PairTerm::Viscosity) {
@@ -289,9 +304,21 @@ fn solid_forces_are_the_brute_force_pair_sums_for_both_sources_and_phase_models(
     let all = PairTerm::ALL.into_iter().fold(PairTerms::NONE, PairTerms::with);
     for source in [SolidForceSource::Forces(all), SolidForceSource::Correction] {
         for phases in [Phases::Single, Phases::Multi] {
-            check_solid_forces::<2>(0xdead_beef_cafe_f00d, source, phases);
-            check_solid_forces::<3>(0x0bad_c0de_1357_9bdf, source, phases);
+            check_solid_forces::<2>(0xdead_beef_cafe_f00d, source, phases, 1.0);
+            check_solid_forces::<3>(0x0bad_c0de_1357_9bdf, source, phases, 1.0);
         }
+    }
+}
+
+/// `fluid.artificial_viscosity_wall_factor`: a wall's [M92] load scales with the factor, and at
+/// 0 it has none, on every backend.
+#[test]
+fn the_wall_factor_scales_the_artificial_viscosity_in_the_solid_forces() {
+    let all = PairTerm::ALL.into_iter().fold(PairTerms::NONE, PairTerms::with);
+    for factor in [0.0, 0.25] {
+        let source = SolidForceSource::Forces(all);
+        check_solid_forces::<2>(0x7e57_f4ee_0a11_5bad, source, Phases::Single, factor);
+        check_solid_forces::<3>(0x3e57_f4ee_0a11_5bad, source, Phases::Single, factor);
     }
 }
 

@@ -120,6 +120,7 @@ fn fluid_acceleration<const D: usize, const TERMS: u32, const ROTATING: bool, co
             m_j,
             grad_w: &grad,
             kernel: &kernel,
+            wall: fields.kind[j] != FLUID,
         };
         add_pair_terms::<D, TERMS>(&mut a, params, &pair);
     });

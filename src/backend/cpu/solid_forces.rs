@@ -68,6 +68,7 @@ impl<const D: usize> CpuBackend<D> {
                     m_j: f.mass[j],
                     grad_w: &grad,
                     kernel: &kernel,
+                    wall: true,
                 };
                 let mut pair = force_on_solid::<D, TERMS>(params, f.mass[s], pressures, &pair);
                 if multiphase {

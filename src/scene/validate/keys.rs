@@ -185,6 +185,31 @@ pub(super) fn initial_state(
     state
 }
 
+/// `fluid.artificial_viscosity_wall_factor` (default 1): ≥ 0, allowed only with the
+/// `artificial_viscosity` effect, which it qualifies.
+pub(super) fn artificial_viscosity_wall_factor(
+    c: &mut Checker,
+    fp: &KeyPath,
+    f: &crate::scene::schema::FluidFile,
+    effects: &[Effect],
+) -> Option<f64> {
+    use crate::model::pair_terms::PairTerm;
+    use crate::physics::artificial_viscosity::DEFAULT_WALL_FACTOR;
+    let key = fp.k("artificial_viscosity_wall_factor");
+    match f.artificial_viscosity_wall_factor {
+        Some(_) if !effects.contains(&Effect::Pair(PairTerm::ArtificialViscosity)) => {
+            c.err(
+                key,
+                "given but effect \"artificial_viscosity\" is not enabled (add it to `effects` or remove this key)"
+                    .into(),
+            );
+            Some(DEFAULT_WALL_FACTOR)
+        }
+        Some(factor) => c.non_negative(key, factor),
+        None => Some(DEFAULT_WALL_FACTOR),
+    }
+}
+
 /// `fluid.density_diffusion`: δ ≥ 0, required / allowed iff the `density_diffusion` effect is
 /// on; the effect with `multiphase` is refused ([F19]'s hydrostatic part and the continuity
 /// sum are written for one rest density).

@@ -35,7 +35,10 @@ mod solids;
 mod step_bounds;
 
 use geometry::{check_box, check_geometry};
-use keys::{check_name, check_solver, density_diffusion, initial_state, rotating_frame};
+use keys::{
+    artificial_viscosity_wall_factor, check_name, check_solver, density_diffusion, initial_state,
+    rotating_frame,
+};
 use memory::check_counts;
 pub use memory::{
     BASE_BYTES, ParticleBytes, frame_bytes_per_particle, particle_bytes, run_bytes, scene_particle_bytes,
@@ -333,6 +336,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
     }
     let surface_tension_model = f.surface_tension_model.unwrap_or_default();
     let density_diffusion = density_diffusion(&mut c, &fp, f, &effects);
+    let artificial_viscosity_wall_factor = artificial_viscosity_wall_factor(&mut c, &fp, f, &effects);
     let initial_state = initial_state(&mut c, &fp, f, &effects, gravity_ramp);
 
     // [[fluid_box]]
@@ -496,6 +500,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
             rotation_centre: rotation_centre?,
             surface_tension,
             surface_tension_model,
+            artificial_viscosity_wall_factor: artificial_viscosity_wall_factor?,
             density_diffusion,
             initial_state,
             fluid_boxes,
