@@ -32,6 +32,7 @@
 
 pub mod keep_out;
 pub mod motion;
+pub mod rigid_body;
 pub mod series;
 pub mod solid_force;
 pub mod wall_pressure;

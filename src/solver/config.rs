@@ -42,6 +42,16 @@ impl Integrator {
         }
     }
 
+    /// The Shu–Osher `(a, b)` of [`Integrator::stages`] in f64 (those are their f32 roundings),
+    /// for the state the run keeps in f64: a floating body (`boundary::rigid_body`), whose
+    /// centre would drift by `(a + b − 1) |c|` a stage with the f32 values.
+    pub fn stage_weights_f64(self) -> &'static [(f64, f64)] {
+        match self {
+            Integrator::SymplecticEuler => &[(0.0, 1.0)],
+            Integrator::Rk3 => &[(0.0, 1.0), (0.75, 0.25), (1.0 / 3.0, 2.0 / 3.0)],
+        }
+    }
+
     /// Weight of stage `k`'s forces in the step: the step's impulse is `dt Σ_k w_k F_k`
     /// (SSP-RK3: 1/6, 1/6, 2/3).
     pub fn force_weights(self) -> &'static [f64] {
