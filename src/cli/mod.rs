@@ -6,7 +6,7 @@
 //! KEY=V1,V2,...` runs one variant per value and compares them; `sph bench` times the solver at
 //! several sizes on each backend; `sph surface RUN_DIR` reconstructs the free surface of a
 //! finished run's frames; `sph render RUN_DIR` draws a run's frames and `sph plot RUN_DIR`
-//! charts its logs.
+//! charts its logs; `sph waves RUN_DIR` reads the regular waves its level gauges recorded.
 
 mod bench;
 mod check;
@@ -18,6 +18,7 @@ mod run;
 pub mod signals;
 mod surface;
 mod sweep;
+pub mod waves;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -239,6 +240,40 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Read the regular waves a run's level gauges recorded: each gauge's height, and the incident
+    /// and reflected waves fitted to all of them (Mansard & Funke, with decay), with the
+    /// reflection coefficient and the wavenumber against the dispersion relation.
+    Waves {
+        /// The run's output directory (holds probes.csv).
+        run_dir: PathBuf,
+        /// The run's scene [default: the one summary.json names].
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Override a key of --scene by its dotted TOML path (as given to the run).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Wave period [s] [default: the scene's piston's].
+        #[arg(long)]
+        period: Option<f64>,
+        /// Still-water depth [m] [default: the scene's piston's].
+        #[arg(long)]
+        depth: Option<f64>,
+        /// The level probes to use, by name, comma-separated [default: every level probe].
+        #[arg(long, value_delimiter = ',')]
+        gauges: Vec<String>,
+        /// Window start [s] [default: four periods before its end].
+        #[arg(long)]
+        from: Option<f64>,
+        /// Window end [s] [default: the record's end].
+        #[arg(long)]
+        to: Option<f64>,
+        /// Where along the flume [m] to give the reflection coefficient [default: the last gauge].
+        #[arg(long)]
+        at: Option<f64>,
+        /// The flume's axis.
+        #[arg(long, default_value = "x", value_parser = ["x", "y", "z"])]
+        axis: String,
+    },
     /// Reconstruct the free surface (eq. 25) of every frame of a finished run: writes
     /// RUN_DIR/surface/surface_NNNNN.vtp and the series RUN_DIR/surface.pvd.
     Surface {
@@ -353,5 +388,29 @@ where
             sets,
             out,
         } => plot::plot(&run_dir, out, scene.as_deref(), &sets, refs),
+        Command::Waves {
+            run_dir,
+            scene,
+            sets,
+            period,
+            depth,
+            gauges,
+            from,
+            to,
+            at,
+            axis,
+        } => {
+            let scene = plot::scene_of_run(&run_dir, scene.as_deref(), &sets, refs)?;
+            let options = waves::WaveOptions {
+                period,
+                depth,
+                gauges,
+                from,
+                to,
+                at,
+                axis: ["x", "y", "z"].iter().position(|a| *a == axis).unwrap_or(0),
+            };
+            waves::waves(&run_dir, scene.as_ref(), &options)
+        }
     }
 }

@@ -16,22 +16,33 @@ pub fn plot(
     sets: &[String],
     reference_dir: Option<&Path>,
 ) -> anyhow::Result<()> {
-    anyhow::ensure!(
-        scene.is_some() || sets.is_empty(),
-        "--set needs --scene (it overrides the scene's keys)"
-    );
-    let scene = match scene {
-        Some(path) => Some(
-            super::load_located(path, sets, reference_dir, true)
-                .with_context(|| format!("loading scene {}", path.display()))?,
-        ),
-        None => run_scene(run_dir, reference_dir),
-    };
+    let scene = scene_of_run(run_dir, scene, sets, reference_dir)?;
     let out = out.unwrap_or_else(|| run_dir.join("plots"));
     // The errors name the directory or file at fault; no further context needed.
     let files = write_run_charts(run_dir, &out, scene.as_ref())?;
     println!("wrote {} charts to {}", files.len(), out.display());
     Ok(())
+}
+
+/// The scene at `scene` with `sets`, else the one the run in `run_dir` was started from
+/// ([`run_scene`]).
+pub(super) fn scene_of_run(
+    run_dir: &Path,
+    scene: Option<&Path>,
+    sets: &[String],
+    reference_dir: Option<&Path>,
+) -> anyhow::Result<Option<crate::scene::Scene>> {
+    anyhow::ensure!(
+        scene.is_some() || sets.is_empty(),
+        "--set needs --scene (it overrides the scene's keys)"
+    );
+    Ok(match scene {
+        Some(path) => Some(
+            super::load_located(path, sets, reference_dir, true)
+                .with_context(|| format!("loading scene {}", path.display()))?,
+        ),
+        None => run_scene(run_dir, reference_dir),
+    })
 }
 
 /// The scene the run in `run_dir` was started from, as its `summary.json` names it, if that file

@@ -26,6 +26,7 @@
 pub mod compare;
 pub mod interpolate;
 pub mod signal;
+pub mod waves;
 
 pub use compare::{
     ONSET_FRACTION, Peak, ProbeComparison, ProbeError, check_references, compare, compare_samples,

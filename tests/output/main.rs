@@ -13,3 +13,4 @@ mod pictures;
 mod plot;
 mod readers;
 mod surface;
+mod waves;
