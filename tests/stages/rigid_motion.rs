@@ -220,6 +220,6 @@ fn check_turning_wall_pressure<const D: usize>(seed: u64) {
 
 #[test]
 fn wall_pressure_uses_each_particles_acceleration_on_a_turning_solid() {
-    check_turning_wall_pressure::<2>(0x7e57_0f_a11_b0b);
+    check_turning_wall_pressure::<2>(0x7e57_0fa1_1b0b);
     check_turning_wall_pressure::<3>(0x0123_4567_89ab_cdef);
 }
