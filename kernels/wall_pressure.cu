@@ -1,7 +1,8 @@
 // Stage `wall_pressure`: pressure and density of solid particles, [A12] (Adami et al. 2012)
 // eq. (27), extrapolated from the fluid neighbours with the body acceleration `g - a_w` in the
-// wall's frame (`wall_acc`: D floats per solid, the solid's acceleration [m/s^2]; zeros for walls
-// at rest, where `g - 0` is `g` bit for bit), plus the centrifugal acceleration at the wall in a
+// wall's frame (`motion`: one `rigid.cuh` record per solid; `a_w` the wall's acceleration at the
+// wall particle [m/s^2], `rigid_acceleration_at`; zeros for walls at rest, where `g - 0` is `g`
+// bit for bit), plus the centrifugal acceleration at the wall in a
 // rotating frame (`rotating_frame.cuh`). Twin of
 // `CpuBackend::wall_pressure` and `boundary::wall_pressure::WallPressureSums`; fluid entries are
 // left as they are. Writing in place is safe: a solid reads only its fluid neighbours' pressure
@@ -10,6 +11,7 @@
 // mass, `m_w sum W`, instead of (18) (`multiphase::wall_density`).
 #include "sph.cuh"
 #include "rotating_frame.cuh"
+#include "rigid.cuh"
 
 /// [A12] eq. (27): p_w = max((sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf, 0)
 /// over fluid neighbours f (0 without any); with `extrapolated_or_summed` != 0
@@ -22,7 +24,7 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
                                                    const float* __restrict__ pos,
                                                    const float* __restrict__ mass,
                                                    const u32* __restrict__ kind,
-                                                   const float* __restrict__ wall_acc,
+                                                   const float* __restrict__ motion,
                                                    int extrapolated_or_summed, float* pressure,
                                                    float* density) {
     u32 w = blockIdx.x * blockDim.x + threadIdx.x;
@@ -55,7 +57,7 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
     if (MULTIPHASE) summed_density = mass[w] * summed_density;
     float pw = 0.0f;
     if (!(weight <= 0.0f)) {  // as `WallPressureSums::pressure`: a NaN weight falls through
-        const vec_t a_w = vload(wall_acc, kind[w] - 1u);
+        const vec_t a_w = rigid_acceleration_at(rigid_record(motion, kind[w] - 1u), xw);
         vec_t body;
         for (int k = 0; k < D; ++k) body.c[k] = p.gravity[k] - a_w.c[k];
         // In a rotating frame: plus the centrifugal acceleration at the wall ([B67] 3.2).
@@ -71,9 +73,9 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
     SPH_KERNEL(name)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,      \
                      const u32* __restrict__ cell_key, const float* __restrict__ pos,              \
                      const float* __restrict__ mass, const u32* __restrict__ kind,                 \
-                     const float* __restrict__ wall_acc, int extrapolated_or_summed,               \
+                     const float* __restrict__ motion, int extrapolated_or_summed,                 \
                      float* pressure, float* density) {                                            \
-        wall_pressure_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass, kind, wall_acc,   \
+        wall_pressure_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass, kind, motion,     \
                                        extrapolated_or_summed, pressure, density);                 \
     }
 

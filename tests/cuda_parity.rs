@@ -309,6 +309,22 @@ fn wave_flume_matches_the_cpu() {
     }
 }
 
+/// The flap flume (`scenes/wave_flap_2d.toml`): a flap (`move_solids` turning the paddle about
+/// its hinge, the wall pressure with each particle's acceleration; no ramp, so it swings at full
+/// speed from the first step) and the `damping_zone` stage.
+#[test]
+fn wave_flap_matches_the_cpu() {
+    for device in devices() {
+        check(
+            device,
+            &format!("{ROOT}/scenes/wave_flap_2d.toml"),
+            &["solid.1.motion.ramp=0".to_string()],
+            STEPS,
+            FORCE,
+        );
+    }
+}
+
 /// A mesh solid (`tests/scenes/mesh_obstacle_3d.toml`: the STL obstacle of `scenes/meshes` in a
 /// small 3D dam break): its particles and the force on it go through the same stages as a box's.
 #[test]

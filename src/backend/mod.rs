@@ -11,7 +11,6 @@ use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::Fields;
 use crate::grid::GridError;
-use crate::math::Vector;
 use crate::model::pair_terms::PairTerms;
 use crate::physics::damping_zone::DampingZone;
 use params::StepParams;
@@ -154,26 +153,29 @@ pub trait Backend<const D: usize> {
     fn damping_zone(&mut self, fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32);
     /// Eq. (19): pressure of fluid particles.
     fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
-    /// Moving solids (`boundary::motion`): every solid particle of id `reference.first_id + k`
-    /// and kind `1 + s` moves to `reference.position[k] + kinematics[s].displacement` [m] and
-    /// takes the velocity `kinematics[s].velocity` [m/s] (fixed solids in the same scene get
-    /// zero kinematics and stay where they are). Fluid particles are untouched.
+    /// Moving solids (`boundary::motion`, `boundary::rigid`): every solid particle of id
+    /// `reference.first_id + k` and kind `1 + s` moves to
+    /// `kinematics[s].position(reference.position[k])` [m] (`x0 + d`, turned about the pivot when
+    /// the solid rotates) and takes the velocity `kinematics[s].velocity_at(x)` [m/s] (`d' + ω × r`;
+    /// fixed solids in the same scene get zero kinematics and stay where they are). Fluid
+    /// particles are untouched.
     fn move_solids(
         &mut self,
         fields: &mut Fields<D>,
         reference: &SolidReference<D>,
         kinematics: &[SolidKinematics<D>],
     );
-    /// Boundary: pressure and density of solid particles ([A12] eq. 27). `wall_acceleration`
-    /// holds each solid's acceleration [m/s²] (index `kind − 1`), which enters as `g − a_w`;
-    /// empty when no solid moves. With a rotating frame (`params.angular_velocity` not zero) the
+    /// Boundary: pressure and density of solid particles ([A12] eq. 27). `kinematics` holds
+    /// each solid's motion (index `kind − 1`); the wall's acceleration at each solid particle,
+    /// `kinematics[s].acceleration_at(x)` [m/s²] (`d'' + α × r + ω × (ω × r)`), enters as
+    /// `g − a_w`; empty when no solid moves. With a rotating frame (`params.angular_velocity` not zero) the
     /// centrifugal acceleration at the wall particle is added (`physics::rotating_frame`).
     fn wall_pressure(
         &mut self,
         fields: &mut Fields<D>,
         params: &StepParams<D>,
         model: WallModel,
-        wall_acceleration: &[Vector<D>],
+        kinematics: &[SolidKinematics<D>],
     );
     /// Boundary, no-slip walls ([A12] eqs. 22–23, `boundary::wall_velocity`): every solid
     /// particle's `Fields::wall_velocity` becomes `2 u_wall − ũ`, `ũ` the Shepard average (poly6

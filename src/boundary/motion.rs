@@ -1,10 +1,11 @@
 //! Prescribed rigid motion of a solid (scene `[[solid]] motion = { kind = ..., ... }`), one of
 //! the kinds of [`Motion`]: a sway, the forcing of a sloshing tank, a piston wave maker
-//! ([`Piston`]), the same translation with its stroke from first-order wave-maker theory, or a
-//! displacement time series (`boundary::series`).
+//! ([`Piston`]), the same translation with its stroke from first-order wave-maker theory, a
+//! displacement time series (`boundary::series`), or a flap wave maker (`boundary::flap`), which
+//! turns the solid about a hinge by an angle of the same profile (`boundary::rigid`).
 //!
-//! The solid translates as a whole by `d(t) = A f(t)` [m], with the amplitude vector `A` [m] and
-//! the scalar profile
+//! The translations move the solid as a whole by `d(t) = A f(t)` [m], with the amplitude vector
+//! `A` [m] and the scalar profile
 //!
 //! ```text
 //! f(t) = r(t) sin(ω t),   ω = 2π / T,
@@ -28,6 +29,8 @@
 //! simulated time [s] from the start of the run. Evaluated in f64 and rounded to f32 once, so
 //! both backends place the particles from the same numbers.
 
+use super::flap::Flap;
+pub use super::rigid::{Rotation, SolidKinematics, Turn};
 use super::series::DisplacementSeries;
 use crate::math::{Real, Vector};
 
@@ -43,7 +46,8 @@ pub struct Sway {
 }
 
 /// A solid's prescribed motion, the kind the scene chooses (`motion.kind`). Each kind is a
-/// rigid translation `d(t)`; the stages (`move_solids`) only see its kinematics.
+/// rigid motion, a translation `d(t)` or (the flap) a turn about a hinge; the stages
+/// (`move_solids`, `wall_pressure`) only see its kinematics (`boundary::rigid`).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Motion {
     /// `kind = "sway"` (the default): the amplitude is given.
@@ -52,6 +56,8 @@ pub enum Motion {
     Piston(Piston),
     /// `kind = "series"`: the displacement along a direction from a time series.
     Series(DisplacementSeries),
+    /// `kind = "flap"`: a turn about a hinge, its angle given or from a target wave.
+    Flap(Flap),
 }
 
 impl From<Sway> for Motion {
@@ -67,25 +73,27 @@ impl Motion {
             Motion::Sway(_) => "sway",
             Motion::Piston(_) => "piston",
             Motion::Series(_) => "series",
+            Motion::Flap(_) => "flap",
         }
     }
 
-    /// The sinusoidal translation the solid performs (`None` for a time series).
+    /// The sinusoidal translation the solid performs (`None` for a time series and a flap).
     pub fn sway(&self) -> Option<Sway> {
         match self {
             Motion::Sway(s) => Some(s.clone()),
             Motion::Piston(p) => Some(p.sway()),
-            Motion::Series(_) => None,
+            Motion::Series(_) | Motion::Flap(_) => None,
         }
     }
 
-    /// Displacement, velocity and acceleration at time `t` [s] ([`Sway::kinematics`], or the
-    /// series' spline along its direction).
+    /// The rigid motion at time `t` [s] ([`Sway::kinematics`], the series' spline along its
+    /// direction, or the flap's turn, `Flap::kinematics`).
     pub fn kinematics<const D: usize>(&self, t: f64) -> SolidKinematics<D> {
         match self {
             Motion::Sway(s) => s.kinematics(t),
             Motion::Piston(p) => p.sway().kinematics(t),
             Motion::Series(s) => along(&s.direction, s.profile(t)),
+            Motion::Flap(f) => f.kinematics(t),
         }
     }
 
@@ -94,14 +102,17 @@ impl Motion {
     pub fn max_speed(&self) -> f64 {
         match self {
             Motion::Series(s) => s.bounds().1,
+            Motion::Flap(f) => f.max_speed(),
             _ => self.sway().map_or(0.0, |s| s.max_speed()),
         }
     }
 
-    /// Per axis, an upper bound of `|d_k(t)|` [m] over all times: how far the solid sweeps.
+    /// Per axis, an upper bound of `|d_k(t)|` [m] over all times (of how far a point of a flap
+    /// moves, `Flap::reach`): how far the solid sweeps.
     pub fn reach(&self) -> Vec<f64> {
         match self {
             Motion::Series(s) => s.direction.iter().map(|n| n.abs() * s.bounds().0).collect(),
+            Motion::Flap(f) => f.reach(f.hinge.len()),
             _ => self
                 .sway()
                 .map(|s| s.amplitude.iter().map(|a| a.abs()).collect())
@@ -118,6 +129,7 @@ fn along<const D: usize>(v: &[f64], f: Profile) -> SolidKinematics<D> {
         displacement: scaled(f.value),
         velocity: scaled(f.rate),
         acceleration: scaled(f.curvature),
+        rotation: Rotation::None,
     }
 }
 
@@ -186,29 +198,6 @@ pub struct Profile {
     pub rate: f64,
     /// `f''(t)` [1/s²].
     pub curvature: f64,
-}
-
-/// Displacement, velocity and acceleration of one solid at one time, as the stages use them
-/// (f32, `D` components).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SolidKinematics<const D: usize> {
-    /// `d(t)` [m]: the solid's particles sit at their reference position plus this.
-    pub displacement: Vector<D>,
-    /// `d'(t)` [m/s]: the velocity of every particle of the solid (no-slip and viscous terms).
-    pub velocity: Vector<D>,
-    /// `d''(t)` [m/s²]: enters the wall pressure as `g − d''` ([A12] eq. 27).
-    pub acceleration: Vector<D>,
-}
-
-impl<const D: usize> SolidKinematics<D> {
-    /// A solid at rest at its reference position.
-    pub fn rest() -> Self {
-        Self {
-            displacement: Vector::zeros(),
-            velocity: Vector::zeros(),
-            acceleration: Vector::zeros(),
-        }
-    }
 }
 
 /// The reference positions `x0` of the solid particles, indexed by particle id.

@@ -252,10 +252,10 @@ enum Command {
         /// Override a key of --scene by its dotted TOML path (as given to the run).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
-        /// Wave period [s] [default: the scene's piston's].
+        /// Wave period [s] [default: the scene's wave maker's].
         #[arg(long)]
         period: Option<f64>,
-        /// Still-water depth [m] [default: the scene's piston's].
+        /// Still-water depth [m] [default: the scene's wave maker's].
         #[arg(long)]
         depth: Option<f64>,
         /// The level probes to use, by name, comma-separated [default: every level probe].

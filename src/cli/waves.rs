@@ -5,9 +5,11 @@
 //!
 //! The gauges are the scene's `level` probes (or those `--gauges` names), placed along the
 //! flume by their point's coordinate on `--axis` (default x). The period and depth default to
-//! those of the scene's wave maker (`motion.kind = "piston"`); without one they are required.
+//! those of the scene's wave maker (`motion.kind = "piston"`, or `"flap"` with a target wave);
+//! without one they are required.
 //! The window defaults to the last four whole periods of the record.
 
+use crate::boundary::flap::FlapAmplitude;
 use crate::boundary::motion::Motion;
 use crate::output::CsvFile;
 use crate::physics::waves::wavenumber;
@@ -70,10 +72,15 @@ pub struct WaveReport {
     pub reflection: f64,
 }
 
-/// The period [s], depth [m] and `|g|` [m/s²] of the scene's first wave maker.
+/// The period [s], depth [m] and `|g|` [m/s²] of the scene's first wave maker (a piston, or a
+/// flap driven by a target wave).
 fn wave_maker(scene: &Scene) -> Option<(f64, f64, f64)> {
     scene.solids.iter().find_map(|s| match s.motion.as_ref()? {
         Motion::Piston(p) => Some((p.period, p.depth, p.gravity)),
+        Motion::Flap(f) => match f.amplitude {
+            FlapAmplitude::Wave { depth, gravity, .. } => Some((f.period, depth, gravity)),
+            FlapAmplitude::Angle(_) => None,
+        },
         Motion::Sway(_) | Motion::Series(_) => None,
     })
 }
@@ -82,12 +89,12 @@ fn wave_maker(scene: &Scene) -> Option<(f64, f64, f64)> {
 pub fn analyse(run_dir: &Path, scene: &Scene, o: &WaveOptions) -> anyhow::Result<WaveReport> {
     let maker = wave_maker(scene);
     let period = o.period.or(maker.map(|m| m.0)).context(
-        "the scene has no piston wave maker: give the wave period with --period (and the depth with --depth)",
+        "the scene has no wave maker with a target wave: give the wave period with --period (and the depth with --depth)",
     )?;
     let depth = o
         .depth
         .or(maker.map(|m| m.1))
-        .context("the scene has no piston wave maker: give the still-water depth with --depth")?;
+        .context("the scene has no wave maker with a target wave: give the still-water depth with --depth")?;
     if !(period > 0.0 && period.is_finite() && depth > 0.0 && depth.is_finite()) {
         bail!("--period and --depth must be positive and finite (got {period} s, {depth} m)");
     }

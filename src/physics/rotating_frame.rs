@@ -30,12 +30,12 @@
 use crate::math::{Real, Vector};
 
 /// A `D`-vector (D = 2 or 3) as a 3-vector, `(x, y, 0)` in 2D.
-fn embed<const D: usize>(v: &Vector<D>) -> [Real; 3] {
+pub(crate) fn embed<const D: usize>(v: &Vector<D>) -> [Real; 3] {
     [v[0], v[1], if D > 2 { v[2] } else { 0.0 }]
 }
 
 /// The cross product `a × b`.
-fn cross(a: [Real; 3], b: [Real; 3]) -> [Real; 3] {
+pub(crate) fn cross(a: [Real; 3], b: [Real; 3]) -> [Real; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],

@@ -7,6 +7,9 @@
 //! - The piston's transfer function (Biésel): the ratio of the far-field wave height `H` [m]
 //!   to the piston's stroke `S` [m] (its full excursion, twice the amplitude),
 //!   `H/S = 2 (cosh 2kd − 1) / (sinh 2kd + 2kd)` [DD91] eq. (6.20) ([`piston_height_per_stroke`]).
+//! - The flap's transfer function ([DD91] §6.2), `S` the stroke at the still-water level, for a
+//!   flap hinged at the bed and, by the same integral, at a height `l` above (or below) it
+//!   ([`flap_height_per_stroke`]).
 //!
 //! [DD91] Dean & Dalrymple, *Water Wave Mechanics for Engineers and Scientists*, World
 //! Scientific (1991), chapters 4 and 6.
@@ -48,6 +51,27 @@ pub fn piston_height_per_stroke(kd: f64) -> f64 {
     2.0 * (x.cosh() - 1.0) / (x.sinh() + x)
 }
 
+/// The transfer function of a flap wave maker ([DD91] §6.2): the far-field wave height `H` [m]
+/// per metre of stroke `S` at the still-water level, for `k d` > 0 and the hinge at the height
+/// `l = q d` above the bed (`q < 1`; `q < 0`: below the bed, the flap spans the whole depth).
+/// The first-order progressive wave of a paddle with the horizontal stroke profile `S(z)` is
+/// `H = 4 sinh kd / (sinh 2kd + 2kd) ∫_{−d}^{0} (S(z)/S) k cosh k(d + z) dz · S` ([DD91] §6.2,
+/// the piston's eq. 6.20 with `S(z) = S`); for the flap `S(z) = S (1 + z/(d − l))` above the
+/// hinge and 0 below, which integrates to
+///
+/// ```text
+/// H/S = 4 sinh kd / (sinh 2kd + 2kd) · (sinh kd − (cosh kd − cosh(k max(l, 0))) / (k (d − l)))
+/// ```
+///
+/// At `l = 0` this is the bed-hinged flap of [DD91] §6.2,
+/// `H/S = 4 (sinh kd / kd) (kd sinh kd − cosh kd + 1) / (sinh 2kd + 2kd)`, which rises from
+/// `kd/2` in shallow water to 2 in deep water; as `l → −∞` it tends to the piston's.
+pub fn flap_height_per_stroke(kd: f64, q: f64) -> f64 {
+    let lever = kd * (1.0 - q);
+    let integral = kd.sinh() - (kd.cosh() - (kd * q.max(0.0)).cosh()) / lever;
+    4.0 * kd.sinh() * integral / ((2.0 * kd).sinh() + 2.0 * kd)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -84,5 +108,23 @@ mod tests {
         let by_hand = 2.0 * (x.cosh() - 1.0) / (x.sinh() + x);
         assert!((piston_height_per_stroke(1.2) - by_hand).abs() < 1e-15);
         assert!((by_hand - 1.1586).abs() < 1e-4, "{by_hand}");
+    }
+
+    /// The bed-hinged flap: `H/S → kd/2` in shallow water (the integral's leading term, to
+    /// O(kd²)), → 2 in deep water (as `2 − 2/kd`), and the closed form of [DD91] §6.2 at
+    /// kd = 1.2 (0.6401 by hand: 4 (sinh 1.2/1.2)(1.2 sinh 1.2 − cosh 1.2 + 1)/(sinh 2.4 + 2.4));
+    /// a hinge far below the bed gives the piston's, and one halfway up less than the bed's.
+    #[test]
+    fn flap_transfer_function_has_its_limits() {
+        let kd = 1e-3;
+        assert!((flap_height_per_stroke(kd, 0.0) / (kd / 2.0) - 1.0).abs() < 1e-5);
+        assert!((flap_height_per_stroke(200.0, 0.0) - (2.0 - 2.0 / 200.0)).abs() < 1e-4);
+        let x: f64 = 1.2;
+        let closed = 4.0 * (x.sinh() / x) * (x * x.sinh() - x.cosh() + 1.0) / ((2.0 * x).sinh() + 2.0 * x);
+        assert!((flap_height_per_stroke(x, 0.0) - closed).abs() < 1e-14);
+        assert!((closed - 0.6401).abs() < 1e-4, "{closed}");
+        let far = flap_height_per_stroke(x, -1e7);
+        assert!((far / piston_height_per_stroke(x) - 1.0).abs() < 1e-6, "{far}");
+        assert!(flap_height_per_stroke(x, 0.5) < closed);
     }
 }

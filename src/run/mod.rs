@@ -18,6 +18,7 @@
 
 use crate::backend::{BackendKind, cuda};
 use crate::boundary::keep_out::KeepOutBox;
+use crate::boundary::motion::Motion;
 use crate::error::Error;
 use crate::geometry::Volume;
 use crate::math::{Real, Vector};
@@ -83,6 +84,10 @@ fn keep_out_boxes<const D: usize>(scene: &Scene, solids: &[(String, Vec<Vector<D
         let Some(index) = solids.iter().position(|(name, _)| *name == s.name) else {
             continue;
         };
+        if let Some(Motion::Flap(_)) = s.motion {
+            // A turning solid leaves its axis-aligned box: the particle boundary alone holds it.
+            continue;
+        }
         let (min, max) = (vector(&s.region.min), vector(&s.region.max));
         match (s.shape, &s.volume) {
             (SolidShape::Box, Volume::Aabb { .. }) => boxes.push(KeepOutBox::fixed(min, max, index as u32)),

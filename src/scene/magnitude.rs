@@ -15,6 +15,7 @@
 
 use super::validate::{RawProblem, num};
 use super::{KeyPath, Scene};
+use crate::boundary::flap::FlapAmplitude;
 use crate::boundary::motion::Motion;
 use crate::physics::pair::ViscousMedium;
 use crate::smoothing::Smoothing;
@@ -176,6 +177,24 @@ pub(crate) fn check(scene: &Scene) -> Vec<RawProblem> {
                 m.value(mp.k("depth"), piston.depth, Rule::Positive);
                 m.value(mp.k("period"), piston.period, Rule::Positive);
                 m.value(mp.k("ramp"), piston.ramp, Rule::ZeroOr);
+            }
+            Some(Motion::Flap(flap)) => {
+                m.values(mp.k("hinge"), &flap.hinge, Rule::Coordinate);
+                match &flap.amplitude {
+                    FlapAmplitude::Angle(a) => m.value(mp.k("angle"), *a, Rule::Positive),
+                    FlapAmplitude::Wave {
+                        wave_height,
+                        depth,
+                        hinge_height,
+                        ..
+                    } => {
+                        m.value(mp.k("wave_height"), *wave_height, Rule::Positive);
+                        m.value(mp.k("depth"), *depth, Rule::Positive);
+                        m.value(mp.k("hinge_height"), *hinge_height, Rule::Coordinate);
+                    }
+                }
+                m.value(mp.k("period"), flap.period, Rule::Positive);
+                m.value(mp.k("ramp"), flap.ramp, Rule::ZeroOr);
             }
             Some(Motion::Series(series)) => {
                 m.values(mp.k("file"), &series.displacement, Rule::ZeroOr);

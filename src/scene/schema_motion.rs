@@ -18,6 +18,15 @@ use serde::Deserialize;
 ///   samples (a header line first), joined by a natural cubic spline
 ///   (`boundary::series`); held at the first and last sample outside them. No period or ramp.
 ///
+/// - `kind = "flap"`: `motion = { kind = "flap", hinge = [x, z] (3D [x, y, z]), wave_height = H,
+///   period = T, depth = d, hinge_height = l, ramp = t_r }`, a flap wave maker: the solid turns
+///   about the horizontal axis through `hinge` (2D: out of the plane; 3D: along `y`) by
+///   `θ(t) = Θ r(t) sin(2π t / T)`, `θ > 0` moving its top towards `+x`; `Θ` makes waves of
+///   height `H` on water `d` deep by first-order flap theory, the hinge `l` above the bed
+///   (default 0; negative: below the bed) (`boundary::flap`, Dean & Dalrymple 1991 §6.2). Or
+///   `angle = Θ` \[rad\] instead of `wave_height`, `depth` and `hinge_height`. Needs gravity
+///   with `wave_height`.
+///
 /// Without `ramp` (or `ramp = 0`) `r = 1`; with it the amplitude grows from 0 over the first
 /// `t_r` seconds as `r = s(t/t_r)`, `s(x) = 10x³ − 15x⁴ + 6x⁵`, whose first two derivatives
 /// vanish at both ends, so the start is not impulsive (`boundary::motion` gives the exact
@@ -46,6 +55,13 @@ pub struct MotionFile {
     /// Series: the CSV file of the displacement samples, relative to the scene file's directory
     /// (or absolute).
     pub file: Option<String>,
+    /// Flap: the hinge point \[m\], `dimension` entries.
+    pub hinge: Option<Vec<f64>>,
+    /// Flap: the hinge's height above the bed \[m\], below the still-water level (`< depth`);
+    /// negative: below the bed. Default 0 (hinged at the bed).
+    pub hinge_height: Option<f64>,
+    /// Flap: the angle amplitude `Θ` \[rad\], not 0, instead of `wave_height` and `depth`.
+    pub angle: Option<f64>,
 }
 
 /// `motion.kind`: what prescribes a solid's translation.
@@ -58,6 +74,8 @@ pub enum MotionKind {
     Piston,
     /// A displacement time series read from a file.
     Series,
+    /// A flap wave maker: a turn about a hinge.
+    Flap,
 }
 
 /// `[damping_zone]`: `start = [x0..]`, `end = [x1..]` \[m\], `strength = β` \[1/s\]. Every step the

@@ -80,8 +80,6 @@ pub struct Simulation<const D: usize> {
     pub(super) solid_reference: SolidReference<D>,
     /// Kinematics of each solid at its last placement; empty unless a solid moves.
     pub(super) solid_kinematics: Vec<SolidKinematics<D>>,
-    /// Each solid's acceleration at its last placement [m/s²]; empty unless a solid moves.
-    pub(super) wall_acceleration: Vec<Vector<D>>,
     /// Time [s] the moving solids were last placed at, if they were since the fields were set.
     pub(super) solids_placed_at: Option<f64>,
     /// Bound of the moving solids' speed [m/s] (`Motion::max_speed`), a flow speed for the time
@@ -219,7 +217,6 @@ impl<const D: usize> Simulation<D> {
             motions: vec![None; solids.len()],
             solid_reference: SolidReference::default(),
             solid_kinematics: Vec::new(),
-            wall_acceleration: Vec::new(),
             solids_placed_at: None,
             wall_speed: 0.0,
             lightest_rho0: config.rho0,
@@ -259,6 +256,7 @@ impl<const D: usize> Simulation<D> {
                     .all(|v| v.is_finite() && *v > 0.0),
                 // `DisplacementSeries::new` checked its samples.
                 Motion::Series(s) => s.direction.len() == D && s.direction.iter().all(|n| n.is_finite()),
+                Motion::Flap(f) => f.is_valid_in(D),
             };
             let ok = piston_ok
                 && motion.sway().is_none_or(|m| {
@@ -285,7 +283,6 @@ impl<const D: usize> Simulation<D> {
         if !moving {
             self.solid_reference = SolidReference::default();
             self.solid_kinematics.clear();
-            self.wall_acceleration.clear();
             return Ok(self);
         }
         // Solids are appended after the fluid: ids fluid_count.. in any current order.
@@ -299,7 +296,6 @@ impl<const D: usize> Simulation<D> {
         }
         self.solid_reference = SolidReference { first_id, position };
         self.solid_kinematics = vec![SolidKinematics::rest(); self.solid_names.len()];
-        self.wall_acceleration = vec![Vector::zeros(); self.solid_names.len()];
         Ok(self)
     }
 
@@ -406,7 +402,6 @@ impl<const D: usize> Simulation<D> {
             self.solid_kinematics[k] = m
                 .as_ref()
                 .map_or_else(SolidKinematics::rest, |m| m.kinematics::<D>(time));
-            self.wall_acceleration[k] = self.solid_kinematics[k].acceleration;
         }
         self.backend
             .move_solids(&mut self.fields, &self.solid_reference, &self.solid_kinematics);

@@ -115,7 +115,7 @@ impl<const D: usize> Simulation<D> {
                     Stage::DensityRate => bk.density_rate(f, &params), // continuity, [F19]
                     Stage::EquationOfState => bk.equation_of_state(f, &params), // eq. (19)
                     Stage::WallPressure(model) => {
-                        bk.wall_pressure(f, &params, model, &self.wall_acceleration); // [A12] eq. (27)
+                        bk.wall_pressure(f, &params, model, &self.solid_kinematics); // [A12] eq. (27)
                     }
                     Stage::WallVelocity => bk.wall_velocity(f, &params), // [A12] eqs. (22)-(23)
                     Stage::Forces(terms) => bk.forces(f, &params, terms), // eqs. (15)-(17), (6)

@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod flap;
 mod lattice;
 mod scene;
 mod scene_fuzz;

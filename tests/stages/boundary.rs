@@ -10,7 +10,7 @@ use crate::setup::{
 };
 use sph::backend::WallModel;
 use sph::boundary::keep_out::{KeepOutBox, KeepOutReport, push_moment};
-use sph::boundary::motion::{SolidKinematics, SolidReference};
+use sph::boundary::motion::{Rotation, SolidKinematics, SolidReference};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::model::params::StepParams;
@@ -20,10 +20,15 @@ use sph::physics::rotating_frame::centrifugal_acceleration;
 
 /// Accelerations [m/s²] of the floor and the left wall for the moving case: several g, so that
 /// `g − a_w` moves the pressure of the wetted walls far beyond the tolerance.
-fn wall_accelerations<const D: usize>() -> Vec<Vector<D>> {
+fn wall_accelerations<const D: usize>() -> Vec<SolidKinematics<D>> {
     let (mut floor, mut side) = (Vector::<D>::zeros(), Vector::<D>::zeros());
     (floor[0], floor[1], side[0], side[1]) = (30.0, -60.0, -80.0, 25.0);
-    vec![floor, side]
+    [floor, side]
+        .map(|acceleration| SolidKinematics {
+            acceleration,
+            ..SolidKinematics::rest()
+        })
+        .to_vec()
 }
 
 /// [A12] eq. (27) by brute force for solid `w` of `f` (id order), with the summed branch (18),
@@ -32,11 +37,11 @@ fn wall_accelerations<const D: usize>() -> Vec<Vector<D>> {
 /// [`SUM_ORDER`] of the sum of its terms' magnitudes: `Σ p_f W` and `Σ W` (positive terms) and
 /// `Σ ρ_f d_k W` (weighted by `|b_k|`) through the quotient, `C² Σ m W` for the summed branch;
 /// the winning branch's where it wins beyond both, else the larger (`max` is 1-Lipschitz).
-fn reference_wall_pressure<const D: usize>(
+pub fn reference_wall_pressure<const D: usize>(
     f: &Fields<D>,
     p: &StepParams<D>,
     model: WallModel,
-    wall_acceleration: &[Vector<D>],
+    kinematics: &[SolidKinematics<D>],
     w: usize,
 ) -> (f64, f64) {
     let kernel = p.smoothing();
@@ -72,9 +77,10 @@ fn reference_wall_pressure<const D: usize>(
     if p.phases == Phases::Multi {
         summed *= f64::from(f.mass[w]);
     }
-    // The body acceleration in the wall's frame, `g − a_w`, plus the centrifugal one.
-    let mut body = match wall_acceleration.get(f.kind[w] as usize - 1) {
-        Some(a) => p.gravity - a,
+    // The body acceleration in the wall's frame, `g − a_w` with the wall's acceleration at the
+    // particle, plus the centrifugal one.
+    let mut body = match kinematics.get(f.kind[w] as usize - 1) {
+        Some(k) => p.gravity - k.acceleration_at(&f.position[w]),
         None => p.gravity,
     };
     if p.rotating() {
@@ -322,7 +328,7 @@ fn wall_velocity_is_the_mirrored_shepard_average_by_brute_force() {
 }
 
 /// The bits of everything but position and velocity, to check that a stage leaves them.
-fn other_bits<const D: usize>(f: &Fields<D>, i: usize) -> Vec<u32> {
+pub fn other_bits<const D: usize>(f: &Fields<D>, i: usize) -> Vec<u32> {
     let mut v = vec![f.id[i], f.kind[i]];
     v.extend(f.acceleration[i].iter().map(|c| c.to_bits()));
     v.extend(
@@ -361,6 +367,7 @@ fn check_move_solids<const D: usize>(seed: u64) {
                 displacement: Vector::from_fn(|_, _| rng.sym(0.05)),
                 velocity: Vector::from_fn(|_, _| rng.sym(0.8)),
                 acceleration: Vector::from_fn(|_, _| rng.sym(9.0)),
+                rotation: Rotation::None,
             })
             .collect()
     };

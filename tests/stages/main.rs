@@ -17,7 +17,7 @@ mod common;
 mod setup;
 
 mod anderson_reference;
-mod boundary;
+pub mod boundary;
 mod correction;
 mod correction_reference;
 mod damping_zone;
@@ -25,6 +25,7 @@ mod density;
 mod density_rate;
 mod forces;
 mod integrate;
+mod rigid_motion;
 mod solid_forces;
 mod sort_by_cell;
 mod state_extremes;

@@ -170,9 +170,9 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         fields: &mut Fields<D>,
         params: &StepParams<D>,
         model: WallModel,
-        wall_acceleration: &[Vector<D>],
+        kinematics: &[SolidKinematics<D>],
     ) {
-        CpuBackend::wall_pressure(self, fields, params, model, wall_acceleration)
+        CpuBackend::wall_pressure(self, fields, params, model, kinematics)
     }
 
     fn wall_velocity(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {

@@ -28,8 +28,8 @@ impl<const D: usize> CpuBackend<D> {
             .for_each(|(i, (x, u))| {
                 if kind[i] != FLUID {
                     let k = &kinematics[kind[i] as usize - 1];
-                    *x = reference.position[(id[i] - reference.first_id) as usize] + k.displacement;
-                    *u = k.velocity;
+                    *x = k.position(&reference.position[(id[i] - reference.first_id) as usize]);
+                    *u = k.velocity_at(x);
                 }
             });
     }

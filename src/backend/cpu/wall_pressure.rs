@@ -3,7 +3,9 @@
 //! `kernels/wall_velocity.cu`).
 
 use super::CpuBackend;
-use crate::boundary::{wall_pressure::WallPressureSums, wall_velocity::WallVelocitySums};
+use crate::boundary::{
+    rigid::SolidKinematics, wall_pressure::WallPressureSums, wall_velocity::WallVelocitySums,
+};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector};
 use crate::model::WallModel;
@@ -22,7 +24,7 @@ impl<const D: usize> CpuBackend<D> {
         fields: &mut Fields<D>,
         params: &StepParams<D>,
         model: WallModel,
-        wall_acceleration: &[Vector<D>],
+        kinematics: &[SolidKinematics<D>],
     ) {
         let kernel = params.smoothing();
         let grid = &self.grid;
@@ -57,9 +59,10 @@ impl<const D: usize> CpuBackend<D> {
             if multiphase {
                 summed_density = multiphase::wall_density(f.mass[w], summed_density);
             }
-            // [A12] eq. (27): the body acceleration in the wall's frame, `g − a_w`.
-            let mut body = match wall_acceleration.get(f.kind[w] as usize - 1) {
-                Some(a) => params.gravity - a,
+            // [A12] eq. (27): the body acceleration in the wall's frame, `g − a_w`, with the
+            // wall's acceleration at this particle (`boundary::rigid`).
+            let mut body = match kinematics.get(f.kind[w] as usize - 1) {
+                Some(k) => params.gravity - k.acceleration_at(&f.position[w]),
                 None => params.gravity,
             };
             if rotating {

@@ -20,6 +20,7 @@ use crate::backend::{
 };
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
+use crate::boundary::rigid::motion_floats;
 use crate::fields::Fields;
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
@@ -129,13 +130,14 @@ pub struct CudaBackend<const D: usize, K: Launch<D> = Gpu> {
     /// Moving solids: `x0` by id (`D` floats per solid particle), uploaded at the first
     /// `move_solids`; `None` until then (and in scenes where nothing moves).
     solid_reference: Option<K::Buf<f32>>,
-    /// Per solid `[d, d']` (`2 D` floats) of the last `move_solids`.
+    /// Per solid the motion record of the last `move_solids` (`motion_floats(D)` floats,
+    /// `SolidKinematics::kernel_floats`).
     solid_motion: K::Buf<f32>,
-    /// Per solid acceleration `d''` (`D` floats), uploaded by `wall_pressure`; zeros while
+    /// Per solid the motion record given to `wall_pressure` (as `solid_motion`); zeros while
     /// nothing moves.
-    wall_acc: K::Buf<f32>,
-    /// Whether `wall_acc` holds accelerations of the last `wall_pressure` (else zeros).
-    wall_acc_set: bool,
+    wall_motion: K::Buf<f32>,
+    /// Whether `wall_motion` holds the records of the last `wall_pressure` (else zeros).
+    wall_motion_set: bool,
     /// Surface normals [AAT13] (`D` floats per particle), allocated by the first
     /// `surface_normals` (only scenes with the `surface_tension` effect run it). Recomputed after
     /// every sort before use, so the sort does not gather it.
@@ -273,9 +275,9 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         let solids = fields.kind.iter().copied().max().unwrap_or(0) as usize;
         let backend = Self {
             solid_reference: None,
-            solid_motion: zeros_f32(2 * D * solids)?,
-            wall_acc: zeros_f32(D * solids)?,
-            wall_acc_set: false,
+            solid_motion: zeros_f32(motion_floats(D) * solids)?,
+            wall_motion: zeros_f32(motion_floats(D) * solids)?,
+            wall_motion_set: false,
             n,
             domain: (params.domain_min, params.domain_max),
             f,
@@ -503,9 +505,9 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
         _fields: &mut Fields<D>,
         params: &StepParams<D>,
         model: WallModel,
-        wall_acceleration: &[Vector<D>],
+        kinematics: &[SolidKinematics<D>],
     ) {
-        self.launch_wall_pressure(params, model, wall_acceleration)
+        self.launch_wall_pressure(params, model, kinematics)
     }
 
     fn wall_velocity(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {

@@ -24,7 +24,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             &self.pressure_solve_start,
             &self.density_solve_start,
             &self.solid_motion,
-            &self.wall_acc,
+            &self.wall_motion,
         ]
         .iter()
         .map(|b| b.num_bytes())

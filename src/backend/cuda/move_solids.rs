@@ -20,18 +20,15 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             let r = self.dev.upload(floats(&reference.position));
             self.solid_reference = record(&mut self.error, "uploading the solids' reference positions", r);
         }
-        let motion: Vec<Vector<D>> = kinematics
-            .iter()
-            .flat_map(|k| [k.displacement, k.velocity])
-            .collect();
-        if motion.len() * D > self.solid_motion.len() {
+        let motion: Vec<f32> = kinematics.iter().flat_map(|k| k.kernel_floats()).collect();
+        if motion.len() > self.solid_motion.len() {
             self.error = Some(device_error(
                 "moving solids",
                 format!("{} solids, buffers for fewer", kinematics.len()),
             ));
             return;
         }
-        let r = self.dev.write(floats(&motion), &mut self.solid_motion);
+        let r = self.dev.write(&motion, &mut self.solid_motion);
         record(&mut self.error, "uploading the solids' motion", r);
         let Some(x0) = self.solid_reference.as_ref() else {
             return;

@@ -8,27 +8,29 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         &mut self,
         params: &StepParams<D>,
         model: WallModel,
-        wall_acceleration: &[Vector<D>],
+        kinematics: &[SolidKinematics<D>],
     ) {
-        // Moving walls: their accelerations go up with each call (a few floats); while nothing
-        // moves the buffer keeps its zeros and nothing is copied. An empty list after a full one
-        // means walls at rest again (as the CPU reads it): the buffer goes back to zeros.
-        if wall_acceleration.is_empty() && self.wall_acc_set && self.error.is_none() {
-            let r = self.dev.zero(&mut self.wall_acc);
-            record(&mut self.error, "clearing the walls' accelerations", r);
-            self.wall_acc_set = false;
+        // Moving walls: their motion records (`kernels/rigid.cuh`) go up with each call (a few
+        // floats); while nothing moves the buffer keeps its zeros and nothing is copied. An
+        // empty list after a full one means walls at rest again (as the CPU reads it): the
+        // buffer goes back to zeros.
+        if kinematics.is_empty() && self.wall_motion_set && self.error.is_none() {
+            let r = self.dev.zero(&mut self.wall_motion);
+            record(&mut self.error, "clearing the walls' motion", r);
+            self.wall_motion_set = false;
         }
-        if !wall_acceleration.is_empty() && self.error.is_none() {
-            if wall_acceleration.len() * D > self.wall_acc.len() {
+        if !kinematics.is_empty() && self.error.is_none() {
+            let motion: Vec<f32> = kinematics.iter().flat_map(|k| k.kernel_floats()).collect();
+            if motion.len() > self.wall_motion.len() {
                 self.error = Some(device_error(
                     "extrapolating the wall pressure",
-                    format!("{} wall accelerations, buffer for fewer", wall_acceleration.len()),
+                    format!("{} walls' motion, buffer for fewer", kinematics.len()),
                 ));
                 return;
             }
-            let r = self.dev.write(floats(wall_acceleration), &mut self.wall_acc);
-            record(&mut self.error, "uploading the walls' accelerations", r);
-            self.wall_acc_set = true;
+            let r = self.dev.write(&motion, &mut self.wall_motion);
+            record(&mut self.error, "uploading the walls' motion", r);
+            self.wall_motion_set = true;
         }
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
@@ -46,7 +48,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.position,
                 &self.f.mass,
                 &self.f.kind,
-                &self.wall_acc,
+                &self.wall_motion,
                 summed,
                 &mut self.f.pressure,
                 &mut self.f.density

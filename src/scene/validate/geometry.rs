@@ -41,6 +41,7 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
                 Motion::Sway(_) => "amplitude",
                 Motion::Piston(_) => "wave_height",
                 Motion::Series(_) => "file",
+                Motion::Flap(_) => "hinge",
             };
             if let Some(k) = outside_axis(&swept, domain, tol) {
                 c.err(

@@ -2,6 +2,7 @@
 //! the `[damping_zone]` table, the wave flume's other end.
 
 use super::*;
+use crate::boundary::flap::{Flap, FlapAmplitude};
 use crate::boundary::motion::{Motion, Piston};
 use crate::boundary::series::DisplacementSeries;
 use crate::scene::DampingZoneSpec;
@@ -25,26 +26,42 @@ pub(super) fn check_motion(
         MotionKind::Sway => "sway",
         MotionKind::Piston => "piston",
         MotionKind::Series => "series",
+        MotionKind::Flap => "flap",
     };
-    let foreign: &[(&str, bool)] = match kind {
-        MotionKind::Sway => &[
+    let flap_keys = [
+        ("hinge", m.hinge.is_some()),
+        ("hinge_height", m.hinge_height.is_some()),
+        ("angle", m.angle.is_some()),
+    ];
+    let own: Vec<(&str, bool)> = match kind {
+        MotionKind::Sway => vec![
             ("wave_height", m.wave_height.is_some()),
             ("depth", m.depth.is_some()),
             ("direction", m.direction.is_some()),
             ("file", m.file.is_some()),
         ],
-        MotionKind::Piston => &[("amplitude", m.amplitude.is_some()), ("file", m.file.is_some())],
-        MotionKind::Series => &[
+        MotionKind::Piston => vec![("amplitude", m.amplitude.is_some()), ("file", m.file.is_some())],
+        MotionKind::Series => vec![
             ("amplitude", m.amplitude.is_some()),
             ("wave_height", m.wave_height.is_some()),
             ("depth", m.depth.is_some()),
             ("period", m.period.is_some()),
             ("ramp", m.ramp.is_some()),
         ],
+        MotionKind::Flap => vec![
+            ("amplitude", m.amplitude.is_some()),
+            ("direction", m.direction.is_some()),
+            ("file", m.file.is_some()),
+        ],
+    };
+    // The flap's own keys belong to no other kind.
+    let foreign: Vec<(&str, bool)> = match kind {
+        MotionKind::Flap => own,
+        _ => own.into_iter().chain(flap_keys).collect(),
     };
     let mut ok = true;
     for (key, given) in foreign {
-        if *given {
+        if given {
             c.err(
                 path.k(key),
                 format!(
@@ -103,6 +120,7 @@ pub(super) fn check_motion(
             let direction = check_direction(c, path, m, dim)?;
             Motion::Series(read_series(c, path, m, dir, direction)?)
         }
+        MotionKind::Flap => Motion::Flap(check_flap(c, path, m, dim, g, period, ramp)?),
         MotionKind::Piston => {
             let wave_height = required(c, "wave_height", m.wave_height);
             let depth = required(c, "depth", m.depth);
@@ -128,6 +146,108 @@ pub(super) fn check_motion(
         }
     };
     ok.then_some(motion)
+}
+
+/// A flap's keys (`boundary::flap`): `hinge` of `dimension` finite entries; either `angle`
+/// (finite, not 0) or `wave_height` and `depth` (> 0) with `hinge_height` (default 0, below
+/// `depth`) and gravity, not both. The arm is set from the solid's box (`check_solid`).
+fn check_flap(
+    c: &mut Checker,
+    path: &KeyPath,
+    m: &MotionFile,
+    dim: Option<usize>,
+    g: Option<f64>,
+    period: Option<f64>,
+    ramp: Option<f64>,
+) -> Option<Flap> {
+    let hinge = match &m.hinge {
+        Some(h) => c.vector(path.k("hinge"), h, dim),
+        None => {
+            c.err(path.k("hinge"), "required for motion.kind = \"flap\"".into());
+            None
+        }
+    };
+    let amplitude = match (m.angle, m.wave_height) {
+        (Some(_), Some(_)) => {
+            c.err(
+                path.k("angle"),
+                "give either `angle` or `wave_height` (with `depth`), not both".into(),
+            );
+            None
+        }
+        (Some(a), None) => {
+            if m.depth.is_some() || m.hinge_height.is_some() {
+                let key = if m.depth.is_some() {
+                    "depth"
+                } else {
+                    "hinge_height"
+                };
+                c.err(path.k(key), "belongs with `wave_height`, not `angle`".into());
+                None
+            } else if !a.is_finite() || a == 0.0 {
+                c.err(
+                    path.k("angle"),
+                    format!("must be finite and not 0 [rad], got {a}"),
+                );
+                None
+            } else {
+                Some(FlapAmplitude::Angle(a))
+            }
+        }
+        (None, wave_height) => {
+            let wave_height = match wave_height {
+                Some(h) => c.positive(path.k("wave_height"), h),
+                None => {
+                    c.err(
+                        path.k("wave_height"),
+                        "required for motion.kind = \"flap\" (or give `angle`)".into(),
+                    );
+                    None
+                }
+            };
+            let depth = match m.depth {
+                Some(d) => c.positive(path.k("depth"), d),
+                None => {
+                    c.err(path.k("depth"), "required with `wave_height`".into());
+                    None
+                }
+            };
+            let hinge_height = m.hinge_height.unwrap_or(0.0);
+            let below = match depth {
+                Some(d) if !(hinge_height.is_finite() && hinge_height < d) => {
+                    c.err(
+                        path.k("hinge_height"),
+                        format!("must be finite and below the still-water level (< depth = {d}), got {hinge_height}"),
+                    );
+                    None
+                }
+                _ => Some(hinge_height),
+            };
+            let gravity = match g {
+                Some(g) if g > 0.0 => Some(g),
+                _ => {
+                    c.err(
+                        path.k("kind"),
+                        "a flap with `wave_height` needs gravity (effect \"gravity\" with a non-zero fluid.gravity): its angle comes from the dispersion relation of gravity waves".into(),
+                    );
+                    None
+                }
+            };
+            Some(FlapAmplitude::Wave {
+                wave_height: wave_height?,
+                depth: depth?,
+                hinge_height: below?,
+                gravity: gravity?,
+            })
+        }
+    };
+    Some(Flap {
+        hinge: hinge?,
+        amplitude: amplitude?,
+        period: period?,
+        ramp: ramp?,
+        arm: 0.0,
+    })
 }
 
 /// `motion.direction` (piston, series): `dimension` finite entries, not all zero; normalised.

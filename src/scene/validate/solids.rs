@@ -16,6 +16,7 @@ use nalgebra::{Unit, Vector3};
 use super::keys::check_name;
 use super::motion::check_motion;
 use super::{Checker, KeyPath, num};
+use crate::boundary::motion::Motion;
 use crate::geometry::{Mesh, Placement, Volume, read::read_triangles, rotation};
 use crate::scene::schema::{AxisFile, FluidBoxFile, NumberOrVector, SceneFile, SolidFile, SolidShape};
 use crate::scene::{Aabb, Solid};
@@ -129,7 +130,11 @@ pub(super) fn check_solid(
     };
     let volume = volume?;
     let (min, max) = volume.bounds(dim);
-    let motion = motion?;
+    let mut motion = motion?;
+    if let Some(Motion::Flap(flap)) = &mut motion {
+        // The flap's speed and sweep bounds need its size.
+        flap.arm = flap.arm_to_box(&min, &max);
+    }
     ok.then(|| Solid {
         name: s.name.clone(),
         shape: s.shape,
