@@ -131,6 +131,7 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
             None
         },
         density_diffusion: scene.density_diffusion,
+        periodic: scene.periodic,
         dt: scene.dt,
         cfl: scene.cfl,
         domain_min: vector(&scene.domain.min),

@@ -7,6 +7,7 @@ use super::stage::{SolidsAt, Stage, SubStage};
 use crate::fields::Field;
 use crate::model::pair_terms::{PairTerm, PairTerms};
 use crate::model::{DensityEquation, ForceTerms, SurfaceTensionModel, WallModel};
+use crate::periodic::PeriodicAxes;
 
 /// What the plan depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,6 +31,8 @@ pub struct PlanInputs {
     pub density: DensityEquation,
     /// The scene has a damping zone (`physics::damping_zone`).
     pub damping_zone: bool,
+    /// The periodic axes (`crate::periodic`); none: no wrap stage.
+    pub periodic: PeriodicAxes,
 }
 
 /// The stages of one integrator stage, in order (PAPER.md sections 1 and 2).
@@ -117,6 +120,10 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         // integrator stage.
         plan.push(Stage::DampingZone);
     }
+    if !inputs.periodic.is_empty() {
+        // Once a step, after every stage that moves particles (`crate::periodic`).
+        plan.push(Stage::WrapPositions(inputs.periodic));
+    }
     plan
 }
 
@@ -159,6 +166,7 @@ mod tests {
             corrected: false,
             density: DensityEquation::Summation,
             damping_zone: false,
+            periodic: PeriodicAxes::NONE,
         }
     }
 

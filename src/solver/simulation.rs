@@ -538,6 +538,7 @@ impl<const D: usize> Simulation<D> {
             rotating_frame: u32::from(c.angular_velocity.is_some()),
             phases: self.phases,
             density_diffusion: c.density_diffusion.unwrap_or(0.0) as Real,
+            periodic: c.periodic,
         }
     }
 

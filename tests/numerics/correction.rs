@@ -221,6 +221,7 @@ fn config<const D: usize>(
         rotation_centre: Vector::zeros(),
         surface_tension: None,
         density_diffusion: None,
+        periodic: sph::periodic::PeriodicAxes::NONE,
         dt: Some(dt),
         cfl: 0.2,
         domain_min: Vector::<D>::repeat(-100.0),

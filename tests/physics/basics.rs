@@ -288,6 +288,7 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             rotation_centre: Vector::zeros(),
             surface_tension: None,
             density_diffusion: None,
+            periodic: sph::periodic::PeriodicAxes::NONE,
             dt: None,
             cfl: 0.2,
             domain_min: Vector::<D>::repeat(-10.0),

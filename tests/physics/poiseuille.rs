@@ -52,14 +52,14 @@ use sph::smoothing::Smoothing;
 use std::path::Path;
 
 /// Channel width L [m] (walls at y = 0 and y = L; the scene's fluid box).
-const WIDTH: f64 = 0.1;
+pub(crate) const WIDTH: f64 = 0.1;
 /// Centre of the measured section [m]: the middle of the fluid block x ∈ [0, 6 L].
 const SECTION_CENTRE: f64 = 0.3;
 /// Times [s] at which the profile is compared (t ν/L² the same numbers).
-const TIMES: [f64; 5] = [0.02, 0.05, 0.1, 0.2, 0.6];
+pub(crate) const TIMES: [f64; 5] = [0.02, 0.05, 0.1, 0.2, 0.6];
 /// The target: largest |u_SPH − u_series| in a bin, as a fraction of the steady centreline
 /// speed u0.
-const TARGET: f64 = 0.05;
+pub(crate) const TARGET: f64 = 0.05;
 
 /// The shipped scene, with `sets` applied.
 fn scene(sets: &[&str]) -> Scene {
@@ -69,7 +69,7 @@ fn scene(sets: &[&str]) -> Scene {
 }
 
 /// The driving body force F [m/s²] along the channel: the scene's gravity.
-fn body_force(scene: &Scene) -> f64 {
+pub(crate) fn body_force(scene: &Scene) -> f64 {
     scene
         .gravity
         .as_ref()
@@ -79,7 +79,7 @@ fn body_force(scene: &Scene) -> f64 {
 /// SOURCES.md 7.3, Poiseuille start-up: `u(y, t) = F/(2ν) y (L − y) − Σ_{n≥0} 4 F L²/(ν π³
 /// (2n+1)³) sin((2n+1) π y/L) exp(−(2n+1)² π² ν t/L²)` [m/s]; y [m], t [s]. 200 terms: the
 /// omitted tail is below 4 F L²/(ν π³) Σ_{k>400} k⁻³ ≈ 4e-7 u0.
-fn series(y: f64, t: f64, f: f64, nu: f64) -> f64 {
+pub(crate) fn series(y: f64, t: f64, f: f64, nu: f64) -> f64 {
     let (l, pi) = (WIDTH, std::f64::consts::PI);
     let mut u = f / (2.0 * nu) * y * (l - y);
     for n in 0..200 {

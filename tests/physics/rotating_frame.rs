@@ -163,6 +163,7 @@ fn a_lone_particle_moves_in_a_straight_line_in_the_inertial_frame() {
             rotation_centre: to_d(centre),
             surface_tension: None,
             density_diffusion: None,
+            periodic: sph::periodic::PeriodicAxes::NONE,
             dt: Some(dt),
             cfl: 0.2,
             domain_min: Vector::<D>::repeat(-10.0),

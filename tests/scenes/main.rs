@@ -6,6 +6,7 @@
 mod common;
 
 mod lattice;
+mod periodic;
 mod scene;
 mod scene_fuzz;
 mod scene_solver;

@@ -90,6 +90,7 @@ fn droplet<const D: usize>(
         rotating_frame: 0,
         phases,
         density_diffusion: 0.0,
+        periodic: sph::periodic::PeriodicAxes::NONE,
     };
     (f, p)
 }

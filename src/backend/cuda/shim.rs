@@ -22,7 +22,7 @@ include!(concat!(env!("OUT_DIR"), "/shim_externs.rs"));
 
 /// The fields of `StepParams` in declaration order, as `sph_shim_step_params_layout_D` reports
 /// their offsets.
-pub const STEP_PARAMS_FIELDS: usize = 22;
+pub const STEP_PARAMS_FIELDS: usize = 23;
 
 #[link(name = "sph_kernel_shim_2", kind = "static")]
 unsafe extern "C" {
