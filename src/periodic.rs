@@ -19,6 +19,12 @@
 
 use crate::math::{Real, Vector};
 
+/// Relative slack of the cell count `⌊L/h⌋`: a period meant as a whole number of `h` (0.21 m at
+/// h = 0.07 m) is 2.9999999 h after f32 rounding of `L` and `h`, and must still give 3 cells. A
+/// cell then falls short of `h` by at most this fraction, where every kernel is zero to 1e-17 of
+/// its peak (poly6 `(h² − r²)³`), so no pair that counts is missed.
+pub const CELL_SLACK: f64 = 1e-6;
+
 /// The set of periodic axes, bit `k` for axis `k` (`u32` as in `kernels/sph.cuh`).
 #[repr(transparent)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -144,9 +150,12 @@ impl<const D: usize> Periodic<D> {
         x
     }
 
-    /// Cells of size at least `h` [m] along periodic axis `k`: `⌊L_k/h⌋` (the grids need 3).
+    /// Cells of size at least `h` [m] along periodic axis `k`: `⌊L_k/h⌋` (the grids need 3),
+    /// with `L_k/h` raised by [`CELL_SLACK`] first.
     pub fn cells(&self, k: usize, h: Real) -> u64 {
-        (f64::from(self.length[k]) / f64::from(h)).floor().max(0.0) as u64
+        (f64::from(self.length[k]) / f64::from(h) * (1.0 + CELL_SLACK))
+            .floor()
+            .max(0.0) as u64
     }
 }
 
@@ -173,5 +182,9 @@ mod tests {
         // A coordinate a hair below the lower face lands on it, not on the excluded upper face.
         assert_eq!(p.wrap(Vector::<2>::new(-1e-9, 0.5))[0], 0.0);
         assert_eq!(PeriodicAxes::NONE.with(0).with(2).names(), ["x", "z"]);
+        // A period of exactly 3 h in decimal input gives 3 cells despite f32 rounding.
+        let three = Periodic::<2>::new(p.axes, Vector::<2>::zeros(), Vector::<2>::new(0.21, 1.0));
+        assert!(f64::from(three.length[0]) / f64::from(0.07f32) < 3.0);
+        assert_eq!(three.cells(0, 0.07), 3);
     }
 }

@@ -356,6 +356,25 @@ mod tests {
     }
 
     #[test]
+    fn periodic_axes_wrap_positions_last_and_only_with_periodic_axes() {
+        let x = PeriodicAxes::NONE.with(0);
+        for integrator in [Integrator::SymplecticEuler, Integrator::Rk3] {
+            for damping_zone in [false, true] {
+                let base = PlanInputs {
+                    integrator,
+                    damping_zone,
+                    corrected: true,
+                    ..inputs()
+                };
+                let with = plan(PlanInputs { periodic: x, ..base });
+                assert_eq!(with.last(), Some(&Stage::WrapPositions(x)));
+                let without = plan(base);
+                assert_eq!(&with[..with.len() - 1], &without[..], "nothing else changes");
+            }
+        }
+    }
+
+    #[test]
     fn moving_solids_are_placed_before_the_forces_and_before_each_correction() {
         let wcsph = plan(PlanInputs {
             solids: true,

@@ -54,7 +54,7 @@ pub(super) fn check_periodic(
             continue;
         };
         let length = hi - lo;
-        if length < 3.0 * h {
+        if length < 3.0 * h * (1.0 - crate::periodic::CELL_SLACK) {
             c.err(
                 path.i(i),
                 format!(
