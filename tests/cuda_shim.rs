@@ -299,6 +299,36 @@ fn step_params_has_the_same_layout_in_rust_and_in_the_kernels() {
     assert_eq!(cpp, rust_step_params_layout::<3>(), "3D: size, then offsets");
 }
 
+/// `GridGeometry<D>` (`#[repr(C)]`, passed to every neighbour kernel by value) and its mirror in
+/// `kernels/sph.cuh`: the same size and field offsets, periodic fields included.
+fn rust_grid_geometry_layout<const D: usize>() -> Vec<u64> {
+    use std::mem::{offset_of, size_of};
+    [
+        size_of::<GridGeometry<D>>(),
+        offset_of!(GridGeometry<D>, origin),
+        offset_of!(GridGeometry<D>, inv_cell),
+        offset_of!(GridGeometry<D>, dims),
+        offset_of!(GridGeometry<D>, periodic),
+        offset_of!(GridGeometry<D>, period_min),
+        offset_of!(GridGeometry<D>, period),
+        offset_of!(GridGeometry<D>, period_inv_cell),
+    ]
+    .iter()
+    .map(|&o| o as u64)
+    .collect()
+}
+
+#[test]
+fn grid_geometry_has_the_same_layout_in_rust_and_in_the_kernels() {
+    let mut cpp = vec![0u64; 8];
+    // SAFETY: the launcher writes 8 values.
+    unsafe { shim::sph_shim_grid_geometry_layout_2(cpp.as_mut_ptr()) };
+    assert_eq!(cpp, rust_grid_geometry_layout::<2>(), "2D: size, then offsets");
+    // SAFETY: as above.
+    unsafe { shim::sph_shim_grid_geometry_layout_3(cpp.as_mut_ptr()) };
+    assert_eq!(cpp, rust_grid_geometry_layout::<3>(), "3D: size, then offsets");
+}
+
 #[test]
 fn device_extremes_mirror_the_kernel_struct_layout() {
     use std::mem::{offset_of, size_of};
