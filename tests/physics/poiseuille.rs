@@ -4,7 +4,8 @@
 //! Set-up (the scene's comments give the reasons): walls y = 0 and y = L = 0.1 m, fluid from
 //! rest, body force F = 0.4 m/s² along x (the scene's `fluid.gravity`), ν = 0.01 m²/s, so
 //! u0 = F L²/(8ν) = 0.05 m/s, Re = u0 L/ν = 0.5 and the viscous time L²/ν = 1 s; dx = L/20,
-//! h = 2 dx, `wcsph` with C = 20 u0. The solver has no periodic boundaries, so the channel is a
+//! h = 2 dx, `wcsph` with C = 20 u0. Without periodic boundaries (`poiseuille_periodic.rs` has
+//! them) the channel is a
 //! block 6 L long with free ends: nothing builds a pressure gradient along x, and the ends'
 //! influence spreads by viscous diffusion only, sqrt(ν t) ≤ 0.8 L by t = 0.6 s, while the
 //! profile is measured in the middle L of the block, 2.5 L from either end (the block moves at
