@@ -150,7 +150,7 @@ fn stage_inputs<const D: usize>(sim: &Simulation<D>) -> (Fields<D>, CpuBackend<D
     let mut backend = CpuBackend::<D>::new();
     let mut fields = sim.fields.clone();
     backend
-        .sort_by_cell(&mut fields, params.h)
+        .sort_by_cell(&mut fields, &params)
         .expect("a warmed scene's particles are finite");
     backend.density(&mut fields, &params);
     if !corrected {
@@ -179,13 +179,15 @@ fn group<'a>(c: &'a mut Criterion, name: &str) -> BenchmarkGroup<'a, WallTime> {
 /// (sorted one step ago, then moved), like the first stage of a step; the copy is not timed.
 fn sort_by_cell<const D: usize>(group: &mut BenchmarkGroup<WallTime>, p: &Prepared<D>) {
     group.throughput(Throughput::Elements(p.len() as u64));
-    let h = p.sim.step_params().h;
+    let params = p.sim.step_params();
     let mut backend = CpuBackend::<D>::new();
     group.bench_function(p.id(), |b| {
         b.iter_batched(
             || p.sim.fields.clone(),
             |mut f| {
-                backend.sort_by_cell(&mut f, h).expect("the particles are finite");
+                backend
+                    .sort_by_cell(&mut f, &params)
+                    .expect("the particles are finite");
                 f
             },
             BatchSize::LargeInput,

@@ -120,7 +120,7 @@ SPH_KERNEL(correction_pressure_wall)(u32 n, StepParams p, GridGeometry g,
     float pressure_sum = 0.0f;
     vec_t density_offset = vzero();
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
-        vec_t d = vsub(x_w, vload(pos, j));
+        vec_t d = pair_delta(g, x_w, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < s.h2) || kind[j] != SPH_FLUID) continue;
         d = pair_offset(d, &r2, i, j, s.h);
@@ -175,7 +175,7 @@ __device__ __forceinline__ void correction_displacement_body(
     vec_t a = vzero();
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         if (j == i) continue;
-        vec_t d = vsub(x_i, vload(pos, j));
+        vec_t d = pair_delta(g, x_i, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < s.h2)) continue;
         d = pair_offset(d, &r2, i, j, s.h);

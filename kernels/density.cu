@@ -22,7 +22,7 @@ __device__ __forceinline__ void density_body(u32 n, const StepParams& p, const G
     const vec_t xi = vload(pos, i);
     float sum = 0.0f;  // sum_j m_j W, or the number density sum_j W with MULTIPHASE
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
-        vec_t d = vsub(xi, vload(pos, j));
+        vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
             d = pair_offset(d, &r2, i, j, s.h);
@@ -66,7 +66,7 @@ __device__ __forceinline__ void predicted_density_body(
     const vec_t ui = vload(vel, i);
     float rate = 0.0f;  // d rho_i / dt [kg/(m^3 s)]
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
-        vec_t d = vsub(xi, vload(pos, j));
+        vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (r2 < s.h2 && j != i) {
             d = pair_offset(d, &r2, i, j, s.h);

@@ -28,7 +28,7 @@ SPH_KERNEL(density_rate)(u32 n, StepParams p, GridGeometry g, const u32* __restr
     float sum = 0.0f;  // d rho_i / dt [kg/(m^3 s)]
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         if (j == i) continue;
-        vec_t d = vsub(xi, vload(pos, j));
+        vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < s.h2)) continue;
         d = pair_offset(d, &r2, i, j, s.h);

@@ -45,7 +45,7 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
     if (ROTATING) a = vadd(a, rotating_frame_acceleration(p, x_i, c.u_i));  // [B67] 3.2
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         if (j == i) continue;
-        vec_t d = vsub(x_i, vload(pos, j));
+        vec_t d = pair_delta(g, x_i, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < c.s.h2)) continue;
         c.x_ij = pair_offset(d, &r2, i, j, c.s.h);

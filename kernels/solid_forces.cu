@@ -58,7 +58,7 @@ __device__ __forceinline__ void solid_forces_body(u32 n, const StepParams& p, co
         u32 fluid_neighbours = 0;
         SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
             if (kind[j] != SPH_FLUID) continue;
-            vec_t d = vsub(x_s, vload(pos, j));
+            vec_t d = pair_delta(g, x_s, pos, j);
             float r2 = vdot(d, d);
             if (!(r2 < c.s.h2)) continue;
             c.x_ij = pair_offset(d, &r2, i, j, c.s.h);

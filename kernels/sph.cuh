@@ -86,6 +86,7 @@ struct StepParams {
     u32 phases;                     // SPH_PHASES_SINGLE or SPH_PHASES_MULTI ([HA06])
     float density_diffusion;        // delta of [F19] density diffusion (0 without the effect)
     float artificial_viscosity_wall_factor;  // factor on alpha between fluid and solid particles
+    u32 periodic;                   // bit k: axis k is periodic, period the domain (crate::periodic)
 };
 
 /// `physics::density::DensityKernel`.
@@ -102,10 +103,36 @@ struct StepParams {
 /// Mirror of `backend::cuda::grid::GridGeometry<D>` (`#[repr(C)]`): a dense grid of cells of
 /// size h over the domain, padded by one cell on each side.
 struct GridGeometry {
-    float origin[D];  // lower corner of cell (0, 0[, 0]) [m]
-    float inv_cell;   // 1 / cell size [1/m]
-    u32 dims[D];      // cells per axis, x fastest in the key
+    float origin[D];           // lower corner of cell (0, 0[, 0]) [m]
+    float inv_cell;            // 1 / cell size [1/m]
+    u32 dims[D];               // cells per axis, x fastest in the key
+    u32 periodic;              // bit k: axis k wraps (`crate::periodic`); 0: no periodic axis
+    float period_min[D];       // lower face of the period along a periodic axis [m]
+    float period[D];           // period L along a periodic axis [m]
+    float period_inv_cell[D];  // n / L: inverse cell size along a periodic axis [1/m]
 };
+
+/// Twin of `Periodic::minimum_image`: the offset d = x_i - x_j [m] moved by one period along each
+/// periodic axis where |d_k| > L_k / 2 (the same f32 operations). Every pair loop takes its
+/// offset through this (SPH_PAIR_OFFSET), so no kernel uses a raw difference across the seam.
+__device__ __forceinline__ vec_t periodic_minimum_image(const GridGeometry& g, vec_t d) {
+    if (g.periodic == 0u) return d;
+    for (int k = 0; k < D; ++k) {
+        if (g.periodic & (1u << k)) {
+            const float l = g.period[k];
+            if (d.c[k] > 0.5f * l)
+                d.c[k] -= l;
+            else if (d.c[k] < -0.5f * l)
+                d.c[k] += l;
+        }
+    }
+    return d;
+}
+
+/// The pair offset x_i - x_j [m] of particle j at `pos` from x_i: the minimum image.
+__device__ __forceinline__ vec_t pair_delta(const GridGeometry& g, vec_t xi, const float* pos, u32 j) {
+    return periodic_minimum_image(g, vsub(xi, vload(pos, j)));
+}
 
 /// Cell coordinates of a position, clamped to [1, dims - 2] so that the neighbour cells exist.
 /// Clamping is monotone and moves a coordinate by at most the distance to the grid, so every pair
@@ -116,6 +143,14 @@ __device__ __forceinline__ void cell_of(const GridGeometry& g, vec_t x, int cell
         int hi = (int)g.dims[k] - 2;
         // Compare as float first: a huge or NaN coordinate must not overflow the int conversion.
         int ck = !(f >= 1.0f) ? 1 : (f > (float)hi ? hi : (int)f);
+        if (g.periodic & (1u << k)) {
+            // The period's n = dims - 2 cells, at 1..n: the coordinate modulo n (positions a
+            // little outside the period between two wraps land in the cell they are images of).
+            const int n = (int)g.dims[k] - 2;
+            float q = floorf((x.c[k] - g.period_min[k]) * g.period_inv_cell[k]);
+            q = !(q >= (float)-n) ? (float)-n : (q > (float)(2 * n - 1) ? (float)(2 * n - 1) : q);
+            ck = ((int)q % n + n) % n + 1;
+        }
         cell[k] = ck;
     }
 }
@@ -131,6 +166,10 @@ __device__ __forceinline__ u32 cell_key(const GridGeometry& g, const int cell[D]
 /// BODY sees `j` (u32). Mirrors `Grid::for_each_neighbour`'s ranges (the caller tests r < h).
 #define SPH_FOR_EACH_CANDIDATE(g, cell_start, key, j, BODY)                                  \
     do {                                                                                      \
+        if ((g).periodic != 0u) {                                                             \
+            SPH_FOR_EACH_CANDIDATE_PERIODIC(g, cell_start, key, j, BODY);                     \
+            break;                                                                            \
+        }                                                                                     \
         const u32 _stride1 = (g).dims[0];                                                     \
         const u32 _rows = (D == 3) ? 9u : 3u;                                                 \
         for (u32 _r = 0; _r < _rows; ++_r) {                                                  \
@@ -143,6 +182,59 @@ __device__ __forceinline__ u32 cell_key(const GridGeometry& g, const int cell[D]
             }                                                                                 \
         }                                                                                     \
     } while (0)
+
+/// The candidates of a grid with periodic axes (`crate::periodic`): the 3^D cells around `key`
+/// one by one, axis 0 fastest, each coordinate wrapped into the period's cells 1..n along a
+/// periodic axis (a row of three cells is not contiguous across the seam). Mirrors
+/// `Grid::link_periodic`.
+#define SPH_FOR_EACH_CANDIDATE_PERIODIC(g, cell_start, key, j, BODY)                          \
+    do {                                                                                      \
+        int _c[D];                                                                            \
+        u32 _rest = (key);                                                                    \
+        for (int _k = 0; _k < D; ++_k) {                                                      \
+            _c[_k] = (int)(_rest % (g).dims[_k]);                                             \
+            _rest /= (g).dims[_k];                                                            \
+        }                                                                                     \
+        const u32 _cells = (D == 3) ? 27u : 9u;                                               \
+        for (u32 _t = 0; _t < _cells; ++_t) {                                                 \
+            u32 _o = _t;                                                                      \
+            u32 _cell = 0u, _stride = 1u;                                                     \
+            for (int _k = 0; _k < D; ++_k) {                                                  \
+                int _ck = _c[_k] + (int)(_o % 3u) - 1;                                        \
+                _o /= 3u;                                                                     \
+                if ((g).periodic & (1u << _k)) {                                              \
+                    const int _n = (int)(g).dims[_k] - 2;                                     \
+                    _ck = _ck < 1 ? _ck + _n : (_ck > _n ? _ck - _n : _ck);                   \
+                }                                                                             \
+                _cell += (u32)_ck * _stride;                                                  \
+                _stride *= (g).dims[_k];                                                      \
+            }                                                                                 \
+            const u32 _a = (cell_start)[_cell];                                               \
+            const u32 _b = (cell_start)[_cell + 1u];                                          \
+            for (u32 j = _a; j < _b; ++j) {                                                   \
+                BODY                                                                          \
+            }                                                                                 \
+        }                                                                                     \
+    } while (0)
+
+/// Twin of `Periodic::wrap` for the domain of `p` (stage `wrap_positions`): a coordinate
+/// outside [min_k, max_k) along a periodic axis moves by one period L_k = max_k - min_k; a
+/// result on the excluded face max_k goes to min_k.
+__device__ __forceinline__ vec_t periodic_wrap(const StepParams& p, vec_t x) {
+    for (int k = 0; k < D; ++k) {
+        if (p.periodic & (1u << k)) {
+            const float lo = p.domain_min[k], hi = p.domain_max[k], l = hi - lo;
+            if (x.c[k] >= hi) {
+                x.c[k] -= l;
+                if (x.c[k] < lo) x.c[k] = lo;
+            } else if (x.c[k] < lo) {
+                x.c[k] += l;
+                if (x.c[k] >= hi) x.c[k] = lo;
+            }
+        }
+    }
+    return x;
+}
 
 /// Mirror of `smoothing::Smoothing<D>` (Müller et al. 2003 kernels), support h.
 struct Smoothing {

@@ -41,7 +41,7 @@ SPH_KERNEL(surface_normals)(u32 n, StepParams p, GridGeometry g, const u32* __re
         const vec_t xi = vload(pos, i);
         SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
             if (kind[j] != SPH_FLUID) continue;
-            vec_t d = vsub(xi, vload(pos, j));
+            vec_t d = pair_delta(g, xi, pos, j);
             float r2 = vdot(d, d);
             if (!(r2 < s.h2)) continue;
             d = pair_offset(d, &r2, i, j, s.h);
@@ -95,7 +95,7 @@ __device__ __forceinline__ void surface_stress(u32 i, const StepParams& p, const
         const vec_t n_j = vload(normal, j);
         // Neither carries a stress: no force, and no kernel to evaluate.
         if (bulk_i && surface_weight(sqrtf(vdot(n_j, n_j))) == 0.0f) continue;
-        vec_t d = vsub(xi, vload(pos, j));
+        vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < s.h2)) continue;
         d = pair_offset(d, &r2, i, j, s.h);
@@ -132,7 +132,7 @@ SPH_KERNEL(surface_tension)(u32 n, StepParams p, GridGeometry g, const u32* __re
     vec_t sum = vzero();
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[i], j, {
         if (j == i || kind[j] != SPH_FLUID) continue;
-        vec_t d = vsub(xi, vload(pos, j));
+        vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < h * h)) continue;
         d = pair_offset(d, &r2, i, j, h);

@@ -36,7 +36,7 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
     vec_t density_offset = vzero();
     float summed_density = 0.0f;
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[w], j, {
-        vec_t d = vsub(xw, vload(pos, j));
+        vec_t d = pair_delta(g, xw, pos, j);
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
             d = pair_offset(d, &r2, w, j, s.h);

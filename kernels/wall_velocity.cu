@@ -20,7 +20,7 @@ SPH_KERNEL(wall_velocity)(u32 n, StepParams p, GridGeometry g, const u32* __rest
     vec_t sum = vzero();
     SPH_FOR_EACH_CANDIDATE(g, cell_start, cell_key[w], j, {
         if (kind[j] != SPH_FLUID) continue;
-        vec_t d = vsub(xw, vload(pos, j));
+        vec_t d = pair_delta(g, xw, pos, j);
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
             d = pair_offset(d, &r2, w, j, s.h);

@@ -12,7 +12,14 @@
 //! non-empty cell stores `3^(D−1)` particle ranges (3 rows in 2D, 9 in 3D) that cover its whole
 //! neighbourhood.
 
+//!
+//! Periodic axes (`crate::periodic`): along a periodic axis of period `L` the cell coordinate is
+//! taken modulo `n = ⌊L/h⌋ ≥ 3` cells of size `L/n ≥ h`, with no padding. The rows of three
+//! cells then break at the seam, so a periodic grid stores each cell's `3^D` neighbour cells as
+//! single ranges (in the same order: axis 0 fastest), and every candidate's offset goes
+//! through [`Periodic::minimum_image`].
 use crate::math::{Real, Vector};
+use crate::periodic::Periodic;
 use crate::smoothing::pair_offset;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -33,6 +40,17 @@ pub enum GridError {
     TooManyCells {
         /// Number of cells of the padded bounding box.
         cells: f64,
+        /// Cell size [m].
+        cell_size: Real,
+    },
+    /// A periodic axis shorter than three cells of size `h` (the wrapped neighbour cells would
+    /// repeat; scene validation refuses such a domain).
+    #[error("the period {length} m along axis {axis} holds fewer than 3 cells of size {cell_size} m")]
+    PeriodTooShort {
+        /// Axis index.
+        axis: usize,
+        /// Period [m].
+        length: Real,
         /// Cell size [m].
         cell_size: Real,
     },
@@ -63,6 +81,14 @@ pub struct Grid<const D: usize> {
     pairs: Vec<(u64, u32)>,
     /// Permutation of the last sort: new index → old index.
     perm: Vec<u32>,
+    /// The periodic axes of the last sort.
+    periodic: Periodic<D>,
+    /// Cells along each axis: the padded bounding box, or the `n` cells of a periodic axis.
+    extent: [i64; D],
+    /// Inverse cell size per axis [1/m]: `1/h`, or `n/L` along a periodic axis.
+    inv_cell: [f64; D],
+    /// Ranges per cell in `rows`: `3^(D−1)` rows, or `3^D` single cells with periodic axes.
+    rows_per_cell: usize,
 }
 
 /// Number of neighbour rows per cell: `3^(D−1)`.
@@ -89,6 +115,10 @@ impl<const D: usize> Default for Grid<D> {
             cell_of: Vec::new(),
             pairs: Vec::new(),
             perm: Vec::new(),
+            periodic: Periodic::none(),
+            extent: [0; D],
+            inv_cell: [1.0; D],
+            rows_per_cell: rows_per_cell(D),
         }
     }
 }
@@ -119,12 +149,44 @@ impl<const D: usize> Grid<D> {
     /// radix-sorts by key. Returns the permutation `perm` (new index → old index) that the caller
     /// must apply to every particle field (see `Fields::permute`) before calling [`Grid::link`].
     pub fn sort(&mut self, position: &[Vector<D>], cell_size: Real) -> Result<&[u32], GridError> {
+        self.sort_periodic(position, cell_size, &Periodic::none())
+    }
+
+    /// [`Grid::sort`] with the `periodic` axes wrapped (module docs): the pair offsets of
+    /// [`Grid::for_each_neighbour`] are then minimum images.
+    pub fn sort_periodic(
+        &mut self,
+        position: &[Vector<D>],
+        cell_size: Real,
+        periodic: &Periodic<D>,
+    ) -> Result<&[u32], GridError> {
         let n = position.len();
         if u32::try_from(n).is_err() {
             return Err(GridError::TooManyParticles(n));
         }
         self.cell_size = cell_size;
+        self.periodic = *periodic;
+        self.rows_per_cell = if periodic.axes.is_empty() {
+            rows_per_cell(D)
+        } else {
+            3 * rows_per_cell(D)
+        };
         let inv = 1.0 / f64::from(cell_size);
+        for k in 0..D {
+            self.inv_cell[k] = inv;
+            if periodic.axes.contains(k) {
+                let cells = periodic.cells(k, cell_size);
+                if cells < 3 {
+                    return Err(GridError::PeriodTooShort {
+                        axis: k,
+                        length: periodic.length[k],
+                        cell_size,
+                    });
+                }
+                self.extent[k] = cells as i64;
+                self.inv_cell[k] = cells as f64 / f64::from(periodic.length[k]);
+            }
+        }
         // Bounding box in cell coordinates.
         let mut lo = [i64::MAX; D];
         let mut hi = [i64::MIN; D];
@@ -156,7 +218,14 @@ impl<const D: usize> Grid<D> {
                 hi[k] = 0;
             }
             lo[k] -= 1;
-            let extent = (hi[k] + 1 - lo[k] + 1) as u128;
+            let extent = if periodic.axes.contains(k) {
+                // Coordinates modulo the period's cells, unpadded.
+                lo[k] = 0;
+                self.extent[k] as u128
+            } else {
+                (hi[k] + 1 - lo[k] + 1) as u128
+            };
+            self.extent[k] = extent as i64;
             cells *= extent as f64;
             stride[k] = s as u64;
             s = s.saturating_mul(extent);
@@ -199,10 +268,17 @@ impl<const D: usize> Grid<D> {
             self.cell_of.push((self.cell_keys.len() - 1) as u32);
         }
         self.cell_start.push(n as u32);
-        let r = rows_per_cell(D);
+        let r = self.rows_per_cell;
         let mut rows = std::mem::take(&mut self.rows);
         rows.clear();
         rows.resize(self.cell_keys.len() * r, (0, 0));
+        if !self.periodic.axes.is_empty() {
+            rows.par_chunks_mut(r).enumerate().for_each(|(c, out)| {
+                self.link_periodic(self.cell_keys[c], out);
+            });
+            self.rows = rows;
+            return;
+        }
         rows.par_chunks_mut(r).enumerate().for_each(|(c, out)| {
             let key = self.cell_keys[c];
             for (row, slot) in out.iter_mut().enumerate() {
@@ -220,6 +296,29 @@ impl<const D: usize> Grid<D> {
         self.rows = rows;
     }
 
+    /// The `3^D` neighbour cells of the cell `key` of a periodic grid, one range each, axis 0
+    /// fastest: offsets −1, 0, +1 per axis, wrapped modulo the period's cells along periodic
+    /// axes (the other axes are padded, so their offsets stay inside).
+    fn link_periodic(&self, key: u64, out: &mut [(u32, u32)]) {
+        let mut cell = [0i64; D];
+        for k in 0..D {
+            cell[k] = (key / self.stride[k]) as i64 % self.extent[k];
+        }
+        for (t, slot) in out.iter_mut().enumerate() {
+            let mut neighbour = 0u64;
+            let mut rest = t;
+            for k in 0..D {
+                let mut c = cell[k] + (rest % 3) as i64 - 1;
+                rest /= 3;
+                if self.periodic.axes.contains(k) {
+                    c = c.rem_euclid(self.extent[k]);
+                }
+                neighbour += c as u64 * self.stride[k];
+            }
+            *slot = self.particles_in_keys(neighbour, neighbour);
+        }
+    }
+
     /// Particle range of all cells with keys in `[lo, hi]` (contiguous in sorted order).
     fn particles_in_keys(&self, lo: u64, hi: u64) -> (u32, u32) {
         let a = self.cell_keys.partition_point(|&k| k < lo);
@@ -229,10 +328,14 @@ impl<const D: usize> Grid<D> {
 
     #[inline]
     fn key_of(&self, x: &Vector<D>) -> u64 {
-        let inv = 1.0 / f64::from(self.cell_size);
         let mut key = 0u64;
         for k in 0..D {
-            let c = (f64::from(x[k]) * inv).floor() as i64 - self.origin[k];
+            let c = if self.periodic.axes.contains(k) {
+                let from_min = f64::from(x[k]) - f64::from(self.periodic.min[k]);
+                ((from_min * self.inv_cell[k]).floor() as i64).rem_euclid(self.extent[k])
+            } else {
+                (f64::from(x[k]) * self.inv_cell[k]).floor() as i64 - self.origin[k]
+            };
             key += c as u64 * self.stride[k];
         }
         key
@@ -241,15 +344,21 @@ impl<const D: usize> Grid<D> {
     /// The particle ranges (in sorted order) that hold every neighbour of particle `i`.
     #[inline]
     pub fn neighbour_ranges(&self, i: usize) -> impl Iterator<Item = Range<usize>> + '_ {
-        let r = rows_per_cell(D);
+        let r = self.rows_per_cell;
         let c = self.cell_of[i] as usize;
         self.rows[c * r..(c + 1) * r]
             .iter()
             .map(|&(a, b)| a as usize..b as usize)
     }
 
+    /// The periodic axes of the last sort.
+    pub fn periodic(&self) -> &Periodic<D> {
+        &self.periodic
+    }
+
     /// Calls `f(j, x_i − x_j, |x_i − x_j|²)` for every particle `j` (including `i` itself) with
-    /// `|x_i − x_j| < h`, where `h` is the cell size. `position` must be in sorted order. A pair
+    /// `|x_i − x_j| < h`, where `h` is the cell size (`x_i − x_j` the minimum image along
+    /// periodic axes). `position` must be in sorted order. A pair
     /// `j ≠ i` closer than `COINCIDENT_FRACTION·h` gets the offset of
     /// [`crate::smoothing::pair_offset`] (a fixed antisymmetric direction, note 4).
     #[inline]
@@ -261,7 +370,7 @@ impl<const D: usize> Grid<D> {
         let h2 = self.cell_size * self.cell_size;
         for range in self.neighbour_ranges(i) {
             for (j, xj) in position[range.clone()].iter().enumerate() {
-                let d = xi - xj;
+                let d = self.periodic.minimum_image(xi - xj);
                 let r2 = d.norm_squared();
                 if r2 < h2 {
                     let j = range.start + j;
@@ -271,6 +380,20 @@ impl<const D: usize> Grid<D> {
             }
         }
     }
+}
+
+/// Brute-force reference with periodic axes: indices `j` with `|minimum image of x_i − x_j| <
+/// h`, ascending. O(n) per query.
+pub fn neighbours_naive_periodic<const D: usize>(
+    position: &[Vector<D>],
+    i: usize,
+    h: Real,
+    periodic: &Periodic<D>,
+) -> Vec<usize> {
+    let xi = position[i];
+    (0..position.len())
+        .filter(|&j| periodic.minimum_image(xi - position[j]).norm_squared() < h * h)
+        .collect()
 }
 
 /// Brute-force reference: indices `j` with `|x_i − x_j| < h`, ascending. O(n) per query.

@@ -30,6 +30,7 @@ pub mod memory;
 pub mod model;
 pub mod neighbour_list;
 pub mod output;
+pub mod periodic;
 pub mod physics;
 pub mod probe;
 pub mod render;

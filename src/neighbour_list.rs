@@ -5,7 +5,8 @@
 //! candidates per particle at `h = 2 dx`, of which about 33 (the sphere's share, 15 %) lie
 //! within `h`; the candidate test takes about half of a grid sweep's time (`perf`).
 //!
-//! The list keeps the grid's visiting order and recomputes the pair offset exactly as
+//! The list keeps the grid's visiting order and recomputes the pair offset (minimum image
+//! included) exactly as
 //! [`Grid::for_each_neighbour`] does, so a sweep over it gives bitwise the same sums: the
 //! list changes the CPU backend's speed, not its results (the CUDA backend keeps the grid).
 //! Memory: 4 bytes per listed pair plus 8 per particle, about 140 B per fluid particle in 3D
@@ -13,6 +14,7 @@
 
 use crate::grid::Grid;
 use crate::math::{Real, Vector};
+use crate::periodic::{Periodic, PeriodicAxes};
 use crate::smoothing::pair_offset;
 use rayon::prelude::*;
 
@@ -20,6 +22,8 @@ use rayon::prelude::*;
 #[derive(Debug, Default, Clone)]
 pub struct NeighbourList {
     cell_size: Real,
+    /// The grid's periodic axes and the period along each [m] (3 entries, `D` used).
+    periodic: (PeriodicAxes, [Real; 3]),
     /// First entry of particle `i` in `index`; `len + 1` entries.
     start: Vec<usize>,
     /// Neighbour indices (sorted order), each particle's in the grid's visiting order.
@@ -37,6 +41,11 @@ impl NeighbourList {
     ) {
         let n = position.len();
         self.cell_size = grid.cell_size();
+        let p = grid.periodic();
+        self.periodic = (
+            p.axes,
+            std::array::from_fn(|k| if k < D { p.length[k] } else { 0.0 }),
+        );
         self.start.clear();
         self.start.par_extend((0..n).into_par_iter().map(|i| {
             let mut count = 0usize;
@@ -104,9 +113,15 @@ impl NeighbourList {
         F: FnMut(usize, Vector<D>, Real),
     {
         let xi = position[i];
+        let (axes, length) = self.periodic;
+        let periodic = Periodic::<D> {
+            axes,
+            length: Vector::<D>::from_fn(|k, _| length[k]),
+            ..Periodic::none()
+        };
         for &j in &self.index[self.start[i]..self.start[i + 1]] {
             let j = j as usize;
-            let d = xi - position[j];
+            let d = periodic.minimum_image(xi - position[j]);
             let (d, r2) = pair_offset(d, d.norm_squared(), i, j, self.cell_size);
             f(j, d, r2);
         }

@@ -40,6 +40,8 @@ use std::path::Path;
 
 /// Steps per shipped scene.
 const STEPS: usize = 10;
+/// Steps of the periodic channel (`periodic_channel_matches_the_cpu`).
+const PERIODIC_STEPS: usize = 30;
 /// Solid force tolerance, relative to the largest force of the run (module doc).
 const FORCE: f64 = 0.02;
 /// The same where velocity solves end each stage (module doc).
@@ -362,5 +364,23 @@ fn density_diffusion_matches_the_cpu() {
                 FORCE,
             );
         }
+    }
+}
+
+/// Periodic boundaries (`sph::periodic`): the periodic Poiseuille channel
+/// (`tests/scenes/poiseuille_periodic_2d.toml`) with the fluid started at 0.5 m/s along x, so
+/// that within the steps particles cross the periodic face (`wrap_positions`) while every
+/// stage sums across the seam (the dense grid's wrapped cells and the minimum image).
+/// [`PERIODIC_STEPS`] steps: the last column, 0.5 dx from the face, crosses it after about 20.
+#[test]
+fn periodic_channel_matches_the_cpu() {
+    for device in devices() {
+        check(
+            device,
+            &format!("{ROOT}/tests/scenes/poiseuille_periodic_2d.toml"),
+            &["fluid_box.0.velocity=[0.5, 0.0]".to_string()],
+            PERIODIC_STEPS,
+            FORCE,
+        );
     }
 }

@@ -9,9 +9,10 @@ use sph::backend::cuda::extremes::DeviceExtremes;
 use sph::backend::cuda::grid::GridGeometry;
 use sph::backend::cuda::launch::Launch;
 use sph::backend::cuda::shim::{self, Shim};
-use sph::grid::neighbours_naive;
+use sph::grid::{neighbours_naive, neighbours_naive_periodic};
 use sph::math::Vector;
 use sph::model::params::StepParams;
+use sph::periodic::{Periodic, PeriodicAxes};
 
 /// A small deterministic generator (xorshift), so failures reproduce.
 struct Rng(u64);
@@ -198,6 +199,55 @@ fn check_neighbours<const D: usize>(seed: u64) {
     );
 }
 
+/// The same with periodic axes (`sph::periodic`): a jittered block of spacing `dx` filling the
+/// period `[0, L)` (30 or 12 spacings per axis, `L/h` not a whole number, so the kernels'
+/// stretched cells are exercised), a few particles up to `0.2 h` outside it (as between two
+/// wraps): the kernels' candidates within `h` of the minimum image are the brute-force set.
+fn check_periodic_neighbours<const D: usize>(seed: u64, axes: PeriodicAxes) {
+    let (dx, h) = (0.02f32, 0.041f32);
+    let mut rng = Rng(seed);
+    let per_axis: usize = if D == 2 { 30 } else { 12 };
+    let l = per_axis as f32 * dx;
+    let mut position: Vec<Vector<D>> = (0..per_axis.pow(D as u32))
+        .map(|c: usize| {
+            Vector::from_fn(|k, _| {
+                let i = (c / per_axis.pow(k as u32)) % per_axis;
+                (i as f32 + 0.5 + 0.5 * (rng.next() - 0.5)) * dx
+            })
+        })
+        .collect();
+    for t in [-0.2f32, -0.05, 1.0, 1.1] {
+        let mut x = Vector::<D>::repeat(0.5 * l);
+        x[0] = if t < 0.0 { t * h } else { l + (t - 1.0) * h };
+        position.push(x);
+    }
+    let (min, max) = (Vector::<D>::zeros(), Vector::<D>::repeat(l));
+    let periodic = Periodic::new(axes, min, max);
+    let g = GridGeometry::new_periodic(&min, &max, h, axes).expect("a period of 14 cells");
+    let found = candidate_neighbours(&g, &position, h);
+    let mut across = 0;
+    for (i, found) in found.iter().enumerate() {
+        let naive = neighbours_naive_periodic(&position, i, h, &periodic);
+        assert_eq!(
+            found, &naive,
+            "{D}D: neighbours of particle {i} at {:?}",
+            position[i]
+        );
+        across += naive
+            .iter()
+            .filter(|&&j| periodic.minimum_image(position[i] - position[j]) != position[i] - position[j])
+            .count();
+    }
+    assert!(across > 10 * per_axis, "{D}D: {across} pairs across the seam");
+}
+
+#[test]
+fn periodic_candidate_neighbours_on_the_shim_equal_the_minimum_image_set() {
+    check_periodic_neighbours::<2>(0x2545_f491_4f6c_dd1e, PeriodicAxes::NONE.with(0).with(1));
+    check_periodic_neighbours::<3>(0x9e37_79b9_7f4a_7c16, PeriodicAxes::NONE.with(0));
+    check_periodic_neighbours::<3>(0x9e37_79b9_7f4a_7c17, PeriodicAxes::NONE.with(0).with(2));
+}
+
 #[test]
 fn candidate_neighbours_on_the_shim_equal_the_brute_force_set() {
     check_neighbours::<2>(0x2545_f491_4f6c_dd1d);
@@ -233,6 +283,7 @@ fn rust_step_params_layout<const D: usize>() -> Vec<u64> {
         offset_of!(StepParams<D>, rotating_frame),
         offset_of!(StepParams<D>, phases),
         offset_of!(StepParams<D>, density_diffusion),
+        offset_of!(StepParams<D>, periodic),
     ];
     offsets.iter().map(|&o| o as u64).collect()
 }
@@ -246,6 +297,36 @@ fn step_params_has_the_same_layout_in_rust_and_in_the_kernels() {
     // SAFETY: as above.
     unsafe { shim::sph_shim_step_params_layout_3(cpp.as_mut_ptr()) };
     assert_eq!(cpp, rust_step_params_layout::<3>(), "3D: size, then offsets");
+}
+
+/// `GridGeometry<D>` (`#[repr(C)]`, passed to every neighbour kernel by value) and its mirror in
+/// `kernels/sph.cuh`: the same size and field offsets, periodic fields included.
+fn rust_grid_geometry_layout<const D: usize>() -> Vec<u64> {
+    use std::mem::{offset_of, size_of};
+    [
+        size_of::<GridGeometry<D>>(),
+        offset_of!(GridGeometry<D>, origin),
+        offset_of!(GridGeometry<D>, inv_cell),
+        offset_of!(GridGeometry<D>, dims),
+        offset_of!(GridGeometry<D>, periodic),
+        offset_of!(GridGeometry<D>, period_min),
+        offset_of!(GridGeometry<D>, period),
+        offset_of!(GridGeometry<D>, period_inv_cell),
+    ]
+    .iter()
+    .map(|&o| o as u64)
+    .collect()
+}
+
+#[test]
+fn grid_geometry_has_the_same_layout_in_rust_and_in_the_kernels() {
+    let mut cpp = vec![0u64; 8];
+    // SAFETY: the launcher writes 8 values.
+    unsafe { shim::sph_shim_grid_geometry_layout_2(cpp.as_mut_ptr()) };
+    assert_eq!(cpp, rust_grid_geometry_layout::<2>(), "2D: size, then offsets");
+    // SAFETY: as above.
+    unsafe { shim::sph_shim_grid_geometry_layout_3(cpp.as_mut_ptr()) };
+    assert_eq!(cpp, rust_grid_geometry_layout::<3>(), "3D: size, then offsets");
 }
 
 #[test]

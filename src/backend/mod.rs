@@ -129,8 +129,9 @@ pub trait Backend<const D: usize> {
     fn take_error(&mut self) -> Option<BackendError> {
         None
     }
-    /// Section 3: hash particles to cells of size `h`, radix-sort, reorder every field.
-    fn sort_by_cell(&mut self, fields: &mut Fields<D>, h: f32) -> Result<(), GridError>;
+    /// Section 3: hash particles to cells of size `params.h` (stretched to divide the period
+    /// along `params.periodic` axes, `crate::periodic`), sort, reorder every field.
+    fn sort_by_cell(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> Result<(), GridError>;
     /// Eq. (18): density of fluid particles by summation.
     fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// The continuity equation with [F19] density diffusion (`physics::density_diffusion`):
@@ -151,6 +152,10 @@ pub trait Backend<const D: usize> {
     /// at `x` is multiplied by `zone.velocity_factor(x, dt)`; `dt` [s] the step. Solids are
     /// untouched.
     fn damping_zone(&mut self, fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32);
+    /// Periodic boundaries (`crate::periodic`): every fluid particle's position goes through
+    /// `params.periodic().wrap` (one period back along each periodic axis it left the domain
+    /// on); mass, velocity and solids are untouched.
+    fn wrap_positions(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Eq. (19): pressure of fluid particles.
     fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// Moving solids (`boundary::motion`, `boundary::rigid`): every solid particle of id

@@ -178,6 +178,17 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
             effects.join(", ")
         }
     );
+    if !scene.periodic.is_empty() {
+        // The period of each periodic axis is the domain's extent (`crate::periodic`).
+        let periods: Vec<String> = (0..scene.dimension)
+            .filter(|&k| scene.periodic.contains(k))
+            .map(|k| {
+                let name = ["x", "y", "z"][k];
+                format!("{name} (period {} m)", scene.domain.max[k] - scene.domain.min[k])
+            })
+            .collect();
+        println!("  periodic         {}", periods.join(", "));
+    }
     let pair_terms: Vec<&str> = scene.pair_terms.iter().map(|(t, _)| t.label()).collect();
     let plan = crate::solver::plan::plan(crate::run::plan_inputs(&scene));
     let names: Vec<&str> = plan.iter().map(|s| s.name()).collect();

@@ -5,6 +5,7 @@
 use super::SurfaceTensionModel;
 use super::pair_terms::PairCoefficients;
 use crate::math::{Real, Vector};
+use crate::periodic::{Periodic, PeriodicAxes};
 use crate::physics::density::{DensityKernel, DensityWeight};
 use crate::physics::multiphase::Phases;
 use crate::smoothing::Smoothing;
@@ -76,6 +77,10 @@ pub struct StepParams<const D: usize> {
     /// (dimensionless, the scene's `fluid.artificial_viscosity_wall_factor`, default 1;
     /// `physics::artificial_viscosity::DEFAULT_WALL_FACTOR`).
     pub artificial_viscosity_wall_factor: Real,
+    /// The periodic axes (`crate::periodic`, the scene's `[periodic]`): their period is the
+    /// domain `[domain_min, domain_max)`; the neighbour search wraps and pair offsets take the
+    /// minimum image along them. [`PeriodicAxes::NONE`] without periodic boundaries.
+    pub periodic: PeriodicAxes,
 }
 
 impl<const D: usize> StepParams<D> {
@@ -90,6 +95,11 @@ impl<const D: usize> StepParams<D> {
     /// Whether the scene has the `rotating_frame` effect.
     pub fn rotating(&self) -> bool {
         self.rotating_frame != 0
+    }
+
+    /// The periodic axes with their period, the domain.
+    pub fn periodic(&self) -> Periodic<D> {
+        Periodic::new(self.periodic, self.domain_min, self.domain_max)
     }
 
     /// The kernels for this `h`.

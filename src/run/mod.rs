@@ -137,6 +137,7 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
         },
         artificial_viscosity_wall_factor: scene.artificial_viscosity_wall_factor,
         density_diffusion: scene.density_diffusion,
+        periodic: scene.periodic,
         dt: scene.dt,
         cfl: scene.cfl,
         domain_min: vector(&scene.domain.min),

@@ -130,6 +130,8 @@ pub struct Scene {
     pub probes: Vec<Probe>,
     /// The damping zone (`[damping_zone]`), if any.
     pub damping_zone: Option<DampingZoneSpec>,
+    /// The periodic axes (`[periodic]`, `crate::periodic`); none without the table.
+    pub periodic: crate::periodic::PeriodicAxes,
 }
 
 /// A validated `[damping_zone]` (`physics::damping_zone`).

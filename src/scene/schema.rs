@@ -11,6 +11,10 @@ use serde::Deserialize;
 mod motion;
 pub use motion::{DampingZoneFile, MotionFile, MotionKind};
 
+#[path = "schema_periodic.rs"]
+mod periodic;
+pub use periodic::{AxisName, PeriodicFile};
+
 /// A physical effect switched on in a scene (`effects = [...]`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Effect {
@@ -217,6 +221,8 @@ pub struct SceneFile {
     /// A zone where the fluid's velocity is relaxed towards zero (`[damping_zone]`, a wave
     /// flume's absorber); absent: none, and the step pays nothing.
     pub damping_zone: Option<DampingZoneFile>,
+    /// Periodic boundaries along some axes (`[periodic]`); absent: none.
+    pub periodic: Option<PeriodicFile>,
 }
 
 /// An axis-aligned box `[min, max]` \[m\].

@@ -112,7 +112,7 @@ impl<const D: usize> Simulation<D> {
             .copied()
             .collect();
         let (bk, f) = (&mut self.backend, &mut self.fields);
-        bk.sort_by_cell(f, params.h)
+        bk.sort_by_cell(f, &params)
             .map_err(|source| StepError::Grid { step, source })?;
         let sweep = |bk: &mut Box<dyn Backend<D> + Send>, f: &mut Fields<D>| {
             bk.density(f, &params);

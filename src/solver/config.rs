@@ -136,6 +136,9 @@ pub struct SimConfig<const D: usize> {
     /// `δ` of [F19]'s density diffusion (dimensionless): the continuity equation replaces the
     /// summation (18) (`model::DensityEquation`); `None` without the `density_diffusion` effect.
     pub density_diffusion: Option<f64>,
+    /// The periodic axes (`crate::periodic`): the domain is one period along each; the plan
+    /// then wraps positions once a step (`Stage::WrapPositions`).
+    pub periodic: crate::periodic::PeriodicAxes,
     /// Fixed time step [s], or `None` for adaptive.
     pub dt: Option<f64>,
     /// CFL number of the adaptive step.
@@ -174,6 +177,7 @@ impl<const D: usize> SimConfig<D> {
                 None => DensityEquation::Summation,
             },
             damping_zone: self.damping_zone.is_some(),
+            periodic: self.periodic,
         }
     }
 }

@@ -7,6 +7,7 @@ use super::stage::{SolidsAt, Stage, SubStage};
 use crate::fields::Field;
 use crate::model::pair_terms::{PairTerm, PairTerms};
 use crate::model::{DensityEquation, ForceTerms, SurfaceTensionModel, WallModel};
+use crate::periodic::PeriodicAxes;
 
 /// What the plan depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,6 +31,8 @@ pub struct PlanInputs {
     pub density: DensityEquation,
     /// The scene has a damping zone (`physics::damping_zone`).
     pub damping_zone: bool,
+    /// The periodic axes (`crate::periodic`); none: no wrap stage.
+    pub periodic: PeriodicAxes,
 }
 
 /// The stages of one integrator stage, in order (PAPER.md sections 1 and 2).
@@ -117,6 +120,10 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         // integrator stage.
         plan.push(Stage::DampingZone);
     }
+    if !inputs.periodic.is_empty() {
+        // Once a step, after every stage that moves particles (`crate::periodic`).
+        plan.push(Stage::WrapPositions(inputs.periodic));
+    }
     plan
 }
 
@@ -159,6 +166,7 @@ mod tests {
             corrected: false,
             density: DensityEquation::Summation,
             damping_zone: false,
+            periodic: PeriodicAxes::NONE,
         }
     }
 
@@ -343,6 +351,25 @@ mod tests {
                     "a flume-less scene pays nothing"
                 );
                 assert_eq!(&with[..with.len() - 1], &without[..]);
+            }
+        }
+    }
+
+    #[test]
+    fn periodic_axes_wrap_positions_last_and_only_with_periodic_axes() {
+        let x = PeriodicAxes::NONE.with(0);
+        for integrator in [Integrator::SymplecticEuler, Integrator::Rk3] {
+            for damping_zone in [false, true] {
+                let base = PlanInputs {
+                    integrator,
+                    damping_zone,
+                    corrected: true,
+                    ..inputs()
+                };
+                let with = plan(PlanInputs { periodic: x, ..base });
+                assert_eq!(with.last(), Some(&Stage::WrapPositions(x)));
+                let without = plan(base);
+                assert_eq!(&with[..with.len() - 1], &without[..], "nothing else changes");
             }
         }
     }

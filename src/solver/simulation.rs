@@ -534,6 +534,7 @@ impl<const D: usize> Simulation<D> {
             phases: self.phases,
             density_diffusion: c.density_diffusion.unwrap_or(0.0) as Real,
             artificial_viscosity_wall_factor: c.artificial_viscosity_wall_factor as Real,
+            periodic: c.periodic,
         }
     }
 

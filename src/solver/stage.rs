@@ -16,6 +16,7 @@
 use crate::fields::Field;
 use crate::model::pair_terms::{PairTerm, PairTerms};
 use crate::model::{ForceTerms, SurfaceTensionModel, WallModel};
+use crate::periodic::PeriodicAxes;
 use Field::{
     Acceleration, ActingPressure, Density, DensityRate, DensityStart, Id, Kind, Mass, Normal, Position,
     PositionStart, Pressure, Velocity, VelocityStart, WallVelocity,
@@ -84,6 +85,10 @@ pub enum Stage {
     /// velocities relaxed towards zero, once a step after the last integrator stage. Only in
     /// scenes with a `[damping_zone]`.
     DampingZone,
+    /// Periodic boundaries (`crate::periodic`): a fluid particle that left the domain along one
+    /// of these axes moves back by one period, once a step after the last integrator stage.
+    /// Only in scenes with a `[periodic]` table.
+    WrapPositions(PeriodicAxes),
 }
 
 impl Stage {
@@ -107,6 +112,7 @@ impl Stage {
             Stage::Correction => "correct_positions",
             Stage::IntegrateDensity => "integrate_density",
             Stage::DampingZone => "damping_zone",
+            Stage::WrapPositions(_) => "wrap_positions",
         }
     }
 
@@ -140,6 +146,7 @@ impl Stage {
             Stage::Correction => "(23)-(24)",
             Stage::IntegrateDensity => "continuity, note 8",
             Stage::DampingZone => "[AEA17]",
+            Stage::WrapPositions(_) => "periodic",
         };
         text.to_string()
     }
@@ -198,6 +205,12 @@ impl Stage {
             Stage::DampingZone => {
                 "u *= max(0, 1 - dt beta r^2), r the depth into the damping zone (fluid; once a step, after the last integrator stage)"
             }
+            Stage::WrapPositions(axes) => {
+                return format!(
+                    "x -= L or x += L along the periodic axes {:?} outside the domain (fluid; once a step, after the last integrator stage)",
+                    axes.names()
+                );
+            }
         };
         text.to_string()
     }
@@ -238,6 +251,7 @@ impl Stage {
             Stage::Correction => &[Position, Density, Pressure, Mass, Kind],
             Stage::IntegrateDensity => &[Density, DensityRate, Kind],
             Stage::DampingZone => &[Position, Velocity, Kind],
+            Stage::WrapPositions(_) => &[Position, Kind],
         }
     }
 
@@ -297,6 +311,7 @@ impl Stage {
             Stage::Correction => &[Position, Velocity, Density, Pressure, ActingPressure],
             Stage::IntegrateDensity => &[Density],
             Stage::DampingZone => &[Velocity],
+            Stage::WrapPositions(_) => &[Position],
         }
     }
 

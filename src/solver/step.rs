@@ -101,7 +101,7 @@ impl<const D: usize> Simulation<D> {
                     }
                     Stage::SortByCell => {
                         if !self.grid_fresh {
-                            bk.sort_by_cell(f, params.h)
+                            bk.sort_by_cell(f, &params)
                                 .map_err(|source| StepError::Grid { step, source })?; // section 3
                             self.grid_fresh = true;
                         }
@@ -176,6 +176,13 @@ impl<const D: usize> Simulation<D> {
                         // Impulse τ F, weighted by how much of this stage reaches y^{n+1}.
                         let w = integrator.correction_weights()[k] * tau / report.dt.max(f64::MIN_POSITIVE);
                         add_force(&mut solid_force, &impulse_force, w);
+                    }
+                    Stage::WrapPositions(_) => {
+                        // Once a step, after every stage that moved particles (`crate::periodic`).
+                        if k + 1 == integrator.stages().len() {
+                            bk.wrap_positions(f, &params);
+                            self.moved();
+                        }
                     }
                     Stage::DampingZone => {
                         // Once a step, on u^{n+1} ([AEA17]); the plan has it only with a zone.
@@ -414,7 +421,7 @@ impl<const D: usize> Simulation<D> {
         let solids = self.solid_names.len();
         let (bk, f) = (&mut self.backend, &mut self.fields);
         if *drift > RESORT_DRIFT * h {
-            bk.sort_by_cell(f, params.h).map_err(|source| StepError::Grid {
+            bk.sort_by_cell(f, params).map_err(|source| StepError::Grid {
                 step: self.clock.step,
                 source,
             })?;
@@ -490,7 +497,7 @@ impl<const D: usize> Simulation<D> {
         let error = loop {
             let (bk, f) = (&mut self.backend, &mut self.fields);
             if drift > RESORT_DRIFT * h {
-                bk.sort_by_cell(f, params.h).map_err(|source| StepError::Grid {
+                bk.sort_by_cell(f, params).map_err(|source| StepError::Grid {
                     step: self.clock.step,
                     source,
                 })?;

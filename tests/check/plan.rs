@@ -376,3 +376,30 @@ fn multiphase_shows_the_variants_and_their_rest_density_reads() {
         "{plain}"
     );
 }
+
+/// A periodic scene (`[periodic]`, `sph::periodic`): `sph plan` ends with `wrap_positions` and
+/// `sph check` names the periodic axis with its period; the walled scene has neither.
+#[test]
+fn plan_and_check_show_the_periodic_axes() {
+    let scene = shipped("tests/scenes/poiseuille_periodic_2d.toml");
+    let out = plan(&scene, &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let names = stage_names(&String::from_utf8_lossy(&out.stdout));
+    assert_eq!(
+        names.last().map(String::as_str),
+        Some("wrap_positions"),
+        "{names:?}"
+    );
+    let walled = stage_names(&String::from_utf8_lossy(
+        &plan(&shipped("scenes/poiseuille_2d.toml"), &[]).stdout,
+    ));
+    assert!(!walled.iter().any(|n| n == "wrap_positions"), "{walled:?}");
+    let check = Command::new(env!("CARGO_BIN_EXE_sph"))
+        .arg("check")
+        .arg(&scene)
+        .output()
+        .expect("sph runs");
+    let stdout = String::from_utf8_lossy(&check.stdout);
+    assert!(check.status.success(), "{stdout}");
+    assert!(stdout.contains("periodic         x (period 0.3 m)"), "{stdout}");
+}

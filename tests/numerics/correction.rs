@@ -222,6 +222,7 @@ fn config<const D: usize>(
         surface_tension: None,
         artificial_viscosity_wall_factor: 1.0,
         density_diffusion: None,
+        periodic: sph::periodic::PeriodicAxes::NONE,
         dt: Some(dt),
         cfl: 0.2,
         domain_min: Vector::<D>::repeat(-100.0),

@@ -8,3 +8,4 @@ mod common;
 mod correction;
 mod grid;
 mod laws;
+mod periodic_grid;

@@ -289,6 +289,7 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             surface_tension: None,
             artificial_viscosity_wall_factor: 1.0,
             density_diffusion: None,
+            periodic: sph::periodic::PeriodicAxes::NONE,
             dt: None,
             cfl: 0.2,
             domain_min: Vector::<D>::repeat(-10.0),

@@ -13,6 +13,7 @@ mod density_diffusion;
 mod gauges;
 mod multiphase;
 mod poiseuille;
+mod poiseuille_periodic;
 mod rotating_frame;
 mod surface_tension;
 mod waves;

@@ -4,7 +4,8 @@
 //! Set-up (the scene's comments give the reasons): walls y = 0 and y = L = 0.1 m, fluid from
 //! rest, body force F = 0.4 m/s² along x (the scene's `fluid.gravity`), ν = 0.01 m²/s, so
 //! u0 = F L²/(8ν) = 0.05 m/s, Re = u0 L/ν = 0.5 and the viscous time L²/ν = 1 s; dx = L/20,
-//! h = 2 dx, `wcsph` with C = 20 u0. The solver has no periodic boundaries, so the channel is a
+//! h = 2 dx, `wcsph` with C = 20 u0. Without periodic boundaries (`poiseuille_periodic.rs` has
+//! them) the channel is a
 //! block 6 L long with free ends: nothing builds a pressure gradient along x, and the ends'
 //! influence spreads by viscous diffusion only, sqrt(ν t) ≤ 0.8 L by t = 0.6 s, while the
 //! profile is measured in the middle L of the block, 2.5 L from either end (the block moves at
@@ -52,14 +53,14 @@ use sph::smoothing::Smoothing;
 use std::path::Path;
 
 /// Channel width L [m] (walls at y = 0 and y = L; the scene's fluid box).
-const WIDTH: f64 = 0.1;
+pub(crate) const WIDTH: f64 = 0.1;
 /// Centre of the measured section [m]: the middle of the fluid block x ∈ [0, 6 L].
 const SECTION_CENTRE: f64 = 0.3;
 /// Times [s] at which the profile is compared (t ν/L² the same numbers).
-const TIMES: [f64; 5] = [0.02, 0.05, 0.1, 0.2, 0.6];
+pub(crate) const TIMES: [f64; 5] = [0.02, 0.05, 0.1, 0.2, 0.6];
 /// The target: largest |u_SPH − u_series| in a bin, as a fraction of the steady centreline
 /// speed u0.
-const TARGET: f64 = 0.05;
+pub(crate) const TARGET: f64 = 0.05;
 
 /// The shipped scene, with `sets` applied.
 fn scene(sets: &[&str]) -> Scene {
@@ -69,7 +70,7 @@ fn scene(sets: &[&str]) -> Scene {
 }
 
 /// The driving body force F [m/s²] along the channel: the scene's gravity.
-fn body_force(scene: &Scene) -> f64 {
+pub(crate) fn body_force(scene: &Scene) -> f64 {
     scene
         .gravity
         .as_ref()
@@ -79,7 +80,7 @@ fn body_force(scene: &Scene) -> f64 {
 /// SOURCES.md 7.3, Poiseuille start-up: `u(y, t) = F/(2ν) y (L − y) − Σ_{n≥0} 4 F L²/(ν π³
 /// (2n+1)³) sin((2n+1) π y/L) exp(−(2n+1)² π² ν t/L²)` [m/s]; y [m], t [s]. 200 terms: the
 /// omitted tail is below 4 F L²/(ν π³) Σ_{k>400} k⁻³ ≈ 4e-7 u0.
-fn series(y: f64, t: f64, f: f64, nu: f64) -> f64 {
+pub(crate) fn series(y: f64, t: f64, f: f64, nu: f64) -> f64 {
     let (l, pi) = (WIDTH, std::f64::consts::PI);
     let mut u = f / (2.0 * nu) * y * (l - y);
     for n in 0..200 {

@@ -164,6 +164,7 @@ fn a_lone_particle_moves_in_a_straight_line_in_the_inertial_frame() {
             surface_tension: None,
             artificial_viscosity_wall_factor: 1.0,
             density_diffusion: None,
+            periodic: sph::periodic::PeriodicAxes::NONE,
             dt: Some(dt),
             cfl: 0.2,
             domain_min: Vector::<D>::repeat(-10.0),

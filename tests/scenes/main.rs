@@ -7,6 +7,7 @@ mod common;
 
 mod flap;
 mod lattice;
+mod periodic;
 mod scene;
 mod scene_fuzz;
 mod scene_solver;

@@ -279,7 +279,7 @@ fn check_sweeps<const D: usize>(seed: u64, phases: Phases) {
             for &(before, kick_tau, max_step, _) in &PLAN {
                 match before {
                     Before::Begin => b.begin_correction(f),
-                    Before::Sort => b.sort_by_cell(f, p.h).expect("finite positions"),
+                    Before::Sort => b.sort_by_cell(f, &p).expect("finite positions"),
                     Before::Nothing => {}
                 }
                 b.density(f, &p);

@@ -31,3 +31,4 @@ mod sort_by_cell;
 mod state_extremes;
 mod surface_tension;
 mod velocity_solve;
+mod wrap_positions;

@@ -86,7 +86,7 @@ impl Under {
     ) -> (Fields<D>, R) {
         let mut f = fields.clone();
         let mut backend = self.start(&f, params);
-        backend.sort_by_cell(&mut f, params.h).expect("finite positions");
+        backend.sort_by_cell(&mut f, params).expect("finite positions");
         let out = stage(backend.as_mut(), &mut f);
         backend.download(&mut f).expect("download");
         assert!(backend.take_error().is_none(), "{self:?}: no device error");
@@ -216,6 +216,7 @@ pub fn scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>) {
         phases: Phases::Single,
         density_diffusion: 0.0,
         artificial_viscosity_wall_factor: 1.0,
+        periodic: sph::periodic::PeriodicAxes::NONE,
     };
     (f, p)
 }

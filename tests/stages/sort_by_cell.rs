@@ -195,7 +195,7 @@ fn check_sort<const D: usize>(seed: u64) {
         let (again, once) = under.run(&f, &p, |b, f| {
             b.download(f).expect("download");
             let once = f.clone();
-            b.sort_by_cell(f, p.h).expect("finite positions");
+            b.sort_by_cell(f, &p).expect("finite positions");
             once
         });
         for i in 0..f.len() {
@@ -210,7 +210,7 @@ fn check_sort<const D: usize>(seed: u64) {
             b.integrate(f, 0.02);
             b.download(f).expect("download");
             let before = f.clone();
-            b.sort_by_cell(f, p.h).expect("finite positions");
+            b.sort_by_cell(f, &p).expect("finite positions");
             before
         });
         check_sorted(under, &p, &before, &moved, "sort after a move");

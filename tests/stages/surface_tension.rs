@@ -91,6 +91,7 @@ fn droplet<const D: usize>(
         phases,
         density_diffusion: 0.0,
         artificial_viscosity_wall_factor: 1.0,
+        periodic: sph::periodic::PeriodicAxes::NONE,
     };
     (f, p)
 }

@@ -32,6 +32,7 @@ mod sort_by_cell;
 mod state_extremes;
 mod surface_tension;
 mod wall_pressure;
+mod wrap_positions;
 
 /// CPU backend state: the neighbour grid and reusable scratch buffers.
 #[derive(Debug, Default)]
@@ -124,8 +125,8 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         CpuBackend::heap_bytes(self)
     }
 
-    fn sort_by_cell(&mut self, fields: &mut Fields<D>, h: f32) -> Result<(), GridError> {
-        CpuBackend::sort_by_cell(self, fields, h)
+    fn sort_by_cell(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> Result<(), GridError> {
+        CpuBackend::sort_by_cell(self, fields, params)
     }
 
     fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
@@ -142,6 +143,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn damping_zone(&mut self, fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32) {
         CpuBackend::damping_zone(self, fields, zone, dt)
+    }
+
+    fn wrap_positions(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        CpuBackend::wrap_positions(self, fields, params)
     }
 
     fn integrate_density(&mut self, fields: &mut Fields<D>, dt: f32) {

@@ -3,11 +3,18 @@
 use super::CpuBackend;
 use crate::fields::{FLUID, Fields};
 use crate::grid::GridError;
+use crate::model::params::StepParams;
 use rayon::prelude::*;
 
 impl<const D: usize> CpuBackend<D> {
-    pub(super) fn sort_by_cell(&mut self, fields: &mut Fields<D>, h: f32) -> Result<(), GridError> {
-        let perm = self.grid.sort(&fields.position, h)?;
+    pub(super) fn sort_by_cell(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+    ) -> Result<(), GridError> {
+        let perm = self
+            .grid
+            .sort_periodic(&fields.position, params.h, &params.periodic())?;
         self.delta_p_previous.clear();
         self.delta_p.clear();
         fields.permute(perm, &mut self.scratch);

@@ -355,6 +355,8 @@ mod state_extremes;
 mod surface_tension;
 #[path = "wall_pressure.rs"]
 mod wall_pressure;
+#[path = "wrap_positions.rs"]
+mod wrap_positions;
 
 impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
     fn name(&self) -> &'static str {
@@ -455,8 +457,8 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
         self.pressure_to_velocity(params, tau);
     }
 
-    fn sort_by_cell(&mut self, _fields: &mut Fields<D>, h: f32) -> Result<(), GridError> {
-        self.launch_sort_by_cell(h)
+    fn sort_by_cell(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) -> Result<(), GridError> {
+        self.launch_sort_by_cell(params.h, params.periodic)
     }
 
     fn density(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
@@ -473,6 +475,10 @@ impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
 
     fn damping_zone(&mut self, _fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32) {
         self.launch_damping_zone(zone, dt)
+    }
+
+    fn wrap_positions(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) {
+        self.launch_wrap_positions(params)
     }
 
     fn integrate_density(&mut self, _fields: &mut Fields<D>, dt: f32) {

@@ -22,7 +22,7 @@ include!(concat!(env!("OUT_DIR"), "/shim_externs.rs"));
 
 /// The fields of `StepParams` in declaration order, as `sph_shim_step_params_layout_D` reports
 /// their offsets.
-pub const STEP_PARAMS_FIELDS: usize = 22;
+pub const STEP_PARAMS_FIELDS: usize = 23;
 
 #[link(name = "sph_kernel_shim_2", kind = "static")]
 unsafe extern "C" {
@@ -31,6 +31,8 @@ unsafe extern "C" {
     pub fn sph_shim_step_params_layout_2(out: *mut u64);
     /// `sizeof(Extremes)`, then each field's offset (11 values).
     pub fn sph_shim_extremes_layout_2(out: *mut u32);
+    /// `GridGeometry`'s size and its fields' offsets in declaration order (8 values).
+    pub fn sph_shim_grid_geometry_layout_2(out: *mut u64);
     /// Test only: the neighbours `SPH_FOR_EACH_CANDIDATE` yields with `r < h`; `count[i]` of
     /// them, the first `max` in `list[i * max ..]`.
     pub fn sph_shim_neighbour_list_2(
@@ -52,6 +54,8 @@ unsafe extern "C" {
     pub fn sph_shim_step_params_layout_3(out: *mut u64);
     /// As [`sph_shim_extremes_layout_2`].
     pub fn sph_shim_extremes_layout_3(out: *mut u32);
+    /// As [`sph_shim_grid_geometry_layout_2`].
+    pub fn sph_shim_grid_geometry_layout_3(out: *mut u64);
     /// As [`sph_shim_neighbour_list_2`].
     pub fn sph_shim_neighbour_list_3(
         n: u32,

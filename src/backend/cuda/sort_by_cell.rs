@@ -3,6 +3,7 @@
 //! id) and the gathers that reorder every field by the permutation.
 
 use super::*;
+use crate::periodic::PeriodicAxes;
 
 /// Items per thread at each level of the cell-count scan: a level of `m` items leaves `m/64`
 /// chunk sums, scanned the same way, until at most `SCAN_TOP` remain for one thread.
@@ -51,15 +52,20 @@ enum IndexField {
 
 impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
     /// Builds (or keeps) the dense grid for cells of size `h`.
-    fn ensure_grid(&mut self, h: Real) -> Result<(), BackendError> {
-        if self.grid.as_ref().is_some_and(|g| g.cell_size == h) {
+    fn ensure_grid(&mut self, h: Real, axes: PeriodicAxes) -> Result<(), BackendError> {
+        if self
+            .grid
+            .as_ref()
+            .is_some_and(|g| g.cell_size == h && g.geometry.periodic == axes.bits())
+        {
             return Ok(());
         }
-        let geometry =
-            GridGeometry::new(&self.domain.0, &self.domain.1, h).map_err(|e| BackendError::Unavailable {
+        let geometry = GridGeometry::new_periodic(&self.domain.0, &self.domain.1, h, axes).map_err(|e| {
+            BackendError::Unavailable {
                 backend: "cuda",
                 reason: e.to_string(),
-            })?;
+            }
+        })?;
         let cells = geometry.cell_count();
         let dev = &self.dev;
         let a = |len: usize| {
@@ -161,11 +167,11 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         record(&mut self.error, "gathering an index field", r);
     }
 
-    pub(super) fn launch_sort_by_cell(&mut self, h: f32) -> Result<(), GridError> {
+    pub(super) fn launch_sort_by_cell(&mut self, h: f32, axes: PeriodicAxes) -> Result<(), GridError> {
         if self.error.is_some() {
             return Ok(());
         }
-        if let Err(e) = self.ensure_grid(h) {
+        if let Err(e) = self.ensure_grid(h, axes) {
             self.error = Some(e);
             return Ok(());
         }

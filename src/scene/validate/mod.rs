@@ -30,6 +30,7 @@ mod geometry;
 mod keys;
 mod memory;
 mod motion;
+mod periodic;
 mod probes;
 mod solids;
 mod step_bounds;
@@ -483,6 +484,11 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
         None => Some(None),
     };
 
+    let periodic = match &file.periodic {
+        Some(p) => periodic::check_periodic(&mut c, p, dim, domain.as_ref(), spacing, h),
+        None => Some(crate::periodic::PeriodicAxes::NONE),
+    };
+
     let resolved = (|| {
         Some(Scene {
             name: file.name.clone(),
@@ -517,6 +523,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
             fluid_only,
             probes,
             damping_zone: damping_zone?,
+            periodic: periodic?,
         })
     })();
     match resolved {
