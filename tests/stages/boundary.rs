@@ -5,12 +5,12 @@
 //! `keep_out` (`boundary::keep_out`, nearest face and entry face).
 
 use crate::setup::{
-    DX, Rng, SUM_ORDER, add_strays, backends, by_id, in_id_order, neighbours, scene, use_density_kernel,
-    use_phases,
+    DX, Rng, SUM_ORDER, add_strays, backends, by_id, in_id_order, neighbours, scene, solid_scene,
+    use_density_kernel, use_phases,
 };
 use sph::backend::WallModel;
 use sph::boundary::keep_out::{KeepOutBox, KeepOutReport, push_moment};
-use sph::boundary::motion::{Rotation, SolidKinematics, SolidReference};
+use sph::boundary::motion::{Rotation, SolidKinematics};
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::model::params::StepParams;
@@ -344,23 +344,9 @@ pub fn other_bits<const D: usize>(f: &Fields<D>, i: usize) -> Vec<u32> {
 /// `move_solids`: one f32 addition per component, so bitwise: every solid particle at
 /// `x0 + d` with velocity `d'`, fluid untouched; twice, with other kinematics the second time.
 fn check_move_solids<const D: usize>(seed: u64) {
-    let (mut f, p) = scene::<D>(seed);
-    add_strays(&mut f, &p, seed ^ 0x5151);
-    // Fluid ids first, then the solids', as `Simulation` lays them out (storage stays shuffled).
-    let mut order: Vec<usize> = (0..f.len()).collect();
-    order.sort_by_key(|&i| (f.kind[i] != FLUID, f.id[i]));
-    for (new, &i) in order.iter().enumerate() {
-        f.id[i] = new as u32;
-    }
-    let first_id = f.kind.iter().filter(|&&k| k == FLUID).count() as u32;
-    let mut rng = Rng(seed ^ 0x5eed);
+    let (f, p, reference) = solid_scene::<D>(seed);
     let r = in_id_order(&f);
-    let reference = SolidReference::<D> {
-        first_id,
-        position: (first_id as usize..r.len())
-            .map(|id| r.position[id] + Vector::from_fn(|_, _| rng.sym(0.3 * DX)))
-            .collect(),
-    };
+    let mut rng = Rng(seed ^ 0x0c1e);
     let mut kinematics = || -> Vec<SolidKinematics<D>> {
         (0..2)
             .map(|_| SolidKinematics {
@@ -394,7 +380,7 @@ fn check_move_solids<const D: usize>(seed: u64) {
                 } else {
                     let s = &k[r.kind[id] as usize - 1];
                     (
-                        reference.position[id - first_id as usize] + s.displacement,
+                        reference.position[id - reference.first_id as usize] + s.displacement,
                         s.velocity,
                     )
                 };

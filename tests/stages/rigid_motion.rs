@@ -3,10 +3,10 @@
 //! the wall's acceleration at each particle, `d'' + α × r + ω × (ω × r)`, not one per solid.
 
 use crate::boundary::{other_bits, reference_wall_pressure};
-use crate::setup::{DX, Rng, add_strays, backends, by_id, in_id_order, scene};
+use crate::setup::{Rng, backends, by_id, in_id_order, solid_scene};
 use sph::backend::WallModel;
 use sph::boundary::motion::{Rotation, SolidKinematics, SolidReference, Turn};
-use sph::fields::{FLUID, Fields};
+use sph::fields::FLUID;
 use sph::math::Vector;
 
 /// A unit axis: `z` in 2D, a random direction in 3D.
@@ -38,30 +38,6 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 
 fn embed<const D: usize>(v: &Vector<D>) -> [f64; 3] {
     [0, 1, 2].map(|k| if k < D { f64::from(v[k]) } else { 0.0 })
-}
-
-/// The scene with ids as `Simulation` lays them out (fluid first, then the solids), and the
-/// solids' reference positions: their positions, jittered by 0.3 dx.
-fn solid_scene<const D: usize>(
-    seed: u64,
-) -> (Fields<D>, sph::model::params::StepParams<D>, SolidReference<D>) {
-    let (mut f, p) = scene::<D>(seed);
-    add_strays(&mut f, &p, seed ^ 0x5151);
-    let mut order: Vec<usize> = (0..f.len()).collect();
-    order.sort_by_key(|&i| (f.kind[i] != FLUID, f.id[i]));
-    for (new, &i) in order.iter().enumerate() {
-        f.id[i] = new as u32;
-    }
-    let first_id = f.kind.iter().filter(|&&k| k == FLUID).count() as u32;
-    let mut rng = Rng(seed ^ 0x5eed);
-    let r = in_id_order(&f);
-    let reference = SolidReference::<D> {
-        first_id,
-        position: (first_id as usize..r.len())
-            .map(|id| r.position[id] + Vector::from_fn(|_, _| rng.sym(0.3 * DX)))
-            .collect(),
-    };
-    (f, p, reference)
 }
 
 /// The mean position of the solids [m]: a pivot inside the scene.

@@ -3,6 +3,7 @@
 
 use sph::backend::Backend;
 use sph::backend::cpu::CpuBackend;
+use sph::boundary::motion::SolidReference;
 use sph::fields::{FLUID, Fields};
 use sph::math::Vector;
 use sph::model::pair_terms::{PairTerm, PairTermSettings, PairTerms};
@@ -401,4 +402,26 @@ pub fn assert_close<const D: usize>(
             want[k]
         );
     }
+}
+
+/// The scene with ids as `Simulation` lays them out (fluid first, then the solids; storage stays
+/// shuffled), and the solids' reference positions: their positions, jittered by 0.3 dx.
+pub fn solid_scene<const D: usize>(seed: u64) -> (Fields<D>, StepParams<D>, SolidReference<D>) {
+    let (mut f, p) = scene::<D>(seed);
+    add_strays(&mut f, &p, seed ^ 0x5151);
+    let mut order: Vec<usize> = (0..f.len()).collect();
+    order.sort_by_key(|&i| (f.kind[i] != FLUID, f.id[i]));
+    for (new, &i) in order.iter().enumerate() {
+        f.id[i] = new as u32;
+    }
+    let first_id = f.kind.iter().filter(|&&k| k == FLUID).count() as u32;
+    let mut rng = Rng(seed ^ 0x5eed);
+    let r = in_id_order(&f);
+    let reference = SolidReference::<D> {
+        first_id,
+        position: (first_id as usize..r.len())
+            .map(|id| r.position[id] + Vector::from_fn(|_, _| rng.sym(0.3 * DX)))
+            .collect(),
+    };
+    (f, p, reference)
 }
