@@ -58,8 +58,10 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
     let solids: Vec<(String, Vec<Vector<D>>)> =
         layout.solids.into_iter().map(|s| (s.name, s.position)).collect();
     let motions = scene.solids.iter().map(|s| s.motion.clone()).collect();
+    let bodies = floating_bodies(scene);
     let mut sim = Simulation::new(config, &layout.fluid_position, &layout.fluid_velocity, &solids)?
-        .with_solid_motion(motions)?;
+        .with_solid_motion(motions)?
+        .with_floating_bodies(bodies)?;
     if scene.has(Effect::Multiphase) {
         sim = sim.with_phases(&crate::scene::fluid_rest_density(scene)?)?;
     }
@@ -73,6 +75,25 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
     Ok(sim)
 }
 
+/// The rigid body of each floating solid (`scene::floating`), `None` for the others, in scene
+/// order.
+fn floating_bodies(scene: &Scene) -> Vec<Option<crate::boundary::rigid_body::RigidBody>> {
+    scene
+        .solids
+        .iter()
+        .map(|s| {
+            let f = s.floating.as_ref()?;
+            f.rigid_body(
+                &s.volume,
+                &s.region.min,
+                &s.region.max,
+                scene.spacing,
+                scene.dimension,
+            )
+        })
+        .collect()
+}
+
 /// The solids' volumes for the no-penetration guard (`boundary::keep_out`): an unrotated `box`
 /// solid is its region, a `container` the slabs of its walls (`wall_layers` spacings thick);
 /// the other shapes have none.
@@ -84,7 +105,7 @@ fn keep_out_boxes<const D: usize>(scene: &Scene, solids: &[(String, Vec<Vector<D
         let Some(index) = solids.iter().position(|(name, _)| *name == s.name) else {
             continue;
         };
-        if let Some(Motion::Flap(_)) = s.motion {
+        if matches!(s.motion, Some(Motion::Flap(_))) || s.floating.is_some() {
             // A turning solid leaves its axis-aligned box: the particle boundary alone holds it.
             continue;
         }
