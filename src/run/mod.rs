@@ -1,6 +1,7 @@
 //! A whole run: scene → simulation (dimension chosen once) → steps → output files.
 //!
 //! Output directory layout: `summary.json`, `forces.csv` (one row per solid per step),
+//! `bodies.csv` (one row per floating solid per step, `output::bodies`),
 //! `steps.csv` (one row per step: time, dt, the criterion that limited it, extremes; columns
 //! in [`crate::output::csv`]),
 //! `particles.pvd` and `frames/frame_NNNNN.vtu` (every particle with its stable `id`, or only the
@@ -272,6 +273,9 @@ pub struct RunState {
     /// Length of `steps.csv` [bytes].
     #[serde(default)]
     pub steps_len: Option<u64>,
+    /// Length of `bodies.csv` [bytes], when a solid floats.
+    #[serde(default)]
+    pub bodies_len: Option<u64>,
     /// Wall seconds spent before the checkpoint.
     pub wall_seconds: f64,
 }
@@ -520,6 +524,10 @@ fn write_checkpoint<const D: usize>(
             None => None,
         },
         steps_len: Some(w.steps.len_on_disk()?),
+        bodies_len: match w.bodies.as_mut() {
+            Some(b) => Some(b.len_on_disk()?),
+            None => None,
+        },
         wall_seconds: state.wall_before + state.start.elapsed().as_secs_f64(),
     };
     w.checkpoint(sim, &run_state)
@@ -615,6 +623,14 @@ fn record_step<const D: usize>(
         if let Some(log) = w.forces.as_mut() {
             for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
                 log.push(clock.time, name, *force)?;
+            }
+        }
+        if let Some(log) = w.bodies.as_mut() {
+            let names = sim.solid_names().iter().zip(sim.solid_forces());
+            for ((name, force), body) in names.zip(sim.floating_bodies()) {
+                if let Some(b) = body {
+                    log.push(clock.time, name, &b.state, *force)?;
+                }
             }
         }
         if frame_time {

@@ -187,3 +187,51 @@ impl<const D: usize> Simulation<D> {
         self.solids_placed_at = None;
     }
 }
+
+/// What a checkpoint keeps of a floating body (`solver::checkpoint`): its state and the last
+/// rate's accelerations, which the next placement gives the walls; f64, exact through JSON.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BodyRecord {
+    /// Centre of mass [m].
+    pub centre: [f64; 3],
+    /// Velocity [m/s].
+    pub velocity: [f64; 3],
+    /// Orientation, the unit quaternion `(w, i, j, k)`.
+    pub orientation: [f64; 4],
+    /// Angular velocity [rad/s].
+    pub angular_velocity: [f64; 3],
+    /// `v'` of the last rate [m/s²].
+    pub acceleration: [f64; 3],
+    /// `ω'` of the last rate [rad/s²].
+    pub angular_acceleration: [f64; 3],
+}
+
+impl FloatingBody {
+    /// The body's [`BodyRecord`].
+    pub fn record(&self) -> BodyRecord {
+        let s = &self.state;
+        let q = s.orientation.quaternion();
+        BodyRecord {
+            centre: s.centre.into(),
+            velocity: s.velocity.into(),
+            orientation: [q.w, q.i, q.j, q.k],
+            angular_velocity: s.angular_velocity.into(),
+            acceleration: self.acceleration.into(),
+            angular_acceleration: self.angular_acceleration.into(),
+        }
+    }
+
+    /// The body as `r` records it (bit for bit: the quaternion is not renormalised).
+    pub fn restore(&mut self, r: &BodyRecord) {
+        let [w, i, j, k] = r.orientation;
+        self.state = BodyState {
+            centre: r.centre.into(),
+            velocity: r.velocity.into(),
+            orientation: nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(w, i, j, k)),
+            angular_velocity: r.angular_velocity.into(),
+        };
+        self.start = self.state;
+        self.acceleration = r.acceleration.into();
+        self.angular_acceleration = r.angular_acceleration.into();
+    }
+}
