@@ -87,3 +87,23 @@ fn a_floating_box_settles_at_the_archimedes_draft_with_the_heave_period_of_its_a
     });
     assert!(!inside, "a fluid particle inside the box");
 }
+
+/// Bad `floating` input is an error at the key: with a `motion`, with both `density` and
+/// `mass`, and an unknown degree of freedom.
+#[test]
+fn bad_floating_input_names_the_key() {
+    let cases = [
+        (
+            "solid.1.motion={ amplitude = [0.01, 0.0], period = 1.0 }",
+            "solid[1].floating",
+        ),
+        ("solid.1.floating.mass=10.0", "solid[1].floating.mass"),
+        ("solid.1.floating.fixed=[\"rx\"]", "solid[1].floating.fixed[0]"),
+    ];
+    for (set, key) in cases {
+        let err = load_scene(Path::new("scenes/floating_box_2d.toml"), &[set.to_string()])
+            .expect_err(set)
+            .to_string();
+        assert!(err.contains(key), "{set}: {err}");
+    }
+}
