@@ -12,6 +12,7 @@
 //! No function in this module panics on I/O problems or malformed input;
 //! everything is reported through [`OutputError`].
 
+pub mod bodies;
 pub mod csv;
 pub mod csv_read;
 pub mod encoding;

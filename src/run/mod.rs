@@ -1,6 +1,7 @@
 //! A whole run: scene → simulation (dimension chosen once) → steps → output files.
 //!
 //! Output directory layout: `summary.json`, `forces.csv` (one row per solid per step),
+//! `bodies.csv` (one row per floating solid per step, `output::bodies`),
 //! `steps.csv` (one row per step: time, dt, the criterion that limited it, extremes; columns
 //! in [`crate::output::csv`]),
 //! `particles.pvd` and `frames/frame_NNNNN.vtu` (every particle with its stable `id`, or only the
@@ -58,8 +59,10 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
     let solids: Vec<(String, Vec<Vector<D>>)> =
         layout.solids.into_iter().map(|s| (s.name, s.position)).collect();
     let motions = scene.solids.iter().map(|s| s.motion.clone()).collect();
+    let bodies = floating_bodies(scene);
     let mut sim = Simulation::new(config, &layout.fluid_position, &layout.fluid_velocity, &solids)?
-        .with_solid_motion(motions)?;
+        .with_solid_motion(motions)?
+        .with_floating_bodies(bodies)?;
     if scene.has(Effect::Multiphase) {
         sim = sim.with_phases(&crate::scene::fluid_rest_density(scene)?)?;
     }
@@ -73,6 +76,25 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
     Ok(sim)
 }
 
+/// The rigid body of each floating solid (`scene::floating`), `None` for the others, in scene
+/// order.
+fn floating_bodies(scene: &Scene) -> Vec<Option<crate::boundary::rigid_body::RigidBody>> {
+    scene
+        .solids
+        .iter()
+        .map(|s| {
+            let f = s.floating.as_ref()?;
+            f.rigid_body(
+                &s.volume,
+                &s.region.min,
+                &s.region.max,
+                scene.spacing,
+                scene.dimension,
+            )
+        })
+        .collect()
+}
+
 /// The solids' volumes for the no-penetration guard (`boundary::keep_out`): an unrotated `box`
 /// solid is its region, a `container` the slabs of its walls (`wall_layers` spacings thick);
 /// the other shapes have none.
@@ -84,7 +106,7 @@ fn keep_out_boxes<const D: usize>(scene: &Scene, solids: &[(String, Vec<Vector<D
         let Some(index) = solids.iter().position(|(name, _)| *name == s.name) else {
             continue;
         };
-        if let Some(Motion::Flap(_)) = s.motion {
+        if matches!(s.motion, Some(Motion::Flap(_))) || s.floating.is_some() {
             // A turning solid leaves its axis-aligned box: the particle boundary alone holds it.
             continue;
         }
@@ -251,6 +273,9 @@ pub struct RunState {
     /// Length of `steps.csv` [bytes].
     #[serde(default)]
     pub steps_len: Option<u64>,
+    /// Length of `bodies.csv` [bytes], when a solid floats.
+    #[serde(default)]
+    pub bodies_len: Option<u64>,
     /// Wall seconds spent before the checkpoint.
     pub wall_seconds: f64,
 }
@@ -499,6 +524,10 @@ fn write_checkpoint<const D: usize>(
             None => None,
         },
         steps_len: Some(w.steps.len_on_disk()?),
+        bodies_len: match w.bodies.as_mut() {
+            Some(b) => Some(b.len_on_disk()?),
+            None => None,
+        },
         wall_seconds: state.wall_before + state.start.elapsed().as_secs_f64(),
     };
     w.checkpoint(sim, &run_state)
@@ -594,6 +623,14 @@ fn record_step<const D: usize>(
         if let Some(log) = w.forces.as_mut() {
             for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
                 log.push(clock.time, name, *force)?;
+            }
+        }
+        if let Some(log) = w.bodies.as_mut() {
+            let names = sim.solid_names().iter().zip(sim.solid_forces());
+            for ((name, force), body) in names.zip(sim.floating_bodies()) {
+                if let Some(b) = body {
+                    log.push(clock.time, name, &b.state, *force)?;
+                }
             }
         }
         if frame_time {

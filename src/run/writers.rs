@@ -6,6 +6,7 @@ use super::RunState;
 use super::folder::RunFolder;
 use crate::error::Error;
 use crate::math::Vector;
+use crate::output::bodies::BodyLog;
 use crate::output::surface_series::{SurfaceOutputError, SurfaceSeries};
 use crate::output::vtu::Frame;
 use crate::output::{
@@ -42,10 +43,17 @@ pub(super) struct Writers {
     /// Frames hold only the fluid particles (`[output] fluid_only`).
     fluid_only: bool,
     pub(super) forces: Option<ForceLog>,
+    /// `bodies.csv`, when a solid floats (`output::bodies`).
+    pub(super) bodies: Option<BodyLog>,
     /// `steps.csv`: one row per step, the step and the criterion that limited it.
     pub(super) steps: CsvTable,
     /// The free-surface series and its parameters, when the scene asks for it.
     surface: Option<(SurfaceSeries, SurfaceParams)>,
+}
+
+/// Whether a solid of `scene` floats (it then writes `bodies.csv`).
+fn floats(scene: &Scene) -> bool {
+    scene.solids.iter().any(|s| s.floating.is_some())
 }
 
 /// The surface series of a scene with `[output] surface = true`, continuing `entries`.
@@ -78,6 +86,11 @@ impl Writers {
             None
         };
         let steps = CsvTable::create(&folder.claim("steps.csv")?, &STEP_COLUMNS)?;
+        let bodies = if floats(scene) {
+            Some(BodyLog::create(&folder.claim("bodies.csv")?, D)?)
+        } else {
+            None
+        };
         let surface = surface_series::<D>(&mut folder, scene, &[])?;
         Ok(Self {
             folder,
@@ -85,6 +98,7 @@ impl Writers {
             encoding: scene.output_encoding,
             fluid_only: scene.fluid_only,
             forces,
+            bodies,
             steps,
             surface,
         })
@@ -136,6 +150,11 @@ impl Writers {
             Some(len) => CsvTable::resume(&folder.claim("steps.csv")?, &STEP_COLUMNS, len)?,
             None => return Err(missing("no steps.csv length").into()),
         };
+        let bodies = match (floats(scene), state.bodies_len) {
+            (true, Some(len)) => Some(BodyLog::resume(&folder.claim("bodies.csv")?, D, len)?),
+            (true, None) => return Err(missing("no bodies.csv length").into()),
+            (false, _) => None,
+        };
         let surface = surface_series::<D>(&mut folder, scene, &state.surfaces)?;
         Ok(Self {
             folder,
@@ -143,6 +162,7 @@ impl Writers {
             encoding: scene.output_encoding,
             fluid_only: scene.fluid_only,
             forces,
+            bodies,
             steps,
             surface,
         })
@@ -201,6 +221,9 @@ impl Writers {
     ) -> Result<(), Error> {
         if let Some(f) = self.forces.as_mut() {
             f.flush()?;
+        }
+        if let Some(b) = self.bodies.as_mut() {
+            b.flush()?;
         }
         self.steps.flush()?;
         let f = &sim.fields;

@@ -18,6 +18,7 @@ use crate::geometry::Volume;
 pub use crate::boundary::motion::{Motion, Piston, Sway};
 
 pub(crate) mod count;
+pub mod floating;
 pub mod generate;
 pub mod initial_state;
 pub mod magnitude;
@@ -373,6 +374,9 @@ pub struct Solid {
     pub open_top: bool,
     /// Prescribed rigid translation (`motion = {...}`) of its kind; `None` for a fixed solid.
     pub motion: Option<Motion>,
+    /// A floating body the fluid moves (`floating = {...}`); `None` unless given. Exclusive with
+    /// `motion`.
+    pub floating: Option<floating::Floating>,
     /// The volume the solid fills at `t = 0` \[m\]: [`Volume::Aabb`] for an unrotated box and
     /// for a container's inside (which its walls surround), else the shape's own volume.
     pub volume: Volume,

@@ -11,6 +11,10 @@ use serde::Deserialize;
 mod motion;
 pub use motion::{DampingZoneFile, MotionFile, MotionKind};
 
+#[path = "schema_floating.rs"]
+mod floating;
+pub use floating::{FloatingFile, HingeFile, MooringFile};
+
 #[path = "schema_periodic.rs"]
 mod periodic;
 pub use periodic::{AxisName, PeriodicFile};
@@ -387,6 +391,8 @@ pub struct SolidFile {
     pub open_top: Option<bool>,
     /// Prescribed rigid translation; absent means the solid is fixed (and costs nothing).
     pub motion: Option<MotionFile>,
+    /// A floating body the fluid moves (`schema_floating`); exclusive with `motion`.
+    pub floating: Option<FloatingFile>,
     /// Box and mesh: rotation in degrees, 2D a number (counter-clockwise), 3D `[α, β, γ]` about
     /// the fixed x, y, z axes applied in that order (`geometry` module doc). A box turns about
     /// its centre, a mesh about its file origin (before `translation`). Default none.

@@ -39,6 +39,10 @@ pub struct Header {
     /// checkpoints written before it was kept, which restore it as zero.
     #[serde(default)]
     pub solid_moment: Vec<[f64; 3]>,
+    /// Each solid's floating body (`solver::floating`), `None` for the others; empty without
+    /// floating solids.
+    #[serde(default)]
+    pub bodies: Vec<Option<super::floating::BodyRecord>>,
     /// Whatever the caller keeps with the state (the run driver: output bookkeeping).
     pub metadata: serde_json::Value,
 }
@@ -120,6 +124,14 @@ impl<const D: usize> Simulation<D> {
                 stats: self.stats,
                 solid_force: self.solid_force.clone(),
                 solid_moment: self.solid_moment.clone(),
+                bodies: if self.floating.iter().any(Option::is_some) {
+                    self.floating
+                        .iter()
+                        .map(|b| b.as_ref().map(|b| b.record()))
+                        .collect()
+                } else {
+                    Vec::new()
+                },
                 metadata,
             },
             fields,
@@ -209,6 +221,24 @@ impl<const D: usize> Simulation<D> {
             vec![[0.0; 3]; self.solid_names.len()]
         };
         self.solid_force = checkpoint.header.solid_force;
+        if self.floating.iter().any(Option::is_some) {
+            let records = &checkpoint.header.bodies;
+            let matches = records.len() == self.floating.len()
+                && records
+                    .iter()
+                    .zip(&self.floating)
+                    .all(|(r, b)| r.is_some() == b.is_some());
+            if !matches {
+                return Err(mismatch(
+                    "the checkpoint's floating bodies differ from the scene's".into(),
+                ));
+            }
+            for (r, b) in records.iter().zip(&mut self.floating) {
+                if let (Some(r), Some(b)) = (r, b) {
+                    b.restore(r);
+                }
+            }
+        }
         self.fields_stale = false;
         // The solids stand where the checkpoint has them; the next stage places them again.
         self.solids_placed_at = None;

@@ -1,5 +1,6 @@
 //! The [`Simulation`]: its state, its set-up, its accessors and its stage parameters.
 
+use super::floating::FloatingBody;
 use super::plan;
 use super::stage::Stage;
 use super::{Clock, RunStats, SetupError, SimConfig, SurfaceTension};
@@ -7,6 +8,7 @@ use crate::backend::Backend;
 use crate::backend::cpu::CpuBackend;
 use crate::boundary::keep_out::KeepOutBox;
 use crate::boundary::motion::{Motion, SolidKinematics, SolidReference};
+use crate::boundary::rigid_body::RigidBody;
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::model::SurfaceTensionModel;
@@ -76,6 +78,8 @@ pub struct Simulation<const D: usize> {
     pub(super) keep_out: Vec<KeepOutBox<D>>,
     /// Prescribed motion of each solid (`None`: fixed), in scene order.
     pub(super) motions: Vec<Option<Motion>>,
+    /// The floating solids (`solver::floating`), in scene order; `None`: fixed or prescribed.
+    pub(super) floating: Vec<Option<FloatingBody>>,
     /// `x0` of the solid particles by id; empty unless a solid moves.
     pub(super) solid_reference: SolidReference<D>,
     /// Kinematics of each solid at its last placement; empty unless a solid moves.
@@ -215,6 +219,7 @@ impl<const D: usize> Simulation<D> {
             step_start_stored: false,
             keep_out: Vec::new(),
             motions: vec![None; solids.len()],
+            floating: vec![None; solids.len()],
             solid_reference: SolidReference::default(),
             solid_kinematics: Vec::new(),
             solids_placed_at: None,
@@ -271,19 +276,74 @@ impl<const D: usize> Simulation<D> {
                 return Err(invalid(format!("not a valid motion: {motion:?}")));
             }
         }
-        let moving = motions.iter().any(Option::is_some);
-        self.plan = plan::plan(self.config.plan_inputs(!self.solid_names.is_empty(), moving));
         self.wall_speed = motions
             .iter()
             .flatten()
             .map(Motion::max_speed)
             .fold(0.0, f64::max);
         self.motions = motions;
+        self.take_solid_reference();
+        Ok(self)
+    }
+
+    /// Makes solid `k` a floating body (`bodies[k]`, `None`: fixed or prescribed) that the
+    /// fluid moves (`solver::floating`). Call before the first step, after
+    /// [`Simulation::with_solid_motion`]; like a motion, a body adds the `move_solids` stage.
+    ///
+    /// # Errors
+    /// [`SetupError::Invalid`] when `bodies` does not have one entry per solid, a solid has both
+    /// a motion and a body, a body's mass or inertia is not finite and positive, or steps were
+    /// taken.
+    pub fn with_floating_bodies(mut self, bodies: Vec<Option<RigidBody>>) -> Result<Self, SetupError> {
+        let invalid = |reason: String| SetupError::Invalid {
+            key: "solid.floating",
+            reason,
+        };
+        if bodies.len() != self.solid_names.len() {
+            return Err(invalid(format!(
+                "{} bodies for {} solids",
+                bodies.len(),
+                self.solid_names.len()
+            )));
+        }
+        if self.clock.step != 0 {
+            return Err(invalid(
+                "floating bodies must be given before the first step".into(),
+            ));
+        }
+        for (k, b) in bodies.iter().enumerate() {
+            let Some(b) = b else { continue };
+            if self.motions[k].is_some() {
+                return Err(invalid(format!(
+                    "solid `{}` has both a motion and a floating body",
+                    self.solid_names[k]
+                )));
+            }
+            let m = &b.mass;
+            let finite = m.centre.iter().chain(m.inertia.iter()).all(|v| v.is_finite());
+            let inertia_ok = (0..3).all(|c| m.inertia[(c, c)] > 0.0);
+            if !(m.mass.is_finite() && m.mass > 0.0 && finite && inertia_ok) {
+                return Err(invalid(format!(
+                    "solid `{}`: mass properties must be finite and positive, got {m:?}",
+                    self.solid_names[k]
+                )));
+            }
+        }
+        self.floating = bodies.into_iter().map(|b| b.map(FloatingBody::new)).collect();
+        self.take_solid_reference();
+        Ok(self)
+    }
+
+    /// Plans `move_solids` and records the solid particles' current positions as their
+    /// reference `x0` when a solid moves (a motion or a floating body); otherwise drops both.
+    fn take_solid_reference(&mut self) {
+        let moving = self.motions.iter().any(Option::is_some) || self.floating.iter().any(Option::is_some);
+        self.plan = plan::plan(self.config.plan_inputs(!self.solid_names.is_empty(), moving));
         self.solids_placed_at = None;
         if !moving {
             self.solid_reference = SolidReference::default();
             self.solid_kinematics.clear();
-            return Ok(self);
+            return;
         }
         // Solids are appended after the fluid: ids fluid_count.. in any current order.
         let f = &self.fields;
@@ -296,7 +356,6 @@ impl<const D: usize> Simulation<D> {
         }
         self.solid_reference = SolidReference { first_id, position };
         self.solid_kinematics = vec![SolidKinematics::rest(); self.solid_names.len()];
-        Ok(self)
     }
 
     /// Gives each fluid particle (in the order given to [`Simulation::new`]) the rest density
@@ -398,10 +457,12 @@ impl<const D: usize> Simulation<D> {
         if self.solids_placed_at == Some(time) {
             return false;
         }
-        for (k, m) in self.motions.iter().enumerate() {
-            self.solid_kinematics[k] = m
-                .as_ref()
-                .map_or_else(SolidKinematics::rest, |m| m.kinematics::<D>(time));
+        for (k, (m, b)) in self.motions.iter().zip(&self.floating).enumerate() {
+            self.solid_kinematics[k] = match (m, b) {
+                (_, Some(b)) => b.kinematics::<D>(),
+                (Some(m), None) => m.kinematics::<D>(time),
+                (None, None) => SolidKinematics::rest(),
+            };
         }
         self.backend
             .move_solids(&mut self.fields, &self.solid_reference, &self.solid_kinematics);

@@ -17,6 +17,7 @@
 //!   the last sort exceeds `RESORT_DRIFT · h`, so a pair within `h` can only be missed when the
 //!   kernels there are below `(4 · RESORT_DRIFT)³ ≈ 1e-5` of their peak.
 
+use super::floating;
 use super::stage::{SolidsAt, Stage};
 use super::timestep::{self, TimeStepInputs, TimeStepLimit};
 use super::{Correction, Integrator, Simulation, StepError, StepReport};
@@ -73,6 +74,7 @@ impl<const D: usize> Simulation<D> {
         // Until this step stores its start (SSP-RK3), the guard has no start to go by.
         self.step_start_stored = false;
         self.settle()?;
+        self.begin_body_step();
         let mut solid_force = vec![[0.0f64; 6]; solids];
         // Force and moment (`SolidLoad`), or a force alone (the guard's impulse: its first three).
         let add_force = |total: &mut Vec<SolidLoad>, part: &[[f64; 6]], weight: f64| {
@@ -138,6 +140,7 @@ impl<const D: usize> Simulation<D> {
                         let source = SolidForceSource::Forces(terms);
                         let part = bk.solid_forces(f, &params, solids, source); // Fig. 4
                         add_force(&mut solid_force, &part, integrator.force_weights()[k]);
+                        floating::record_stage_load(&mut self.floating, &part);
                     }
                     Stage::TimeStep => {
                         if k == 0 {
@@ -159,6 +162,8 @@ impl<const D: usize> Simulation<D> {
                         let guard = self.keep_out();
                         let weight = -integrator.correction_weights()[k] / report.dt.max(f64::MIN_POSITIVE);
                         add_guard_force(&mut solid_force, &guard, weight);
+                        // Floating bodies take the same stage (`solver::floating`).
+                        self.advance_bodies(k, report.dt, &params.gravity);
                     }
                     Stage::IntegrateDensity => match integrator {
                         // The last step's motion (`solver::plan`): rho^n = rho^(n-1) + dt R(x^n, u^n).
@@ -173,6 +178,7 @@ impl<const D: usize> Simulation<D> {
                     Stage::Correction => {
                         let tau = tau_frac * report.dt;
                         let impulse_force = self.correct(k, tau, tau, &params)?;
+                        self.kick_bodies(&impulse_force, tau);
                         // Impulse τ F, weighted by how much of this stage reaches y^{n+1}.
                         let w = integrator.correction_weights()[k] * tau / report.dt.max(f64::MIN_POSITIVE);
                         add_force(&mut solid_force, &impulse_force, w);

@@ -10,6 +10,7 @@ mod common;
 mod basics;
 mod dam_break_pressure;
 mod density_diffusion;
+mod floating;
 mod gauges;
 mod multiphase;
 mod poiseuille;

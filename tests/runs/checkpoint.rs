@@ -12,8 +12,12 @@ use std::path::Path;
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/dam_break_2d.toml");
 
 fn sim(sets: &[&str]) -> Simulation<2> {
+    sim_of(SCENE, sets)
+}
+
+fn sim_of(path: &str, sets: &[&str]) -> Simulation<2> {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let scene = load_scene(Path::new(SCENE), &sets).expect("scene");
+    let scene = load_scene(Path::new(path), &sets).expect("scene");
     match AnySimulation::from_scene(&scene).expect("builds") {
         AnySimulation::D2(s) => s,
         AnySimulation::D3(_) => unreachable!("2D scene"),
@@ -31,6 +35,13 @@ fn assert_identical(a: &Simulation<2>, b: &Simulation<2>) {
     assert_eq!(a.clock(), b.clock());
     assert_eq!(a.stats(), b.stats());
     assert_eq!(a.solid_forces(), b.solid_forces());
+    let records = |s: &Simulation<2>| -> Vec<_> {
+        s.floating_bodies()
+            .iter()
+            .map(|b| b.as_ref().map(|b| b.record()))
+            .collect()
+    };
+    assert_eq!(records(a), records(b), "floating bodies");
     let (fa, fb) = (&a.fields, &b.fields);
     assert_eq!(fa.id, fb.id, "same order");
     let bits = |v: &[sph::math::Vector<2>]| -> Vec<u32> {
@@ -45,6 +56,11 @@ fn assert_identical(a: &Simulation<2>, b: &Simulation<2>) {
 }
 
 fn straight_and_restarted(name: &str, sets: &[&str], first: usize, second: usize) {
+    straight_and_restarted_in(SCENE, name, sets, first, second);
+}
+
+fn straight_and_restarted_in(scene: &str, name: &str, sets: &[&str], first: usize, second: usize) {
+    let sim = |sets: &[&str]| sim_of(scene, sets);
     let mut straight = sim(sets);
     steps(&mut straight, first + second);
 
@@ -102,6 +118,13 @@ fn wcsph_with_density_diffusion_restart_is_bit_identical() {
             100,
         );
     }
+}
+
+/// A floating box (`scenes/floating_box_2d.toml`): its state and last accelerations are kept.
+#[test]
+fn floating_body_restart_is_bit_identical() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/floating_box_2d.toml");
+    straight_and_restarted_in(scene, "floating", &[], 60, 60);
 }
 
 #[test]

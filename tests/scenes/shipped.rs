@@ -8,7 +8,7 @@ use sph::run::{RunOptions, run_scene, simulation_from_scene};
 use sph::scene::{count_particles, load_scene};
 use std::path::Path;
 
-const SHIPPED: [&str; 12] = [
+const SHIPPED: [&str; 13] = [
     "scenes/dam_break_2d.toml",
     "scenes/dam_break_wall_2d.toml",
     "scenes/droplet_2d.toml",
@@ -21,6 +21,7 @@ const SHIPPED: [&str; 12] = [
     "scenes/dam_break_obstacle_3d.toml",
     "scenes/wave_flume_2d.toml",
     "scenes/wave_flap_2d.toml",
+    "scenes/floating_box_2d.toml",
 ];
 
 /// The columns of `steps.csv`, in order, as docs/output.md promises them. Spelled out here

@@ -26,6 +26,7 @@ use super::{
 };
 use crate::boundary::motion::Motion;
 
+mod floating;
 mod geometry;
 mod keys;
 mod memory;

@@ -13,6 +13,7 @@ use std::sync::Arc;
 
 use nalgebra::{Unit, Vector3};
 
+use super::floating::check_floating;
 use super::keys::check_name;
 use super::motion::check_motion;
 use super::{Checker, KeyPath, num};
@@ -122,6 +123,24 @@ pub(super) fn check_solid(
         None => Some(None),
         Some(m) => check_motion(c, &path.k("motion"), m, dim, g, dir).map(Some),
     };
+    let floating = match (&s.floating, &s.motion, s.shape) {
+        (None, ..) => Some(None),
+        (Some(_), Some(_), _) => {
+            c.err(
+                path.k("floating"),
+                "a solid either follows a `motion` or floats, not both (remove one)".into(),
+            );
+            None
+        }
+        (Some(_), None, SolidShape::Container) => {
+            c.err(
+                path.k("floating"),
+                "a container cannot float (its volume is the space it holds): use a box".into(),
+            );
+            None
+        }
+        (Some(f), None, _) => check_floating(c, &path.k("floating"), f, dim).map(Some),
+    };
     let dim = dim?;
     let volume = check_shape(c, &path, &ShapeKeys::solid(s), dim, dir);
     let open_top = match s.shape {
@@ -131,6 +150,7 @@ pub(super) fn check_solid(
     let volume = volume?;
     let (min, max) = volume.bounds(dim);
     let mut motion = motion?;
+    let floating = floating?;
     if let Some(Motion::Flap(flap)) = &mut motion {
         // The flap's speed and sweep bounds need its size.
         flap.arm = flap.arm_to_box(&min, &max);
@@ -141,6 +161,7 @@ pub(super) fn check_solid(
         region: Aabb { min, max },
         open_top,
         motion,
+        floating,
         volume,
     })
 }

@@ -1,0 +1,94 @@
+//! A validated floating solid (`[[solid]] floating`, `scene::schema::FloatingFile`) and its
+//! rigid body: mass properties from the solid's shape, overridden where the scene says.
+
+use crate::boundary::rigid_body::{Freedom, MassProperties, Mooring, RigidBody};
+use crate::geometry::Volume;
+use nalgebra::{Matrix3, Vector3};
+
+/// Cells per particle spacing, per axis, of the lattice that samples a floating solid's shape
+/// for its mass properties (`MassProperties::of_cells`): a box whose sides are whole spacings
+/// is then sampled exactly.
+pub const MASS_CELLS_PER_SPACING: f64 = 4.0;
+
+/// How much of the body there is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BodyAmount {
+    /// Uniform density [kg/m³].
+    Density(f64),
+    /// Total mass [kg] (2D: [kg/m]), spread uniformly over the shape.
+    Mass(f64),
+}
+
+/// A floating solid as the scene gives it (`scene::schema::FloatingFile`), validated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Floating {
+    /// Density or mass.
+    pub amount: BodyAmount,
+    /// Centre of mass [m] (3 entries, z = 0 in 2D), if given.
+    pub centre_of_mass: Option<Vector3<f64>>,
+    /// Principal moments about x, y, z [kg m²] (2D: only z is used), if given.
+    pub inertia: Option<Vector3<f64>>,
+    /// What the body may do.
+    pub freedom: Freedom,
+    /// Mooring lines (3-vectors, z = 0 in 2D).
+    pub moorings: Vec<Mooring>,
+}
+
+impl Floating {
+    /// The rigid body of this floating solid of shape `volume`, bounded by `min`..`max` [m], in a
+    /// scene of particle spacing `spacing` [m] and dimension `dim`: the shape sampled on a
+    /// lattice of `spacing / MASS_CELLS_PER_SPACING` ([`MassProperties::of_cells`]), then the
+    /// scene's overrides. Gravity is zero here: the run sets it at each stage. `None` when the
+    /// lattice finds no point inside.
+    pub fn rigid_body(
+        &self,
+        volume: &Volume,
+        min: &[f64],
+        max: &[f64],
+        spacing: f64,
+        dim: usize,
+    ) -> Option<RigidBody> {
+        let s = spacing / MASS_CELLS_PER_SPACING;
+        let n: Vec<i64> = (0..dim)
+            .map(|k| ((max[k] - min[k]) / s).ceil().max(1.0) as i64)
+            .collect();
+        let mut points = Vec::new();
+        let mut visit = |idx: &[i64]| {
+            points.push(Vector3::from_fn(|k, _| {
+                if k < dim {
+                    min[k] + (idx[k] as f64 + 0.5) * s
+                } else {
+                    0.0
+                }
+            }));
+        };
+        match dim {
+            2 => volume.lattice_inside::<2>([min[0], min[1]], [n[0], n[1]], s, |i| visit(i)),
+            _ => volume.lattice_inside::<3>([min[0], min[1], min[2]], [n[0], n[1], n[2]], s, |i| visit(i)),
+        }
+        let cell = s.powi(dim as i32);
+        let sampled = MassProperties::of_cells(&points, cell, 1.0, dim)?;
+        let density = match self.amount {
+            BodyAmount::Density(rho) => rho,
+            // `sampled` has unit density: its mass is the volume.
+            BodyAmount::Mass(m) => m / sampled.mass,
+        };
+        let mut mass = MassProperties {
+            mass: sampled.mass * density,
+            centre: sampled.centre,
+            inertia: sampled.inertia * density,
+        };
+        if let Some(c) = self.centre_of_mass {
+            mass.centre = c;
+        }
+        if let Some(i) = self.inertia {
+            mass.inertia = Matrix3::from_diagonal(&i);
+        }
+        Some(RigidBody {
+            mass,
+            freedom: self.freedom.clone(),
+            moorings: self.moorings.clone(),
+            gravity: Vector3::zeros(),
+        })
+    }
+}
