@@ -89,7 +89,7 @@ fn a_floating_box_settles_at_the_archimedes_draft_with_the_heave_period_of_its_a
 }
 
 /// Bad `floating` input is an error at the key: with a `motion`, with both `density` and
-/// `mass`, and an unknown degree of freedom.
+/// `mass`, an unknown degree of freedom, and a shape too thin to hold a mass.
 #[test]
 fn bad_floating_input_names_the_key() {
     let cases = [
@@ -99,6 +99,8 @@ fn bad_floating_input_names_the_key() {
         ),
         ("solid.1.floating.mass=10.0", "solid[1].floating.mass"),
         ("solid.1.floating.fixed=[\"rx\"]", "solid[1].floating.fixed[0]"),
+        // 1 mm thick: no point of the quarter-spacing lattice its mass is sampled on.
+        ("solid.1.max=[0.4, 0.266]", "too thin to float"),
     ];
     for (set, key) in cases {
         let err = load_scene(Path::new("scenes/floating_box_2d.toml"), &[set.to_string()])

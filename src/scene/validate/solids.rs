@@ -151,6 +151,16 @@ pub(super) fn check_solid(
     let (min, max) = volume.bounds(dim);
     let mut motion = motion?;
     let floating = floating?;
+    let spacing = Some(file.particles.spacing).filter(|s| *s > 0.0 && s.is_finite());
+    if let (Some(f), Some(spacing)) = (&floating, spacing)
+        && f.rigid_body(&volume, &min, &max, spacing, dim).is_none()
+    {
+        c.err(
+            path.k("floating"),
+            "the solid's shape holds no point of the lattice its mass is sampled on (a quarter of the particle spacing): too thin to float".into(),
+        );
+        return None;
+    }
     if let Some(Motion::Flap(flap)) = &mut motion {
         // The flap's speed and sweep bounds need its size.
         flap.arm = flap.arm_to_box(&min, &max);
