@@ -92,3 +92,22 @@ impl Floating {
         })
     }
 }
+
+/// The rigid body of each floating solid (`scene::floating`), `None` for the others, in scene
+/// order.
+pub fn rigid_bodies(scene: &crate::scene::Scene) -> Vec<Option<RigidBody>> {
+    scene
+        .solids
+        .iter()
+        .map(|s| {
+            let f = s.floating.as_ref()?;
+            f.rigid_body(
+                &s.volume,
+                &s.region.min,
+                &s.region.max,
+                scene.spacing,
+                scene.dimension,
+            )
+        })
+        .collect()
+}
