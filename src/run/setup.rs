@@ -115,7 +115,11 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
 /// settings ([`sim_config`]), so a scene's plan is the one its simulation runs.
 pub fn plan_inputs(scene: &Scene) -> crate::solver::plan::PlanInputs {
     let solids = !scene.solids.is_empty();
-    let moving = scene.solids.iter().any(|s| s.motion.is_some());
+    // A floating solid moves too: its particles are placed from its state every stage.
+    let moving = scene
+        .solids
+        .iter()
+        .any(|s| s.motion.is_some() || s.floating.is_some());
     match scene.dimension {
         2 => sim_config::<2>(scene).plan_inputs(solids, moving),
         _ => sim_config::<3>(scene).plan_inputs(solids, moving),
