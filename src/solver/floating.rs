@@ -31,7 +31,7 @@
 //! Units SI; the body state is f64 (`boundary::rigid_body`), rounded to f32 only to place the
 //! particles.
 
-use super::Simulation;
+use super::{SetupError, Simulation};
 use crate::backend::SolidLoad;
 use crate::boundary::rigid::{Rotation, SolidKinematics, Turn};
 use crate::boundary::rigid_body::{BodyState, RigidBody};
@@ -233,5 +233,55 @@ impl FloatingBody {
         self.start = self.state;
         self.acceleration = r.acceleration.into();
         self.angular_acceleration = r.angular_acceleration.into();
+    }
+}
+
+impl<const D: usize> Simulation<D> {
+    /// Makes solid `k` a floating body (`bodies[k]`, `None`: fixed or prescribed) that the
+    /// fluid moves (`solver::floating`). Call before the first step, after
+    /// [`Simulation::with_solid_motion`]; like a motion, a body adds the `move_solids` stage.
+    ///
+    /// # Errors
+    /// [`SetupError::Invalid`] when `bodies` does not have one entry per solid, a solid has both
+    /// a motion and a body, a body's mass or inertia is not finite and positive, or steps were
+    /// taken.
+    pub fn with_floating_bodies(mut self, bodies: Vec<Option<RigidBody>>) -> Result<Self, SetupError> {
+        let invalid = |reason: String| SetupError::Invalid {
+            key: "solid.floating",
+            reason,
+        };
+        if bodies.len() != self.solid_names.len() {
+            return Err(invalid(format!(
+                "{} bodies for {} solids",
+                bodies.len(),
+                self.solid_names.len()
+            )));
+        }
+        if self.clock.step != 0 {
+            return Err(invalid(
+                "floating bodies must be given before the first step".into(),
+            ));
+        }
+        for (k, b) in bodies.iter().enumerate() {
+            let Some(b) = b else { continue };
+            if self.motions[k].is_some() {
+                return Err(invalid(format!(
+                    "solid `{}` has both a motion and a floating body",
+                    self.solid_names[k]
+                )));
+            }
+            let m = &b.mass;
+            let finite = m.centre.iter().chain(m.inertia.iter()).all(|v| v.is_finite());
+            let inertia_ok = (0..3).all(|c| m.inertia[(c, c)] > 0.0);
+            if !(m.mass.is_finite() && m.mass > 0.0 && finite && inertia_ok) {
+                return Err(invalid(format!(
+                    "solid `{}`: mass properties must be finite and positive, got {m:?}",
+                    self.solid_names[k]
+                )));
+            }
+        }
+        self.floating = bodies.into_iter().map(|b| b.map(FloatingBody::new)).collect();
+        self.take_solid_reference();
+        Ok(self)
     }
 }

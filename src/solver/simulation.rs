@@ -8,7 +8,6 @@ use crate::backend::Backend;
 use crate::backend::cpu::CpuBackend;
 use crate::boundary::keep_out::KeepOutBox;
 use crate::boundary::motion::{Motion, SolidKinematics, SolidReference};
-use crate::boundary::rigid_body::RigidBody;
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, sum_in_order};
 use crate::model::SurfaceTensionModel;
@@ -286,57 +285,9 @@ impl<const D: usize> Simulation<D> {
         Ok(self)
     }
 
-    /// Makes solid `k` a floating body (`bodies[k]`, `None`: fixed or prescribed) that the
-    /// fluid moves (`solver::floating`). Call before the first step, after
-    /// [`Simulation::with_solid_motion`]; like a motion, a body adds the `move_solids` stage.
-    ///
-    /// # Errors
-    /// [`SetupError::Invalid`] when `bodies` does not have one entry per solid, a solid has both
-    /// a motion and a body, a body's mass or inertia is not finite and positive, or steps were
-    /// taken.
-    pub fn with_floating_bodies(mut self, bodies: Vec<Option<RigidBody>>) -> Result<Self, SetupError> {
-        let invalid = |reason: String| SetupError::Invalid {
-            key: "solid.floating",
-            reason,
-        };
-        if bodies.len() != self.solid_names.len() {
-            return Err(invalid(format!(
-                "{} bodies for {} solids",
-                bodies.len(),
-                self.solid_names.len()
-            )));
-        }
-        if self.clock.step != 0 {
-            return Err(invalid(
-                "floating bodies must be given before the first step".into(),
-            ));
-        }
-        for (k, b) in bodies.iter().enumerate() {
-            let Some(b) = b else { continue };
-            if self.motions[k].is_some() {
-                return Err(invalid(format!(
-                    "solid `{}` has both a motion and a floating body",
-                    self.solid_names[k]
-                )));
-            }
-            let m = &b.mass;
-            let finite = m.centre.iter().chain(m.inertia.iter()).all(|v| v.is_finite());
-            let inertia_ok = (0..3).all(|c| m.inertia[(c, c)] > 0.0);
-            if !(m.mass.is_finite() && m.mass > 0.0 && finite && inertia_ok) {
-                return Err(invalid(format!(
-                    "solid `{}`: mass properties must be finite and positive, got {m:?}",
-                    self.solid_names[k]
-                )));
-            }
-        }
-        self.floating = bodies.into_iter().map(|b| b.map(FloatingBody::new)).collect();
-        self.take_solid_reference();
-        Ok(self)
-    }
-
     /// Plans `move_solids` and records the solid particles' current positions as their
     /// reference `x0` when a solid moves (a motion or a floating body); otherwise drops both.
-    fn take_solid_reference(&mut self) {
+    pub(super) fn take_solid_reference(&mut self) {
         let moving = self.motions.iter().any(Option::is_some) || self.floating.iter().any(Option::is_some);
         self.plan = plan::plan(self.config.plan_inputs(!self.solid_names.is_empty(), moving));
         self.solids_placed_at = None;
