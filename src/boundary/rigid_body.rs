@@ -167,6 +167,8 @@ pub struct RigidBody {
     pub moorings: Vec<Mooring>,
     /// Gravity `g` [m/s²] (zero without the scene's gravity).
     pub gravity: Vector3<f64>,
+    /// How it meets the fixed solids (`boundary::contact`).
+    pub contact: super::contact::WallContact,
 }
 
 impl RigidBody {

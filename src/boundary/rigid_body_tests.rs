@@ -15,6 +15,7 @@ fn body(mass: f64, inertia: [f64; 3], centre: [f64; 3], freedom: Freedom) -> Rig
         freedom,
         moorings: Vec::new(),
         gravity: Vector3::zeros(),
+        contact: crate::boundary::contact::WallContact::None,
     }
 }
 

@@ -1,9 +1,12 @@
 //! `bodies.csv`: one row per floating solid per step (`solver::floating`): time, the centre of
 //! mass, its velocity, the orientation (2D the angle about z, 3D the unit quaternion), the
-//! angular velocity and the fluid's force on the body over the step.
+//! angular velocity, the fluid's force on the body over the step, and the force of its contact
+//! with the fixed solids at the step's last stage (`boundary::contact`) with the pairs that
+//! carry it.
 
 use super::OutputError;
 use super::csv::{CsvTable, CsvValue, force_unit};
+use crate::boundary::contact::ContactLoad;
 use crate::boundary::rigid_body::BodyState;
 use std::path::Path;
 
@@ -22,6 +25,8 @@ pub fn body_columns(dimension: usize) -> Vec<String> {
         c.extend(axes.iter().map(|a| format!("omega_{a}_rad_per_s")));
     }
     c.extend(axes.iter().map(|a| format!("f{a}_{unit}")));
+    c.extend(axes.iter().map(|a| format!("contact_f{a}_{unit}")));
+    c.push("contact_pairs".into());
     c
 }
 
@@ -53,8 +58,15 @@ impl BodyLog {
     }
 
     /// Appends the row of body `solid` in state `s` at time `t` [s] with the fluid's force
-    /// `force` [N] (2D: [N/m]).
-    pub fn push(&mut self, t: f64, solid: &str, s: &BodyState, force: [f64; 3]) -> Result<(), OutputError> {
+    /// `force` [N] (2D: [N/m]) and its contact load `contact`.
+    pub fn push(
+        &mut self,
+        t: f64,
+        solid: &str,
+        s: &BodyState,
+        force: [f64; 3],
+        contact: &ContactLoad,
+    ) -> Result<(), OutputError> {
         let d = self.dimension.clamp(2, 3);
         let mut row = vec![CsvValue::Float(t), CsvValue::Text(solid)];
         row.extend((0..d).map(|k| CsvValue::Float(s.centre[k])));
@@ -70,6 +82,8 @@ impl BodyLog {
             row.extend((0..3).map(|k| CsvValue::Float(s.angular_velocity[k])));
         }
         row.extend((0..d).map(|k| CsvValue::Float(force[k])));
+        row.extend((0..d).map(|k| CsvValue::Float(contact.force[k])));
+        row.push(CsvValue::Int(contact.pairs as i64));
         self.table.push_row(&row)
     }
 

@@ -476,7 +476,7 @@ fn record_step<const D: usize>(
             let names = sim.solid_names().iter().zip(sim.solid_forces());
             for ((name, force), body) in names.zip(sim.floating_bodies()) {
                 if let Some(b) = body {
-                    log.push(clock.time, name, &b.state, *force)?;
+                    log.push(clock.time, name, &b.state, *force, &b.contact_load)?;
                 }
             }
         }

@@ -1,6 +1,7 @@
 //! A validated floating solid (`[[solid]] floating`, `scene::schema::FloatingFile`) and its
 //! rigid body: mass properties from the solid's shape, overridden where the scene says.
 
+use crate::boundary::contact::WallContact;
 use crate::boundary::rigid_body::{Freedom, MassProperties, Mooring, RigidBody};
 use crate::geometry::Volume;
 use nalgebra::{Matrix3, Vector3};
@@ -32,6 +33,8 @@ pub struct Floating {
     pub freedom: Freedom,
     /// Mooring lines (3-vectors, z = 0 in 2D).
     pub moorings: Vec<Mooring>,
+    /// How it meets the fixed solids.
+    pub contact: WallContact,
 }
 
 impl Floating {
@@ -89,6 +92,7 @@ impl Floating {
             freedom: self.freedom.clone(),
             moorings: self.moorings.clone(),
             gravity: Vector3::zeros(),
+            contact: self.contact,
         })
     }
 }

@@ -171,6 +171,9 @@ fn estimate(scene: &Scene) -> Estimate {
         max_acceleration: g,
         kinematic_viscosity: scene.pair_terms.step_viscosity(&medium),
         fixed: scene.dt,
+        // A floating solid's contact bounds only the steps in which it touches a solid
+        // (`boundary::contact`): not the estimate's.
+        contact_frequency: None,
         remaining: f64::INFINITY,
     };
     let (dt, limit) = timestep::choose(&inputs);
@@ -239,6 +242,14 @@ fn limit_key(scene: &Scene, e: &Estimate) -> (KeyPath, String) {
             };
             (key, how)
         }
+        TimeStepLimit::Contact => (
+            KeyPath::key("particles").k("spacing"),
+            format!(
+                "floating-body contact limit {} / omega_c, omega_c = sqrt({} g0 / dx) (boundary::contact)",
+                short(crate::boundary::contact::CONTACT_STEP),
+                short(crate::boundary::contact::CONTACT_STIFFNESS)
+            ),
+        ),
         TimeStepLimit::Force => (
             fp.k("gravity"),
             format!("force limit 0.25 sqrt(h / |g|), h = {} m", short(i.h)),

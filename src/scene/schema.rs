@@ -13,7 +13,7 @@ pub use motion::{DampingZoneFile, MotionFile, MotionKind};
 
 #[path = "schema_floating.rs"]
 mod floating;
-pub use floating::{FloatingFile, HingeFile, MooringFile};
+pub use floating::{ContactFile, FloatingFile, HingeFile, MooringFile};
 
 #[path = "schema_periodic.rs"]
 mod periodic;

@@ -11,7 +11,8 @@ use serde::Deserialize;
 /// (`x`, `y`, `z` translation, `rx`, `ry`, `rz` rotation; 2D has `x`, `y`, `rz`) or
 /// `hinge = { point = [..], axis = [..] }` lets it turn about a fixed axis only (2D: about z
 /// through `point`, no `axis`); `moorings = [{ anchor, fairlead, stiffness, rest_length }]`,
-/// taut-only linear springs (`boundary::rigid_body::Mooring`).
+/// taut-only linear springs (`boundary::rigid_body::Mooring`); `contact`, how it meets the
+/// fixed solids ([`ContactFile`]).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FloatingFile {
@@ -30,6 +31,21 @@ pub struct FloatingFile {
     pub hinge: Option<HingeFile>,
     /// Mooring lines.
     pub moorings: Option<Vec<MooringFile>>,
+    /// Contact with the fixed solids; default the spring–dashpot with its default parameters.
+    pub contact: Option<ContactFile>,
+}
+
+/// `contact = { kind = "spring_dashpot", restitution = e, friction = μ }` or
+/// `{ kind = "none" }` (`boundary::contact`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactFile {
+    /// `"spring_dashpot"` (default) or `"none"`.
+    pub kind: Option<String>,
+    /// Restitution coefficient in (0, 1]; default 0.5.
+    pub restitution: Option<f64>,
+    /// Coulomb friction coefficient ≥ 0; default 0.5.
+    pub friction: Option<f64>,
 }
 
 /// `hinge = { point = [..], axis = [..] }`.

@@ -33,9 +33,11 @@
 
 use super::{SetupError, Simulation};
 use crate::backend::SolidLoad;
+use crate::boundary::contact::{self, BodyContact, ContactLoad, WallContact};
 use crate::boundary::rigid::{Rotation, SolidKinematics, Turn};
 use crate::boundary::rigid_body::{BodyState, RigidBody};
 use crate::boundary::solid_force::moment_about;
+use crate::fields::FLUID;
 use crate::math::{Real, Vector};
 use nalgebra::{SMatrix, Vector3};
 
@@ -54,6 +56,11 @@ pub struct FloatingBody {
     pub angular_acceleration: Vector3<f64>,
     /// The load [N, N m about the origin] of the current stage's force stage.
     pub stage_load: SolidLoad,
+    /// Its contact with the fixed solids, built for [`WallContact::SpringDashpot`]
+    /// (`boundary::contact`).
+    pub contact: Option<BodyContact>,
+    /// The contact load of the last stage.
+    pub contact_load: ContactLoad,
 }
 
 impl FloatingBody {
@@ -67,6 +74,8 @@ impl FloatingBody {
             acceleration: Vector3::zeros(),
             angular_acceleration: Vector3::zeros(),
             stage_load: [0.0; 6],
+            contact: None,
+            contact_load: ContactLoad::none(),
         }
     }
 
@@ -104,7 +113,13 @@ impl FloatingBody {
     /// gravity `gravity` [m/s²]; `euler`: the symplectic Euler step instead (module doc, 2).
     fn advance(&mut self, gravity: Vector3<f64>, a: f64, b: f64, dt: f64, euler: bool) {
         self.body.gravity = gravity;
-        let (force, moment) = self.about_centre(&self.stage_load);
+        let (mut force, mut moment) = self.about_centre(&self.stage_load);
+        if let Some(c) = &self.contact {
+            let s = &self.state;
+            self.contact_load = c.load(&s.centre, &s.orientation, &s.velocity, &s.angular_velocity);
+            force += self.contact_load.force;
+            moment += self.contact_load.moment;
+        }
         let rate = self.body.rate(&self.state, &force, &moment);
         self.acceleration = rate.acceleration;
         self.angular_acceleration = rate.angular_acceleration;
@@ -282,6 +297,80 @@ impl<const D: usize> Simulation<D> {
         }
         self.floating = bodies.into_iter().map(|b| b.map(FloatingBody::new)).collect();
         self.take_solid_reference();
+        self.build_contacts()?;
         Ok(self)
+    }
+
+    /// Builds each floating body's contact with the fixed solids (`boundary::contact`): its
+    /// particles about its centre and the particles of every solid without a motion that does
+    /// not float. A body that starts within the contact distance of one would be thrown off at
+    /// the first step: that is an error naming it.
+    fn build_contacts(&mut self) -> Result<(), SetupError> {
+        let f = &self.fields;
+        let fixed = |kind: u32| {
+            kind != FLUID && {
+                let k = (kind - 1) as usize;
+                self.motions[k].is_none() && self.floating[k].is_none()
+            }
+        };
+        let embed = |x: &Vector<D>| Vector3::from_fn(|k, _| if k < D { f64::from(x[k]) } else { 0.0 });
+        let obstacles: Vec<Vector3<f64>> = (0..f.len())
+            .filter(|&i| fixed(f.kind[i]))
+            .map(|i| embed(&f.position[i]))
+            .collect();
+        let spacing = self.config.spacing;
+        let mut built = Vec::with_capacity(self.floating.len());
+        for (k, b) in self.floating.iter().enumerate() {
+            let Some(b) = b else {
+                built.push(None);
+                continue;
+            };
+            let WallContact::SpringDashpot(law) = b.body.contact else {
+                built.push(None);
+                continue;
+            };
+            let c0 = b.body.mass.centre;
+            let offsets = (0..f.len())
+                .filter(|&i| f.kind[i] == k as u32 + 1)
+                .map(|i| embed(&f.position[i]) - c0)
+                .collect();
+            let c = BodyContact::new(law, spacing, offsets, obstacles.clone(), b.body.mass.mass);
+            let touching = c.pairs_at_rest(&c0);
+            if touching > 0 {
+                return Err(SetupError::Invalid {
+                    key: "solid.floating.contact",
+                    reason: format!(
+                        "solid `{}` starts within a particle spacing of a fixed solid ({touching} particle pairs): \
+                         move it clear, or set `contact = {{ kind = \"none\" }}` (e.g. a body hinged to a wall)",
+                        self.solid_names[k]
+                    ),
+                });
+            }
+            built.push(Some(c));
+        }
+        for (b, c) in self.floating.iter_mut().zip(built) {
+            if let Some(b) = b {
+                b.contact = c;
+            }
+        }
+        Ok(())
+    }
+
+    /// `ω_c` [rad/s] of the stiffest contact a floating body may enter over a step of `dt` [s],
+    /// which then bounds the step (`boundary::contact`, module doc); `None` when no body can
+    /// reach a fixed solid within `dt`.
+    pub(super) fn contact_frequency(&self, dt: f64) -> Option<f64> {
+        self.floating
+            .iter()
+            .flatten()
+            .filter_map(|b| {
+                let c = b.contact.as_ref()?;
+                let s = &b.state;
+                let speed = c.fastest_particle(&s.orientation, &s.velocity, &s.angular_velocity);
+                let reach = c.distance + 2.0 * speed * dt;
+                c.within(&s.centre, &s.orientation, reach)
+                    .then(|| contact::contact_frequency(c.distance))
+            })
+            .reduce(f64::max)
     }
 }

@@ -19,12 +19,11 @@
 
 use super::floating;
 use super::stage::{SolidsAt, Stage};
-use super::timestep::{self, TimeStepInputs, TimeStepLimit};
+use super::timestep::TimeStepLimit;
 use super::{Correction, Integrator, Simulation, StepError, StepReport};
 use crate::backend::{SolidForceSource, SolidLoad, StateExtremes};
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::model::params::StepParams;
-use crate::physics::pair::ViscousMedium;
 
 /// Largest displacement of one correction sweep, in units of the particle spacing.
 pub const MAX_SWEEP_STEP: f64 = 0.1;
@@ -319,86 +318,6 @@ impl<const D: usize> Simulation<D> {
     fn moved(&mut self) {
         self.grid_fresh = false;
         self.density_fresh = false;
-    }
-
-    /// The state guards and the time step (stage `TimeStep`).
-    fn choose_time_step(&mut self, params: &StepParams<D>, end_time: f64) -> Result<StepReport, StepError> {
-        let (step, time) = (self.clock.step, self.clock.time);
-        let mut e = self.backend.state_extremes(&self.fields, params);
-        let mut removed = 0;
-        if e.non_finite.is_none()
-            && e.escaped.is_some()
-            && self.config.on_escape == super::escape::EscapePolicy::Remove
-        {
-            self.fields_stale = self.backend.holds_state();
-            self.sync_fields()
-                .map_err(|source| StepError::Backend { step, source })?;
-            removed = self.remove_escaped()?;
-            e = self.backend.state_extremes(&self.fields, params);
-        }
-        if e.non_finite.is_some() || e.escaped.is_some() {
-            // Name the particle from the backend's own state (device order for CUDA).
-            self.fields_stale = self.backend.holds_state();
-            self.sync_fields()
-                .map_err(|source| StepError::Backend { step, source })?;
-        }
-        let f = &self.fields;
-        if let Some((i, quantity)) = e.non_finite {
-            return Err(StepError::NonFinite {
-                step,
-                time,
-                particle: f.id[i],
-                quantity,
-            });
-        }
-        if let Some(i) = e.escaped {
-            let position = (0..D).map(|k| f64::from(f.position[i][k])).collect();
-            return Err(StepError::Escaped {
-                step,
-                time,
-                particle: f.id[i],
-                position,
-            });
-        }
-        let c = &self.config;
-        let (dt, limit) = timestep::choose(&TimeStepInputs {
-            h: c.h,
-            // The corrected solver has no acoustic limit: its pressure does not come from (19).
-            sound_speed: if c.correction.is_some() {
-                0.0
-            } else {
-                c.sound_speed
-            },
-            cfl: c.cfl,
-            // A moving wall sweeps through the fluid like a flow of its speed.
-            max_speed: e.max_speed.max(self.wall_speed),
-            max_acceleration: e.max_acceleration,
-            // Each pair term's equivalent kinematic viscosity (`PairTerm::step_viscosity`).
-            kinematic_viscosity: c.pair_terms.step_viscosity(&ViscousMedium {
-                sound_speed: c.sound_speed,
-                h: c.h,
-                dimension: D,
-                lightest_rho0: self.lightest_rho0,
-                viscosity_scale: f64::from(self.viscosity_scale),
-            }),
-            fixed: c.dt,
-            remaining: end_time - time,
-        });
-        if timestep::stalls(dt, limit, time, end_time) {
-            return Err(StepError::Stalled {
-                step,
-                time,
-                dt,
-                limit,
-                end_time,
-            });
-        }
-        Ok(StepReport {
-            dt,
-            limit,
-            extremes: e,
-            removed,
-        })
     }
 
     /// The velocity solve after a stage's position correction: at fixed positions, the pressure

@@ -1,10 +1,14 @@
-//! The explicit time step: the largest stable step from the sound speed, the forces and the
-//! viscosity, or the scene's fixed step.
+//! The explicit time step: the largest stable step from the sound speed, the forces, the
+//! viscosity and a floating body's contact, or the scene's fixed step; and stage `TimeStep`,
+//! which checks the state (escaped and non-finite particles) before choosing it.
 //!
 //! With support radius `h` [m] (twice the usual smoothing length `ĥ = h/2`):
 //! - sound (CFL):   `dt ≤ cfl · h / (C + |u|max)`
 //! - force:         `dt ≤ 0.25 · sqrt(h / |a|max)`  (Monaghan 1992, with `ĥ` → `h`, conservative)
 //! - viscosity:     `dt ≤ 0.125 · ĥ² ρ0 / μ`         (Morris, Fox & Zhu 1997)
+//!
+//! - contact:       `dt ≤ CONTACT_STEP / ω_c` with a floating body's contact frequency `ω_c`
+//!   (`boundary::contact`), for a fixed step too: the contact is explicit
 //!
 //! and never past the end time.
 //!
@@ -14,6 +18,10 @@
 //! above `h / C`; the flow speed can only add to `C` at run time. This holds for `wcsph` only:
 //! the corrected solver (passed here without a sound speed) keeps its fixed step, whose largest
 //! stable value is a property of the correction (`scene::validate::corrected_step_bound`).
+
+use super::{Simulation, StepError, StepReport};
+use crate::model::params::StepParams;
+use crate::physics::pair::ViscousMedium;
 
 /// Which criterion limited a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -29,6 +37,8 @@ pub enum TimeStepLimit {
     Force,
     /// Viscous diffusion.
     Viscosity,
+    /// A floating body's contact with a solid (`boundary::contact`).
+    Contact,
     /// Shortened to land on the end time.
     EndTime,
 }
@@ -42,6 +52,7 @@ impl TimeStepLimit {
             TimeStepLimit::FlowSpeed => "flow_speed",
             TimeStepLimit::Force => "force",
             TimeStepLimit::Viscosity => "viscosity",
+            TimeStepLimit::Contact => "contact",
             TimeStepLimit::EndTime => "end_time",
         }
     }
@@ -82,6 +93,8 @@ pub struct TimeStepInputs {
     pub kinematic_viscosity: f64,
     /// Fixed step from the scene [s].
     pub fixed: Option<f64>,
+    /// The stiffest floating body's contact frequency `ω_c` [rad/s]; `None` without contact.
+    pub contact_frequency: Option<f64>,
     /// Time left until the end of the run [s].
     pub remaining: f64,
 }
@@ -134,6 +147,13 @@ pub fn choose(inputs: &TimeStepInputs) -> (f64, TimeStepLimit) {
             best
         }
     };
+    if let Some(w) = inputs.contact_frequency {
+        let c = crate::boundary::contact::CONTACT_STEP / w;
+        if c < dt {
+            dt = c;
+            limit = TimeStepLimit::Contact;
+        }
+    }
     if inputs.remaining < dt {
         dt = inputs.remaining;
         limit = TimeStepLimit::EndTime;
@@ -159,6 +179,99 @@ fn viscous_limit(inputs: &TimeStepInputs) -> f64 {
     }
 }
 
+impl<const D: usize> Simulation<D> {
+    /// The state guards and the time step (stage `TimeStep`).
+    pub(super) fn choose_time_step(
+        &mut self,
+        params: &StepParams<D>,
+        end_time: f64,
+    ) -> Result<StepReport, StepError> {
+        let (step, time) = (self.clock.step, self.clock.time);
+        let mut e = self.backend.state_extremes(&self.fields, params);
+        let mut removed = 0;
+        if e.non_finite.is_none()
+            && e.escaped.is_some()
+            && self.config.on_escape == super::escape::EscapePolicy::Remove
+        {
+            self.fields_stale = self.backend.holds_state();
+            self.sync_fields()
+                .map_err(|source| StepError::Backend { step, source })?;
+            removed = self.remove_escaped()?;
+            e = self.backend.state_extremes(&self.fields, params);
+        }
+        if e.non_finite.is_some() || e.escaped.is_some() {
+            // Name the particle from the backend's own state (device order for CUDA).
+            self.fields_stale = self.backend.holds_state();
+            self.sync_fields()
+                .map_err(|source| StepError::Backend { step, source })?;
+        }
+        let f = &self.fields;
+        if let Some((i, quantity)) = e.non_finite {
+            return Err(StepError::NonFinite {
+                step,
+                time,
+                particle: f.id[i],
+                quantity,
+            });
+        }
+        if let Some(i) = e.escaped {
+            let position = (0..D).map(|k| f64::from(f.position[i][k])).collect();
+            return Err(StepError::Escaped {
+                step,
+                time,
+                particle: f.id[i],
+                position,
+            });
+        }
+        let c = &self.config;
+        let mut inputs = TimeStepInputs {
+            h: c.h,
+            // The corrected solver has no acoustic limit: its pressure does not come from (19).
+            sound_speed: if c.correction.is_some() {
+                0.0
+            } else {
+                c.sound_speed
+            },
+            cfl: c.cfl,
+            // A moving wall sweeps through the fluid like a flow of its speed.
+            max_speed: e.max_speed.max(self.wall_speed),
+            max_acceleration: e.max_acceleration,
+            // Each pair term's equivalent kinematic viscosity (`PairTerm::step_viscosity`).
+            kinematic_viscosity: c.pair_terms.step_viscosity(&ViscousMedium {
+                sound_speed: c.sound_speed,
+                h: c.h,
+                dimension: D,
+                lightest_rho0: self.lightest_rho0,
+                viscosity_scale: f64::from(self.viscosity_scale),
+            }),
+            fixed: c.dt,
+            contact_frequency: None,
+            remaining: end_time - time,
+        };
+        let (mut dt, mut limit) = choose(&inputs);
+        // A floating body that may touch a solid within the step bounds it (`boundary::contact`).
+        if let Some(w) = self.contact_frequency(dt) {
+            inputs.contact_frequency = Some(w);
+            (dt, limit) = choose(&inputs);
+        }
+        if stalls(dt, limit, time, end_time) {
+            return Err(StepError::Stalled {
+                step,
+                time,
+                dt,
+                limit,
+                end_time,
+            });
+        }
+        Ok(StepReport {
+            dt,
+            limit,
+            extremes: e,
+            removed,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -172,7 +285,23 @@ mod tests {
             max_acceleration: 9.81,
             kinematic_viscosity: 1e-6,
             fixed: None,
+            contact_frequency: None,
             remaining: 1.0,
+        }
+    }
+
+    #[test]
+    fn a_floating_body_in_contact_bounds_the_step_even_a_fixed_one() {
+        let w = 1000.0;
+        let c = crate::boundary::contact::CONTACT_STEP / w;
+        for fixed in [None, Some(1.0)] {
+            let (dt, limit) = choose(&TimeStepInputs {
+                contact_frequency: Some(w),
+                sound_speed: 0.0,
+                fixed,
+                ..inputs()
+            });
+            assert_eq!((dt, limit), (c, TimeStepLimit::Contact));
         }
     }
 

@@ -3,9 +3,10 @@
 //! freedom or a hinge (not both), and the moorings.
 
 use super::{Checker, KeyPath};
+use crate::boundary::contact::{SpringDashpot, WallContact};
 use crate::boundary::rigid_body::{Freedom, Mooring};
 use crate::scene::floating::{BodyAmount, Floating};
-use crate::scene::schema::{FloatingFile, NumberOrVector};
+use crate::scene::schema::{ContactFile, FloatingFile, NumberOrVector};
 use nalgebra::Vector3;
 
 /// The degrees of freedom `fixed` may name, 3D: translation, then rotation.
@@ -89,14 +90,62 @@ pub(super) fn check_floating(
             _ => ok = false,
         }
     }
-    let (amount, freedom) = (amount?, freedom?);
+    let contact = check_contact(c, &path.k("contact"), f.contact.as_ref());
+    let (amount, freedom, contact) = (amount?, freedom?, contact?);
     ok.then_some(Floating {
         amount,
         centre_of_mass,
         inertia,
         freedom,
         moorings,
+        contact,
     })
+}
+
+/// `contact`: the spring–dashpot (default) with `restitution` in (0, 1] and `friction` ≥ 0, or
+/// `kind = "none"` without them.
+fn check_contact(c: &mut Checker, path: &KeyPath, f: Option<&ContactFile>) -> Option<WallContact> {
+    let Some(f) = f else {
+        return Some(WallContact::SpringDashpot(SpringDashpot::DEFAULT));
+    };
+    match f.kind.as_deref().unwrap_or("spring_dashpot") {
+        "none" => {
+            if f.restitution.is_some() || f.friction.is_some() {
+                c.err(
+                    path.k("kind"),
+                    "`none` takes no `restitution` or `friction`".into(),
+                );
+                return None;
+            }
+            Some(WallContact::None)
+        }
+        "spring_dashpot" => {
+            let d = SpringDashpot::DEFAULT;
+            let restitution = match f.restitution {
+                None => Some(d.restitution),
+                Some(e) if e > 0.0 && e <= 1.0 => Some(e),
+                Some(e) => {
+                    c.err(path.k("restitution"), format!("must be in (0, 1], got {e}"));
+                    None
+                }
+            };
+            let friction = match f.friction {
+                None => Some(d.friction),
+                Some(m) => c.non_negative(path.k("friction"), m),
+            };
+            Some(WallContact::SpringDashpot(SpringDashpot {
+                restitution: restitution?,
+                friction: friction?,
+            }))
+        }
+        other => {
+            c.err(
+                path.k("kind"),
+                format!("unknown contact {other:?}: expected \"spring_dashpot\" or \"none\""),
+            );
+            None
+        }
+    }
 }
 
 /// `fixed` (names of held degrees of freedom of the dimension) or `hinge`, not both; default
