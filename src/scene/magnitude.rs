@@ -200,6 +200,13 @@ pub(crate) fn check(scene: &Scene) -> Vec<RawProblem> {
                 m.values(mp.k("file"), &series.displacement, Rule::ZeroOr);
                 m.values(mp.k("file"), &series.time, Rule::Coordinate);
             }
+            Some(Motion::Sea(maker)) => {
+                m.value(mp.k("depth"), maker.depth, Rule::Positive);
+                m.value(mp.k("ramp"), maker.ramp, Rule::ZeroOr);
+                // The largest stroke amplitude the sea gives, at the key that sets it.
+                let largest = maker.stroke.iter().fold(0.0, |a: f64, x| a.max(x.abs()));
+                m.value(mp.k("sea"), largest, Rule::Positive);
+            }
             None => {}
         }
     }

@@ -8,7 +8,7 @@ use sph::run::{RunOptions, run_scene, simulation_from_scene};
 use sph::scene::{count_particles, load_scene};
 use std::path::Path;
 
-const SHIPPED: [&str; 13] = [
+const SHIPPED: [&str; 14] = [
     "scenes/dam_break_2d.toml",
     "scenes/dam_break_wall_2d.toml",
     "scenes/droplet_2d.toml",
@@ -22,6 +22,7 @@ const SHIPPED: [&str; 13] = [
     "scenes/wave_flume_2d.toml",
     "scenes/wave_flap_2d.toml",
     "scenes/floating_box_2d.toml",
+    "scenes/wave_flume_focused_2d.toml",
 ];
 
 /// The columns of `steps.csv`, in order, as docs/output.md promises them. Spelled out here
