@@ -30,6 +30,10 @@ use crate::physics::sea_state::{Sea, WaveComponents};
 use crate::physics::waves::{flap_height_per_stroke, piston_height_per_stroke};
 use std::f64::consts::TAU;
 
+/// Most sine terms the sampled bounds may sum (`SeaMaker::signal_bounds`): about a second of
+/// host time; the default band takes `19 N²`, 3e5 for 128 lines.
+pub const MAX_BOUND_TERMS: f64 = 5e7;
+
 /// The paddle that makes the sea.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Paddle {
@@ -185,20 +189,13 @@ impl SeaMaker {
     /// Bounds of `|Σ X_i sin(ω_i t − φ_i)|` and of its rate over all times: the largest of
     /// samples `δ = 1/(16 f_N)` apart over one repeat `1/Δf` (the sum is periodic), raised
     /// by `δ²/8 Σ X_i ω_i²` (resp. `ω_i³`): at an extremum the derivative vanishes, so the
-    /// nearest sample, at most `δ/2` away, is within `max|f''| δ²/8` of it.
+    /// nearest sample, at most `δ/2` away, is within `max|f''| δ²/8` of it. Where that would
+    /// take more than [`MAX_BOUND_TERMS`] terms, the sums `Σ|X_i|` and `Σ|X_i| ω_i`.
     fn signal_bounds(&self) -> (f64, f64) {
         let f_top = self.waves.frequency.iter().copied().fold(0.0, f64::max);
         let repeat = self.sea.band().repeat_period();
         if !(f_top > 0.0 && repeat.is_finite()) {
             return (0.0, 0.0);
-        }
-        let n = (16.0 * f_top * repeat).ceil() as usize;
-        let delta = repeat / n as f64;
-        let (mut reach, mut speed) = (0.0f64, 0.0f64);
-        for j in 0..n {
-            let s = self.signal(j as f64 * delta);
-            reach = reach.max(s.value.abs());
-            speed = speed.max(s.rate.abs());
         }
         let moment = |p: i32| -> f64 {
             self.stroke
@@ -207,6 +204,19 @@ impl SeaMaker {
                 .map(|(x, f)| x.abs() * (TAU * f).powi(p))
                 .sum()
         };
+        let samples = (16.0 * f_top * repeat).ceil();
+        if samples * self.stroke.len() as f64 > MAX_BOUND_TERMS {
+            // A narrow band far from zero: the strict, looser bounds `Σ|X_i|`, `Σ|X_i| ω_i`.
+            return (moment(0), moment(1));
+        }
+        let n = samples as usize;
+        let delta = repeat / n as f64;
+        let (mut reach, mut speed) = (0.0f64, 0.0f64);
+        for j in 0..n {
+            let s = self.signal(j as f64 * delta);
+            reach = reach.max(s.value.abs());
+            speed = speed.max(s.rate.abs());
+        }
         let margin = delta * delta / 8.0;
         (reach + margin * moment(2), speed + margin * moment(3))
     }
@@ -284,7 +294,9 @@ impl SeaMaker {
             }
         };
         paddle_ok
-            && [self.depth, self.gravity].iter().all(|v| v.is_finite() && *v > 0.0)
+            && [self.depth, self.gravity]
+                .iter()
+                .all(|v| v.is_finite() && *v > 0.0)
             && self.ramp.is_finite()
             && self.ramp >= 0.0
             && self.stroke.iter().all(|x| x.is_finite())
@@ -377,10 +389,18 @@ mod tests {
                 .sum();
             for i in 0..300 {
                 let t = 0.013 + 0.04 * i as f64;
-                let (lo, mid, hi) = (p.stroke_profile(t - eps), p.stroke_profile(t), p.stroke_profile(t + eps));
+                let (lo, mid, hi) = (
+                    p.stroke_profile(t - eps),
+                    p.stroke_profile(t),
+                    p.stroke_profile(t + eps),
+                );
                 let rate = (hi.value - lo.value) / (2.0 * eps);
                 let curvature = (hi.rate - lo.rate) / (2.0 * eps);
-                assert!((rate - mid.rate).abs() < 1e-5 * scale_rate, "X' at {t}: {rate} vs {}", mid.rate);
+                assert!(
+                    (rate - mid.rate).abs() < 1e-5 * scale_rate,
+                    "X' at {t}: {rate} vs {}",
+                    mid.rate
+                );
                 assert!(
                     (curvature - mid.curvature).abs() < 1e-5 * scale_curvature,
                     "X'' at {t}: {curvature} vs {}",
@@ -388,12 +408,18 @@ mod tests {
                 );
                 let k = p.kinematics::<2>(t);
                 assert_eq!(k.displacement[0], mid.value as f32);
-                assert_eq!((k.velocity[0], k.acceleration[0]), (mid.rate as f32, mid.curvature as f32));
+                assert_eq!(
+                    (k.velocity[0], k.acceleration[0]),
+                    (mid.rate as f32, mid.curvature as f32)
+                );
                 let (lo, mid, hi) = (f.flap_angle(t - eps), f.flap_angle(t), f.flap_angle(t + eps));
                 let rate = (hi.value - lo.value) / (2.0 * eps);
                 let curvature = (hi.rate - lo.rate) / (2.0 * eps);
                 assert!((rate - mid.rate).abs() < 1e-5 * scale_rate / 0.3, "θ' at {t}");
-                assert!((curvature - mid.curvature).abs() < 1e-5 * scale_curvature / 0.3, "θ'' at {t}");
+                assert!(
+                    (curvature - mid.curvature).abs() < 1e-5 * scale_curvature / 0.3,
+                    "θ'' at {t}"
+                );
                 // 2D: the hinge axis is −z, so ω_z = −θ'.
                 let Rotation::About(turn) = f.kinematics::<2>(t).rotation else {
                     panic!("a flap turns")
@@ -425,7 +451,11 @@ mod tests {
                 let u = f64::from(k.velocity_at(&x).norm());
                 let moved = f64::from((x[0] - far[0]).abs());
                 assert!(u <= speed * (1.0 + 1e-5), "speed {u} above {speed} at {t}");
-                assert!(moved <= reach[0] + 1e-6, "reach {moved} above {} at {t}", reach[0]);
+                assert!(
+                    moved <= reach[0] + 1e-6,
+                    "reach {moved} above {} at {t}",
+                    reach[0]
+                );
                 if t > maker.ramp {
                     fastest = fastest.max(u);
                     farthest = farthest.max(moved);

@@ -92,7 +92,11 @@ mod tests {
             assert!((hs / 0.05 - 1.0).abs() < 1e-5, "γ = {gamma}: H_m0 = {hs}");
             let dnv = 0.3125 * (1.0 - 0.287 * gamma.ln());
             eprintln!("γ = {gamma}: β = {:.5}, DNV {dnv:.5}", s.beta());
-            assert!((s.beta() / dnv - 1.0).abs() < 0.02, "γ = {gamma}: β {} vs {dnv}", s.beta());
+            assert!(
+                (s.beta() / dnv - 1.0).abs() < 0.02,
+                "γ = {gamma}: β {} vs {dnv}",
+                s.beta()
+            );
             let fp = 1.0 / 1.2;
             let d = s.densities(&[0.98 * fp, fp, 1.02 * fp]);
             assert!(d[1] > d[0] && d[1] > d[2]);

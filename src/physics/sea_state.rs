@@ -233,7 +233,9 @@ mod tests {
     /// are exactly 1/2 and 0: the samples' variance is the discrete `m_0` to rounding).
     fn sampled_m0(c: &WaveComponents, x: f64, repeat: f64) -> f64 {
         let m = 2048;
-        let eta: Vec<f64> = (0..m).map(|j| c.elevation(x, repeat * j as f64 / m as f64)).collect();
+        let eta: Vec<f64> = (0..m)
+            .map(|j| c.elevation(x, repeat * j as f64 / m as f64))
+            .collect();
         let mean = eta.iter().sum::<f64>() / m as f64;
         eta.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / m as f64
     }
@@ -254,7 +256,10 @@ mod tests {
         for x in [0.0, 1.0] {
             let m0 = sampled_m0(&c, x, band().repeat_period());
             let hs = 4.0 * m0.sqrt();
-            eprintln!("H_m0 at x = {x} m: {hs:.6} m (target 0.04 m, discrete {:.6})", 4.0 * c.m0().sqrt());
+            eprintln!(
+                "H_m0 at x = {x} m: {hs:.6} m (target 0.04 m, discrete {:.6})",
+                4.0 * c.m0().sqrt()
+            );
             assert!((hs / 0.04 - 1.0).abs() < 0.01, "H_m0 = {hs}");
             assert!((m0 / c.m0() - 1.0).abs() < 1e-9, "{m0} vs {}", c.m0());
         }
@@ -303,7 +308,10 @@ mod tests {
         let highest = (0..n)
             .map(|j| c.elevation(x_f, t_f - 0.5 * repeat + j as f64 * 0.005))
             .fold(f64::MIN, f64::max);
-        assert!(highest <= crest * (1.0 + 1e-12), "{highest} above the crest {crest}");
+        assert!(
+            highest <= crest * (1.0 + 1e-12),
+            "{highest} above the crest {crest}"
+        );
         for dx in [-0.3, -0.05, 0.05, 0.3] {
             assert!(c.elevation(x_f + dx, t_f) < crest);
         }

@@ -26,6 +26,10 @@ use serde::Deserialize;
 ///   (default 0; negative: below the bed) (`boundary::flap`, Dean & Dalrymple 1991 §6.2). Or
 ///   `angle = Θ` \[rad\] instead of `wave_height`, `depth` and `hinge_height`. Needs gravity
 ///   with `wave_height`.
+/// - `kind = "piston"` or `"flap"` with `sea = { kind = "jonswap" | "focused", ... }` in place
+///   of `wave_height` and `period` (and `angle`): the paddle makes an irregular sea or a
+///   focused group (`SeaFile`, `boundary::sea_maker`); `depth`, `ramp` and the paddle's keys
+///   stay.
 ///
 /// Without `ramp` (or `ramp = 0`) `r = 1`; with it the amplitude grows from 0 over the first
 /// `t_r` seconds as `r = s(t/t_r)`, `s(x) = 10x³ − 15x⁴ + 6x⁵`, whose first two derivatives

@@ -97,15 +97,50 @@ fn bad_sea_keys_are_reported_at_their_keys() {
     let jonswap = r#"sea = { kind = "jonswap", significant_height = -0.03, peak_period = 1.1, seed = 1 }"#;
     at(SEA, jonswap, &format!("{sea}.significant_height"), "> 0");
     at("gamma = 3.3", "gamma = 0.8", &format!("{sea}.gamma"), "[1, 7]");
-    at("components = 128", "components = 8", &format!("{sea}.components"), "[32, 1024]");
-    at("f_max = 1.82", "f_max = 0.8", &format!("{sea}.f_max"), "peak frequency");
+    at(
+        "components = 128",
+        "components = 8",
+        &format!("{sea}.components"),
+        "[32, 1024]",
+    );
+    at(
+        "f_max = 1.82",
+        "f_max = 0.8",
+        &format!("{sea}.f_max"),
+        "peak frequency",
+    );
     let unseeded = r#"sea = { kind = "jonswap", significant_height = 0.03, peak_period = 1.1 }"#;
     at(SEA, unseeded, &format!("{sea}.seed"), "required");
-    at("focus_position = 1.5", "focus_position = 6.0", &format!("{sea}.focus_position"), "beyond the domain");
-    at("focus_time = 8.0", "focus_time = 1.5", &format!("{sea}.focus_time"), "group speed");
-    at("amplitude = 0.03,", "amplitude = 0.03, seed = 3,", &format!("{sea}.seed"), "not a key of sea.kind = \"focused\"");
-    at("depth = 0.3,", "depth = 0.3, wave_height = 0.04,", "solid[1].motion.wave_height", "with `sea`");
-    at("depth = 0.3,", "period = 1.1,", "solid[1].motion.depth", "required");
+    at(
+        "focus_position = 1.5",
+        "focus_position = 6.0",
+        &format!("{sea}.focus_position"),
+        "beyond the domain",
+    );
+    at(
+        "focus_time = 8.0",
+        "focus_time = 1.5",
+        &format!("{sea}.focus_time"),
+        "group speed",
+    );
+    at(
+        "amplitude = 0.03,",
+        "amplitude = 0.03, seed = 3,",
+        &format!("{sea}.seed"),
+        "not a key of sea.kind = \"focused\"",
+    );
+    at(
+        "depth = 0.3,",
+        "depth = 0.3, wave_height = 0.04,",
+        "solid[1].motion.wave_height",
+        "with `sea`",
+    );
+    at(
+        "depth = 0.3,",
+        "period = 1.1,",
+        "solid[1].motion.depth",
+        "required",
+    );
     let sway = r#"motion = { amplitude = [0.01, 0.0], period = 1.1, sea = { kind = "jonswap", significant_height = 0.03, peak_period = 1.1, seed = 1 } }"#;
     let motion_line = text
         .lines()

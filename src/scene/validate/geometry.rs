@@ -50,7 +50,11 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
                 && let Some(reason) = focus_outside(maker, ext, domain)
             {
                 c.err(
-                    KeyPath::key("solid").i(i).k("motion").k("sea").k("focus_position"),
+                    KeyPath::key("solid")
+                        .i(i)
+                        .k("motion")
+                        .k("sea")
+                        .k("focus_position"),
                     format!("solid \"{}\": {reason}", s.name),
                 );
             }

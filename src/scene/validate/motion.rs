@@ -256,7 +256,12 @@ fn check_flap(
 }
 
 /// `motion.direction` (piston, series): `dimension` finite entries, not all zero; normalised.
-pub(super) fn check_direction(c: &mut Checker, path: &KeyPath, m: &MotionFile, dim: Option<usize>) -> Option<Vec<f64>> {
+pub(super) fn check_direction(
+    c: &mut Checker,
+    path: &KeyPath,
+    m: &MotionFile,
+    dim: Option<usize>,
+) -> Option<Vec<f64>> {
     let Some(n) = &m.direction else {
         c.err(path.k("direction"), "required for this motion.kind".into());
         return None;

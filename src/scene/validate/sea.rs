@@ -56,7 +56,9 @@ pub(super) fn check_sea_motion(
         if present && !paddle_keys.contains(&key) {
             c.err(
                 path.k(key),
-                format!("not a key of motion.kind = \"{name}\" with `sea` (the sea sets the waves; remove it)"),
+                format!(
+                    "not a key of motion.kind = \"{name}\" with `sea` (the sea sets the waves; remove it)"
+                ),
             );
             ok = false;
         }
@@ -135,7 +137,15 @@ pub(super) fn check_sea_motion(
             return None;
         }
     }
-    ok.then(|| Motion::Sea(SeaMaker::new(paddle, sea, depth, gravity, ramp)))
+    let maker = SeaMaker::new(paddle, sea, depth, gravity, ramp);
+    if dim.is_some_and(|d| !maker.is_valid_in(d)) {
+        c.err(
+            sea_path,
+            "its components give no finite stroke (a band of frequencies too high for f64 arithmetic): check peak_period, f_min and f_max".into(),
+        );
+        return None;
+    }
+    ok.then_some(Motion::Sea(maker))
 }
 
 /// `motion.sea`: the keys of its kind (module doc of `schema::SeaFile`); a key of the other
@@ -228,7 +238,10 @@ fn check_band(c: &mut Checker, path: &KeyPath, s: &SeaFile, peak_period: Option<
     if !gamma_ok {
         c.err(
             path.k("gamma"),
-            format!("must be in [1, {MAX_GAMMA}] (1: Pierson-Moskowitz; measured seas lie in this range), got {}", num(gamma)),
+            format!(
+                "must be in [1, {MAX_GAMMA}] (1: Pierson-Moskowitz; measured seas lie in this range), got {}",
+                num(gamma)
+            ),
         );
     }
     let n = s.components.unwrap_or(DEFAULT_COMPONENTS);
