@@ -276,7 +276,7 @@ fn check_band(c: &mut Checker, path: &KeyPath, s: &SeaFile, peak_period: Option<
         );
         return None;
     }
-    (gamma_ok && n_ok).then(|| Band {
+    (gamma_ok && n_ok).then_some(Band {
         peak_period: tp,
         gamma,
         components: n as usize,
