@@ -111,7 +111,7 @@ impl Flap {
     }
 
     /// The unit hinge axis: `−z` in 2D, `+y` in 3D, so that `θ > 0` moves the top to `+x`.
-    fn axis<const D: usize>() -> [f64; 3] {
+    pub(crate) fn axis<const D: usize>() -> [f64; 3] {
         if D == 2 { [0.0, 0.0, -1.0] } else { [0.0, 1.0, 0.0] }
     }
 

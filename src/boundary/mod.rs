@@ -37,6 +37,7 @@ pub mod keep_out;
 pub mod motion;
 pub mod rigid;
 pub mod rigid_body;
+pub mod sea_maker;
 pub mod series;
 pub mod solid_force;
 pub mod wall_pressure;

@@ -31,6 +31,7 @@
 
 use super::flap::Flap;
 pub use super::rigid::{Rotation, SolidKinematics, Turn};
+use super::sea_maker::SeaMaker;
 use super::series::DisplacementSeries;
 use crate::math::{Real, Vector};
 
@@ -58,6 +59,9 @@ pub enum Motion {
     Series(DisplacementSeries),
     /// `kind = "flap"`: a turn about a hinge, its angle given or from a target wave.
     Flap(Flap),
+    /// `kind = "piston"` or `"flap"` with `sea`: a wave maker driven by an irregular or a
+    /// focused sea (`boundary::sea_maker`).
+    Sea(SeaMaker),
 }
 
 impl From<Sway> for Motion {
@@ -74,6 +78,7 @@ impl Motion {
             Motion::Piston(_) => "piston",
             Motion::Series(_) => "series",
             Motion::Flap(_) => "flap",
+            Motion::Sea(s) => s.kind_name(),
         }
     }
 
@@ -82,7 +87,7 @@ impl Motion {
         match self {
             Motion::Sway(s) => Some(s.clone()),
             Motion::Piston(p) => Some(p.sway()),
-            Motion::Series(_) | Motion::Flap(_) => None,
+            Motion::Series(_) | Motion::Flap(_) | Motion::Sea(_) => None,
         }
     }
 
@@ -94,6 +99,7 @@ impl Motion {
             Motion::Piston(p) => p.sway().kinematics(t),
             Motion::Series(s) => along(&s.direction, s.profile(t)),
             Motion::Flap(f) => f.kinematics(t),
+            Motion::Sea(s) => s.kinematics(t),
         }
     }
 
@@ -103,6 +109,7 @@ impl Motion {
         match self {
             Motion::Series(s) => s.bounds().1,
             Motion::Flap(f) => f.max_speed(),
+            Motion::Sea(s) => s.max_speed(),
             _ => self.sway().map_or(0.0, |s| s.max_speed()),
         }
     }
@@ -113,6 +120,7 @@ impl Motion {
         match self {
             Motion::Series(s) => s.direction.iter().map(|n| n.abs() * s.bounds().0).collect(),
             Motion::Flap(f) => f.reach(f.hinge.len()),
+            Motion::Sea(s) => s.reach(),
             _ => self
                 .sway()
                 .map(|s| s.amplitude.iter().map(|a| a.abs()).collect())
@@ -123,7 +131,7 @@ impl Motion {
 
 /// Kinematics of the scalar profile `f` along the vector `v` (`v f`, `v f'`, `v f''`), rounded
 /// to f32.
-fn along<const D: usize>(v: &[f64], f: Profile) -> SolidKinematics<D> {
+pub(crate) fn along<const D: usize>(v: &[f64], f: Profile) -> SolidKinematics<D> {
     let scaled = |c: f64| Vector::<D>::from_fn(|k, _| (v.get(k).copied().unwrap_or(0.0) * c) as Real);
     SolidKinematics {
         displacement: scaled(f.value),
@@ -224,6 +232,17 @@ fn smootherstep(x: f64) -> (f64, f64, f64) {
     )
 }
 
+/// The ramp `r(t)` of the module doc and its first two derivatives [1/s, 1/s²]: `s(t/t_r)`
+/// before `t_r`, 1 after (and always 1 when `t_r = 0`).
+pub(crate) fn ramp(t: f64, t_r: f64) -> (f64, f64, f64) {
+    if t_r > 0.0 && t < t_r {
+        let (s, s1, s2) = smootherstep(t.max(0.0) / t_r);
+        (s, s1 / t_r, s2 / (t_r * t_r))
+    } else {
+        (1.0, 0.0, 0.0)
+    }
+}
+
 impl Sway {
     /// Angular frequency `ω = 2π/T` [rad/s].
     pub fn omega(&self) -> f64 {
@@ -234,12 +253,7 @@ impl Sway {
     pub fn profile(&self, t: f64) -> Profile {
         let w = self.omega();
         let (sin, cos) = (w * t).sin_cos();
-        let (r, r1, r2) = if self.ramp > 0.0 && t < self.ramp {
-            let (s, s1, s2) = smootherstep(t.max(0.0) / self.ramp);
-            (s, s1 / self.ramp, s2 / (self.ramp * self.ramp))
-        } else {
-            (1.0, 0.0, 0.0)
-        };
+        let (r, r1, r2) = ramp(t, self.ramp);
         Profile {
             value: r * sin,
             rate: r1 * sin + r * w * cos,

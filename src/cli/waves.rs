@@ -81,7 +81,7 @@ fn wave_maker(scene: &Scene) -> Option<(f64, f64, f64)> {
             FlapAmplitude::Wave { depth, gravity, .. } => Some((f.period, depth, gravity)),
             FlapAmplitude::Angle(_) => None,
         },
-        Motion::Sway(_) | Motion::Series(_) => None,
+        Motion::Sway(_) | Motion::Series(_) | Motion::Sea(_) => None,
     })
 }
 

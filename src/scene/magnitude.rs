@@ -18,6 +18,7 @@ use super::{KeyPath, Scene};
 use crate::boundary::flap::FlapAmplitude;
 use crate::boundary::motion::Motion;
 use crate::physics::pair::ViscousMedium;
+use crate::physics::sea_state::Sea;
 use crate::smoothing::Smoothing;
 
 /// The smallest non-zero magnitude of a scene value or derived scale (SI units): 1e-30. The
@@ -199,6 +200,33 @@ pub(crate) fn check(scene: &Scene) -> Vec<RawProblem> {
             Some(Motion::Series(series)) => {
                 m.values(mp.k("file"), &series.displacement, Rule::ZeroOr);
                 m.values(mp.k("file"), &series.time, Rule::Coordinate);
+            }
+            Some(Motion::Sea(maker)) => {
+                m.value(mp.k("depth"), maker.depth, Rule::Positive);
+                m.value(mp.k("ramp"), maker.ramp, Rule::ZeroOr);
+                let sp = mp.k("sea");
+                let band = maker.sea.band();
+                m.value(sp.k("peak_period"), band.peak_period, Rule::Positive);
+                m.value(sp.k("f_min"), band.f_min, Rule::Positive);
+                m.value(sp.k("f_max"), band.f_max, Rule::Positive);
+                match &maker.sea {
+                    Sea::Irregular {
+                        significant_height, ..
+                    } => m.value(sp.k("significant_height"), *significant_height, Rule::Positive),
+                    Sea::Focused {
+                        amplitude,
+                        focus_position,
+                        focus_time,
+                        ..
+                    } => {
+                        m.value(sp.k("amplitude"), *amplitude, Rule::Positive);
+                        m.value(sp.k("focus_position"), *focus_position, Rule::Positive);
+                        m.value(sp.k("focus_time"), *focus_time, Rule::Coordinate);
+                    }
+                }
+                // The largest stroke amplitude the sea gives, at the key that sets it.
+                let largest = maker.stroke.iter().fold(0.0, |a: f64, x| a.max(x.abs()));
+                m.value(mp.k("sea"), largest, Rule::Positive);
             }
             None => {}
         }

@@ -9,7 +9,7 @@ use serde::Deserialize;
 
 #[path = "schema_motion.rs"]
 mod motion;
-pub use motion::{DampingZoneFile, MotionFile, MotionKind};
+pub use motion::{DampingZoneFile, MotionFile, MotionKind, SeaFile, SeaKind};
 
 #[path = "schema_floating.rs"]
 mod floating;

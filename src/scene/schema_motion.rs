@@ -26,6 +26,10 @@ use serde::Deserialize;
 ///   (default 0; negative: below the bed) (`boundary::flap`, Dean & Dalrymple 1991 §6.2). Or
 ///   `angle = Θ` \[rad\] instead of `wave_height`, `depth` and `hinge_height`. Needs gravity
 ///   with `wave_height`.
+/// - `kind = "piston"` or `"flap"` with `sea = { kind = "jonswap" | "focused", ... }` in place
+///   of `wave_height` and `period` (and `angle`): the paddle makes an irregular sea or a
+///   focused group (`SeaFile`, `boundary::sea_maker`); `depth`, `ramp` and the paddle's keys
+///   stay.
 ///
 /// Without `ramp` (or `ramp = 0`) `r = 1`; with it the amplitude grows from 0 over the first
 /// `t_r` seconds as `r = s(t/t_r)`, `s(x) = 10x³ − 15x⁴ + 6x⁵`, whose first two derivatives
@@ -62,6 +66,9 @@ pub struct MotionFile {
     pub hinge_height: Option<f64>,
     /// Flap: the angle amplitude `Θ` \[rad\], not 0, instead of `wave_height` and `depth`.
     pub angle: Option<f64>,
+    /// Piston and flap: the sea state to make, instead of `wave_height` and `period`
+    /// (`SeaFile`).
+    pub sea: Option<SeaFile>,
 }
 
 /// `motion.kind`: what prescribes a solid's translation.
@@ -93,4 +100,53 @@ pub struct DampingZoneFile {
     pub end: Vec<f64>,
     /// `β` \[1/s\], > 0; default 10 (DualSPHysics' `redumax`).
     pub strength: Option<f64>,
+}
+
+/// `motion.sea = { kind = ..., ... }` of a piston or flap wave maker: an irregular sea or a
+/// focused group from a band of Goda's JONSWAP spectrum (`physics::sea_state`,
+/// `boundary::sea_maker`), in place of the regular wave's `wave_height` and `period`.
+///
+/// - `kind = "jonswap"`: `significant_height = H_s` \[m\], `peak_period = T_p` \[s\], `seed`
+///   (an integer >= 0), random phases;
+/// - `kind = "focused"`: `amplitude = A` \[m\] (the linear crest at the focus),
+///   `focus_position = x_f` \[m\] (from the paddle's mean face along the stroke),
+///   `focus_time = t_f` \[s\], `peak_period = T_p`;
+///
+/// both with `gamma` (default 3.3, >= 1), `components` (default 128, 32 to 1024), `f_min`,
+/// `f_max` \[Hz\] (default 0.5/T_p and 3/T_p).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SeaFile {
+    /// The kind of sea.
+    pub kind: SeaKind,
+    /// jonswap: significant wave height `H_s` \[m\], > 0.
+    pub significant_height: Option<f64>,
+    /// Peak period `T_p` \[s\], > 0.
+    pub peak_period: Option<f64>,
+    /// Peak enhancement `γ`, >= 1; default 3.3.
+    pub gamma: Option<f64>,
+    /// Number of components; default 128.
+    pub components: Option<i64>,
+    /// jonswap: the seed of the random phases, >= 0.
+    pub seed: Option<i64>,
+    /// Lower end of the band \[Hz\]; default `0.5 / T_p`.
+    pub f_min: Option<f64>,
+    /// Upper end of the band \[Hz\]; default `3 / T_p`.
+    pub f_max: Option<f64>,
+    /// focused: the linear crest `A` \[m\] at the focus, > 0.
+    pub amplitude: Option<f64>,
+    /// focused: the focus' distance `x_f` \[m\] from the paddle, > 0.
+    pub focus_position: Option<f64>,
+    /// focused: the focus' time `t_f` \[s\].
+    pub focus_time: Option<f64>,
+}
+
+/// `motion.sea.kind`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SeaKind {
+    /// An irregular sea of random phases.
+    Jonswap,
+    /// A focused group (NewWave).
+    Focused,
 }

@@ -261,6 +261,7 @@ impl<const D: usize> Simulation<D> {
                 // `DisplacementSeries::new` checked its samples.
                 Motion::Series(s) => s.direction.len() == D && s.direction.iter().all(|n| n.is_finite()),
                 Motion::Flap(f) => f.is_valid_in(D),
+                Motion::Sea(s) => s.is_valid_in(D),
             };
             let ok = piston_ok
                 && motion.sway().is_none_or(|m| {

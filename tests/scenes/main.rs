@@ -11,5 +11,6 @@ mod periodic;
 mod scene;
 mod scene_fuzz;
 mod scene_solver;
+mod sea_state;
 mod shipped;
 mod wave_maker;

@@ -8,7 +8,7 @@ use sph::run::{RunOptions, run_scene, simulation_from_scene};
 use sph::scene::{count_particles, load_scene};
 use std::path::Path;
 
-const SHIPPED: [&str; 15] = [
+const SHIPPED: [&str; 16] = [
     "scenes/dam_break_2d.toml",
     "scenes/dam_break_wall_2d.toml",
     "scenes/droplet_2d.toml",
@@ -24,6 +24,7 @@ const SHIPPED: [&str; 15] = [
     "scenes/floating_box_2d.toml",
     "scenes/floating_box_waves_2d.toml",
     "scenes/wave_flume_column_3d.toml",
+    "scenes/wave_flume_focused_2d.toml",
 ];
 
 /// The columns of `steps.csv`, in order, as docs/output.md promises them. Spelled out here

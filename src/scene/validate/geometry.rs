@@ -2,7 +2,9 @@
 //! overlapping neither each other nor a solid (the inside of a container is fine).
 
 use super::*;
+use crate::boundary::sea_maker::SeaMaker;
 use crate::geometry::Volume;
+use crate::physics::sea_state::Sea;
 
 pub(super) fn check_box(c: &mut Checker, path: &KeyPath, b: &BoxFile, dim: Option<usize>) -> Option<Aabb> {
     c.aabb(path, &b.min, &b.max, dim)
@@ -42,7 +44,20 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
                 Motion::Piston(_) => "wave_height",
                 Motion::Series(_) => "file",
                 Motion::Flap(_) => "hinge",
+                Motion::Sea(_) => "sea",
             };
+            if let Motion::Sea(maker) = m
+                && let Some(reason) = focus_outside(maker, ext, domain)
+            {
+                c.err(
+                    KeyPath::key("solid")
+                        .i(i)
+                        .k("motion")
+                        .k("sea")
+                        .k("focus_position"),
+                    format!("solid \"{}\": {reason}", s.name),
+                );
+            }
             if let Some(k) = outside_axis(&swept, domain, tol) {
                 c.err(
                     KeyPath::key("solid").i(i).k("motion").k(key),
@@ -128,4 +143,30 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
         }
     }
     check_counts(c, scene);
+}
+
+/// Why a focused sea's focus lies outside `domain`, if it does: the focus is `x_f` past the
+/// paddle's face at rest (the box `ext`'s farthest extent along the waves' direction `n`), so
+/// its plane `n·x = max_box(n·x) + x_f` must not pass the domain's `max_domain(n·x)`.
+fn focus_outside(maker: &SeaMaker, ext: &Aabb, domain: &Aabb) -> Option<String> {
+    let Sea::Focused { focus_position, .. } = &maker.sea else {
+        return None;
+    };
+    let n = maker.wave_direction();
+    let farthest = |b: &Aabb| -> f64 {
+        n.iter()
+            .enumerate()
+            .map(|(k, c)| (c * b.min[k]).max(c * b.max[k]))
+            .sum()
+    };
+    let (face, end) = (farthest(ext), farthest(domain));
+    (face + focus_position > end).then(|| {
+        format!(
+            "the focus, {} m past the paddle's face at {} m along the waves' direction, lies at {} m, beyond the domain's end at {} m",
+            num(*focus_position),
+            num(face),
+            num(face + focus_position),
+            num(end)
+        )
+    })
 }

@@ -33,6 +33,7 @@ mod memory;
 mod motion;
 mod periodic;
 mod probes;
+mod sea;
 mod solids;
 mod step_bounds;
 

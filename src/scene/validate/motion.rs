@@ -22,6 +22,9 @@ pub(super) fn check_motion(
     dir: &Path,
 ) -> Option<Motion> {
     let kind = m.kind.unwrap_or(MotionKind::Sway);
+    if m.sea.is_some() && matches!(kind, MotionKind::Piston | MotionKind::Flap) {
+        return super::sea::check_sea_motion(c, path, m, kind, dim, g);
+    }
     let kind_name = match kind {
         MotionKind::Sway => "sway",
         MotionKind::Piston => "piston",
@@ -39,6 +42,7 @@ pub(super) fn check_motion(
             ("depth", m.depth.is_some()),
             ("direction", m.direction.is_some()),
             ("file", m.file.is_some()),
+            ("sea", m.sea.is_some()),
         ],
         MotionKind::Piston => vec![("amplitude", m.amplitude.is_some()), ("file", m.file.is_some())],
         MotionKind::Series => vec![
@@ -47,6 +51,7 @@ pub(super) fn check_motion(
             ("depth", m.depth.is_some()),
             ("period", m.period.is_some()),
             ("ramp", m.ramp.is_some()),
+            ("sea", m.sea.is_some()),
         ],
         MotionKind::Flap => vec![
             ("amplitude", m.amplitude.is_some()),
@@ -251,7 +256,12 @@ fn check_flap(
 }
 
 /// `motion.direction` (piston, series): `dimension` finite entries, not all zero; normalised.
-fn check_direction(c: &mut Checker, path: &KeyPath, m: &MotionFile, dim: Option<usize>) -> Option<Vec<f64>> {
+pub(super) fn check_direction(
+    c: &mut Checker,
+    path: &KeyPath,
+    m: &MotionFile,
+    dim: Option<usize>,
+) -> Option<Vec<f64>> {
     let Some(n) = &m.direction else {
         c.err(path.k("direction"), "required for this motion.kind".into());
         return None;

@@ -165,6 +165,9 @@ pub(super) fn check_solid(
         // The flap's speed and sweep bounds need its size.
         flap.arm = flap.arm_to_box(&min, &max);
     }
+    if let Some(Motion::Sea(maker)) = &mut motion {
+        maker.set_arm_to_box(&min, &max);
+    }
     ok.then(|| Solid {
         name: s.name.clone(),
         shape: s.shape,
