@@ -34,6 +34,7 @@
 pub mod flap;
 pub mod keep_out;
 pub mod motion;
+pub mod open;
 pub mod rigid;
 pub mod rigid_body;
 pub mod series;

@@ -13,6 +13,7 @@ mod density_diffusion;
 mod floating;
 mod gauges;
 mod multiphase;
+mod open_channel;
 mod poiseuille;
 mod poiseuille_periodic;
 mod rotating_frame;
