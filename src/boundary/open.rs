@@ -242,51 +242,51 @@ pub fn update<const D: usize>(
     }
     let mut created = 0;
     for b in boundaries {
+        // An outflow is a free exit: its buffer's particles move as the fluid's, and those past
+        // its far side were removed above (module doc).
+        if b.flow == Flow::Outflow {
+            continue;
+        }
         let columns = b.columns(t.spacing);
         let count: usize = columns.iter().product();
-        let fluid: Vec<usize> = (0..fields.len()).filter(|&i| fields.kind[i] == FLUID).collect();
-        match b.flow {
-            // A free exit: the buffer's particles move as the fluid's, and those past its far
-            // side were removed above (module doc).
-            Flow::Outflow => {}
-            Flow::Inflow { .. } => {
-                // Each column's rearmost particle (distance, index), the fluid just ahead of the
-                // plane included, so an empty buffer fills on from the fluid.
-                let mut rear: Vec<Option<(Real, usize)>> = vec![None; count];
-                for &i in &fluid {
-                    let x = fields.position[i];
-                    let d = b.inward_distance(&x);
-                    if d >= -b.depth && d < t.spacing && b.across(&x) {
-                        if d < 0.0 {
-                            fields.velocity[i] = b.inflow_velocity(&x, time);
-                        }
-                        let r = &mut rear[b.column_of(&x, &columns)];
-                        if r.is_none_or(|(dr, _)| d < dr) {
-                            *r = Some((d, i));
-                        }
-                    }
+        // Each column's rearmost particle (distance, index), the fluid just ahead of the
+        // plane included, so an empty buffer fills on from the fluid.
+        let mut rear: Vec<Option<(Real, usize)>> = vec![None; count];
+        for i in 0..fields.len() {
+            if fields.kind[i] != FLUID {
+                continue;
+            }
+            let x = fields.position[i];
+            let d = b.inward_distance(&x);
+            if d >= -b.depth && d < t.spacing && b.across(&x) {
+                if d < 0.0 {
+                    fields.velocity[i] = b.inflow_velocity(&x, time);
                 }
-                for (c, r) in rear.iter().enumerate() {
-                    let centre = b.column_centre(c, &columns);
-                    if !b.wetted(&centre) {
-                        continue;
-                    }
-                    let (mut d, source) = match *r {
-                        Some((d, i)) => (d, Some(i)),
-                        None => (0.5 * t.spacing, None),
-                    };
-                    let (density, pressure) =
-                        source.map_or((t.rho0, 0.0), |i| (fields.density[i], fields.pressure[i]));
-                    while d - t.spacing >= -b.depth {
-                        d -= t.spacing;
-                        let mut x = centre;
-                        x[b.axis] = b.min[b.axis] + d * b.inward;
-                        let u = b.inflow_velocity(&x, time);
-                        fields.push_created(x, u, t.mass, density, pressure, next_id, t.rho0);
-                        next_id += 1;
-                        created += 1;
-                    }
+                let r = &mut rear[b.column_of(&x, &columns)];
+                if r.is_none_or(|(dr, _)| d < dr) {
+                    *r = Some((d, i));
                 }
+            }
+        }
+        for (c, r) in rear.iter().enumerate() {
+            let centre = b.column_centre(c, &columns);
+            if !b.wetted(&centre) {
+                continue;
+            }
+            let (mut d, source) = match *r {
+                Some((d, i)) => (d, Some(i)),
+                None => (0.5 * t.spacing, None),
+            };
+            let (density, pressure) =
+                source.map_or((t.rho0, 0.0), |i| (fields.density[i], fields.pressure[i]));
+            while d - t.spacing >= -b.depth {
+                d -= t.spacing;
+                let mut x = centre;
+                x[b.axis] = b.min[b.axis] + d * b.inward;
+                let u = b.inflow_velocity(&x, time);
+                fields.push_created(x, u, t.mass, density, pressure, next_id, t.rho0);
+                next_id += 1;
+                created += 1;
             }
         }
     }
