@@ -201,6 +201,57 @@ impl<const D: usize> Fields<D> {
         self.kind.push(kind);
     }
 
+    /// Appends one fluid particle created during a run (`boundary::open`) with id `id`, zero
+    /// acceleration, and an entry in every allocated optional field: the step-start copies of
+    /// its position, velocity and density, the rest density `rho0`, the acting pressure
+    /// `pressure`, zero for the rest (recomputed by their stages before use).
+    #[allow(clippy::too_many_arguments)]
+    pub fn push_created(
+        &mut self,
+        position: Vector<D>,
+        velocity: Vector<D>,
+        mass: Real,
+        density: Real,
+        pressure: Real,
+        id: u32,
+        rho0: Real,
+    ) {
+        let n = self.len();
+        let has = |len: usize| n > 0 && len == n;
+        if has(self.position_start.len()) {
+            self.position_start.push(position);
+        }
+        if has(self.velocity_start.len()) {
+            self.velocity_start.push(velocity);
+        }
+        if has(self.wall_velocity.len()) {
+            self.wall_velocity.push(Vector::zeros());
+        }
+        if has(self.normal.len()) {
+            self.normal.push(Vector::zeros());
+        }
+        if has(self.rest_density.len()) {
+            self.rest_density.push(rho0);
+        }
+        if has(self.density_rate.len()) {
+            self.density_rate.push(0.0);
+        }
+        if has(self.density_start.len()) {
+            self.density_start.push(density);
+        }
+        if has(self.acting_pressure.len()) {
+            self.acting_pressure.push(pressure);
+        }
+        self.position.push(position);
+        self.velocity.push(velocity);
+        self.acceleration.push(Vector::zeros());
+        self.density.push(density);
+        self.pressure.push(pressure);
+        self.mass.push(mass);
+        self.kind.push(FLUID);
+        self.id.push(id);
+    }
+
     /// Reorders every field by `perm` (new index → old index). The one place fields are permuted.
     pub fn permute(&mut self, perm: &[u32], scratch: &mut PermuteScratch<D>) {
         debug_assert_eq!(perm.len(), self.len());

@@ -42,6 +42,8 @@ use std::path::Path;
 const STEPS: usize = 10;
 /// Steps of the periodic channel (`periodic_channel_matches_the_cpu`).
 const PERIODIC_STEPS: usize = 30;
+/// Steps of the open channel (`open_channel_matches_the_cpu`): about 20 particles created.
+const OPEN_STEPS: usize = 40;
 /// Solid force tolerance, relative to the largest force of the run (module doc).
 const FORCE: f64 = 0.02;
 /// The same where velocity solves end each stage (module doc).
@@ -380,6 +382,27 @@ fn periodic_channel_matches_the_cpu() {
             &format!("{ROOT}/tests/scenes/poiseuille_periodic_2d.toml"),
             &["fluid_box.0.velocity=[0.5, 0.0]".to_string()],
             PERIODIC_STEPS,
+            FORCE,
+        );
+    }
+}
+
+/// Open boundaries (`sph::boundary::open`): the open channel (`scenes/open_channel_2d.toml`)
+/// with the fluid started at the inflow's 0.2 m/s, so that within the steps the inflow creates
+/// particles (about one per two steps) and the outflow removes them, and the device backend is
+/// reloaded from the host's fields every step (`Backend::reload`). The same particles, by id,
+/// on both backends.
+#[test]
+fn open_channel_matches_the_cpu() {
+    for device in devices() {
+        check(
+            device,
+            &format!("{ROOT}/scenes/open_channel_2d.toml"),
+            &[
+                "fluid_box.0.velocity=[0.2, 0.0]".to_string(),
+                "open_boundary.0.ramp=0.001".to_string(),
+            ],
+            OPEN_STEPS,
             FORCE,
         );
     }

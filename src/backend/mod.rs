@@ -120,6 +120,13 @@ pub trait Backend<const D: usize> {
     fn download(&mut self, _fields: &mut Fields<D>) -> Result<(), BackendError> {
         Ok(())
     }
+    /// Starts again from `fields`, which the host changed (`Simulation::reload_backend`: a
+    /// particle count changed, `solver::escape` and `solver::open`): the same kind of backend on
+    /// the same device, with every buffer sized and filled from `fields` as at its creation.
+    ///
+    /// # Errors
+    /// [`BackendError::Device`] when an allocation or the upload fails.
+    fn reload(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> Result<(), BackendError>;
     /// Waits until every stage launched so far has finished (for timings; a no-op on the CPU,
     /// whose stages return when done).
     fn synchronize(&mut self) {}

@@ -35,6 +35,7 @@ pub mod contact;
 pub mod flap;
 pub mod keep_out;
 pub mod motion;
+pub mod open;
 pub mod rigid;
 pub mod rigid_body;
 pub mod sea_maker;

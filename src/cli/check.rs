@@ -189,6 +189,20 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
             .collect();
         println!("  periodic         {}", periods.join(", "));
     }
+    for b in &scene.open_boundaries {
+        // `boundary::open`: the plane, what crosses it, the buffer's depth.
+        let axis = ["x", "y", "z"][b.axis];
+        let flow = match b.kind {
+            crate::scene::schema::OpenBoundaryKind::Inflow => {
+                format!("inflow, velocity {:?} m/s {}", b.velocity, b.profile.name())
+            }
+            crate::scene::schema::OpenBoundaryKind::Outflow => "outflow".into(),
+        };
+        println!(
+            "  open boundary    {axis} = {} m, {flow}, buffer {} layers",
+            b.min[b.axis], b.layers
+        );
+    }
     let pair_terms: Vec<&str> = scene.pair_terms.iter().map(|(t, _)| t.label()).collect();
     let plan = crate::solver::plan::plan(crate::run::plan_inputs(&scene));
     let names: Vec<&str> = plan.iter().map(|s| s.name()).collect();

@@ -447,6 +447,8 @@ fn record_step<const D: usize>(
             CsvValue::Float(e.max_surface_deficit),
             CsvValue::Int((sim.stats().correction.iterations - iterations_before) as i64),
             CsvValue::Int(report.removed as i64),
+            CsvValue::Int(report.created as i64),
+            CsvValue::Int(report.outflow as i64),
         ])?;
     }
     *state.limits.entry(name).or_default() += 1;

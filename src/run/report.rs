@@ -113,6 +113,8 @@ fn statistics<const D: usize>(
     }
     let extra = &mut summary.extra;
     extra.insert("removed_particles".into(), stats.removed_particles.into());
+    extra.insert("created_particles".into(), stats.created_particles.into());
+    extra.insert("outflow_particles".into(), stats.outflow_particles.into());
     extra.insert("fluid_mass".into(), sim.fluid_mass().into());
     extra.insert("memory_bytes".into(), (sim.heap_bytes() as u64).into());
     // The process's peak resident set (Linux), what `sph check`'s estimate is held to.

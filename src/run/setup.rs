@@ -32,6 +32,12 @@ pub fn simulation_from_scene<const D: usize>(scene: &Scene) -> Result<Simulation
         sim = sim.with_initial_pressure(&pressure)?;
     }
     sim.set_keep_out(keep_out_boxes::<D>(scene, &solids))?;
+    let open = scene
+        .open_boundaries
+        .iter()
+        .map(|b| b.boundary::<D>(scene.spacing))
+        .collect();
+    sim = sim.with_open_boundaries(open)?;
     Ok(sim)
 }
 

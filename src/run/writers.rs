@@ -22,7 +22,7 @@ use std::path::Path;
 pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
 
 /// Columns of `steps.csv`.
-const STEP_COLUMNS: [&str; 9] = [
+const STEP_COLUMNS: [&str; 11] = [
     "step",
     "t_s",
     "dt_s",
@@ -32,6 +32,8 @@ const STEP_COLUMNS: [&str; 9] = [
     "max_surface_deficit",
     "correction_iterations",
     "removed_particles",
+    "created_particles",
+    "outflow_particles",
 ];
 
 /// Output files of one run.

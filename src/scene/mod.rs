@@ -133,6 +133,57 @@ pub struct Scene {
     pub damping_zone: Option<DampingZoneSpec>,
     /// The periodic axes (`[periodic]`, `crate::periodic`); none without the table.
     pub periodic: crate::periodic::PeriodicAxes,
+    /// Inflow and outflow planes (`[[open_boundary]]`, `boundary::open`), in file order.
+    pub open_boundaries: Vec<OpenBoundarySpec>,
+}
+
+/// A validated `[[open_boundary]]` (`boundary::open`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OpenBoundarySpec {
+    /// Inflow or outflow.
+    pub kind: schema::OpenBoundaryKind,
+    /// The normal's axis.
+    pub axis: usize,
+    /// `+1` when the normal into the fluid is `+e_axis`, `−1` otherwise.
+    pub inward: f64,
+    /// Lower corner of the section \[m\]; along `axis`, the plane.
+    pub min: Vec<f64>,
+    /// Upper corner of the section \[m\]; along `axis`, the plane.
+    pub max: Vec<f64>,
+    /// Buffer depth in spacings.
+    pub layers: u32,
+    /// Inflow: mean velocity \[m/s\]; outflow: zeros.
+    pub velocity: Vec<f64>,
+    /// Inflow: the profile across the section.
+    pub profile: crate::boundary::open::Profile,
+    /// Inflow: free-surface height \[m\] on the last axis, if given.
+    pub level: Option<f64>,
+    /// Inflow: the velocity's rise time \[s\] (`(1 − cos(π t/T))/2`), if given.
+    pub ramp: Option<f64>,
+}
+
+impl OpenBoundarySpec {
+    /// The boundary as `boundary::open` uses it (f32, `D` components), at spacing `dx` \[m\].
+    pub fn boundary<const D: usize>(&self, dx: f64) -> crate::boundary::open::OpenBoundary<D> {
+        use crate::boundary::open::{Flow, OpenBoundary};
+        let vector = |v: &[f64]| crate::math::Vector::<D>::from_fn(|k, _| v[k] as crate::math::Real);
+        OpenBoundary {
+            flow: match self.kind {
+                schema::OpenBoundaryKind::Inflow => Flow::Inflow {
+                    velocity: vector(&self.velocity),
+                    profile: self.profile,
+                    level: self.level.map(|l| l as crate::math::Real),
+                    ramp: self.ramp,
+                },
+                schema::OpenBoundaryKind::Outflow => Flow::Outflow,
+            },
+            axis: self.axis,
+            inward: self.inward as crate::math::Real,
+            min: vector(&self.min),
+            max: vector(&self.max),
+            depth: (f64::from(self.layers) * dx) as crate::math::Real,
+        }
+    }
 }
 
 /// A validated `[damping_zone]` (`physics::damping_zone`).

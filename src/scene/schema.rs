@@ -19,6 +19,10 @@ pub use floating::{ContactFile, FloatingFile, HingeFile, MooringFile};
 mod periodic;
 pub use periodic::{AxisName, PeriodicFile};
 
+#[path = "schema_open.rs"]
+mod open;
+pub use open::{OpenBoundaryFile, OpenBoundaryKind};
+
 /// A physical effect switched on in a scene (`effects = [...]`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Effect {
@@ -227,6 +231,9 @@ pub struct SceneFile {
     pub damping_zone: Option<DampingZoneFile>,
     /// Periodic boundaries along some axes (`[periodic]`); absent: none.
     pub periodic: Option<PeriodicFile>,
+    /// Inflow and outflow planes (`[[open_boundary]]`); zero or more.
+    #[serde(default)]
+    pub open_boundary: Vec<OpenBoundaryFile>,
 }
 
 /// An axis-aligned box `[min, max]` \[m\].

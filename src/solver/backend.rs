@@ -155,6 +155,20 @@ impl<const D: usize> Simulation<D> {
         Ok(seconds)
     }
 
+    /// Builds the backend's state again from `fields` (after the host changed them: particles
+    /// removed or created), on the same backend and device (`Backend::reload`).
+    ///
+    /// # Errors
+    /// [`BackendError::Device`] when the device cannot take the fields.
+    pub(super) fn reload_backend(&mut self) -> Result<(), BackendError> {
+        let params = self.step_params();
+        self.backend.reload(&self.fields, &params)?;
+        self.fields_stale = false;
+        self.grid_fresh = false;
+        self.density_fresh = false;
+        Ok(())
+    }
+
     /// Brings `fields` up to date with the backend's state (a copy from the device for CUDA;
     /// nothing for the CPU). Call before reading `fields` after steps.
     ///

@@ -147,8 +147,10 @@ impl<const D: usize> Simulation<D> {
     pub fn restore(&mut self, checkpoint: Checkpoint<D>) -> Result<(), CheckpointError> {
         let mismatch = |reason: String| CheckpointError::Mismatch { reason };
         let (ours, theirs) = (&self.fields, &checkpoint.fields);
-        // Fluid particles that left the domain may have been removed (`solver::escape`).
-        if theirs.len() > ours.len() {
+        // Fluid particles that left the domain may have been removed (`solver::escape`), and
+        // open boundaries remove and create them (`solver::open`).
+        let created_mass = self.open.as_ref().map(|o| o.template.mass.to_bits());
+        if theirs.len() > ours.len() && created_mass.is_none() {
             return Err(mismatch(format!(
                 "{} particles in the checkpoint, {} in the scene",
                 theirs.len(),
@@ -168,9 +170,15 @@ impl<const D: usize> Simulation<D> {
             by_id[id as usize] = i;
         }
         let mut seen = vec![false; ours.len()];
+        let mut created = Vec::new();
         for k in 0..theirs.len() {
             let id = theirs.id[k] as usize;
             let Some(&i) = by_id.get(id) else {
+                // A particle an inflow created: fluid, of the lattice mass, once.
+                if created_mass == Some(theirs.mass[k].to_bits()) && theirs.kind[k] == FLUID {
+                    created.push(id);
+                    continue;
+                }
                 return Err(mismatch(format!("particle id {id} is not in the scene")));
             };
             if std::mem::replace(&mut seen[id], true) {
@@ -182,13 +190,16 @@ impl<const D: usize> Simulation<D> {
                 )));
             }
         }
+        created.sort_unstable();
+        if let Some(w) = created.windows(2).find(|w| w[0] == w[1]) {
+            return Err(mismatch(format!("particle id {} appears twice", w[0])));
+        }
         if let Some(i) = (0..ours.len()).find(|&i| !seen[ours.id[i] as usize] && ours.kind[i] != FLUID) {
             return Err(mismatch(format!(
                 "solid particle {} of the scene is not in the checkpoint",
                 ours.id[i]
             )));
         }
-        let kind = self.backend_kind();
         let no_slip = !self.fields.wall_velocity.is_empty();
         // The phases' rest densities are the scene's (the masses matched above), by id.
         let rest_density: Vec<crate::math::Real> = if ours.rest_density.is_empty() {
@@ -242,7 +253,7 @@ impl<const D: usize> Simulation<D> {
         self.fields_stale = false;
         // The solids stand where the checkpoint has them; the next stage places them again.
         self.solids_placed_at = None;
-        self.use_backend(kind)?;
+        self.reload_backend()?;
         Ok(())
     }
 }

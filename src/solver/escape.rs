@@ -4,7 +4,7 @@
 //! Removal happens at the start of a step, on the host: the fields are synced, every fluid
 //! particle outside the domain (the test `StateExtremes::escaped` applies) is dropped from
 //! every field in order ([`crate::fields::Fields::keep`]), and the backend is built again from
-//! the remaining particles, as on a change of backend. The count goes to the step's report,
+//! the remaining particles on its device (`Backend::reload`). The count goes to the step's report,
 //! the run's statistics, `steps.csv` and `summary.json`. A checkpoint then holds fewer
 //! particles than the scene; restoring it accepts that as long as every missing particle is
 //! fluid.
@@ -51,10 +51,9 @@ impl<const D: usize> Simulation<D> {
         if removed == 0 {
             return Ok(0);
         }
-        let kind = self.backend_kind();
         self.fields.keep(&kept);
         self.stats.removed_particles += removed;
-        self.use_backend(kind)
+        self.reload_backend()
             .map_err(|source| StepError::Backend { step, source })?;
         Ok(removed)
     }

@@ -94,6 +94,8 @@ pub struct Simulation<const D: usize> {
     pub(super) lightest_rho0: f64,
     /// One fluid phase, or several from [`Simulation::with_phases`] (`StepParams::phases`).
     pub(super) phases: Phases,
+    /// Open boundaries (`solver::open`); `None`: the particle count only falls (escapes).
+    pub(super) open: Option<super::open::OpenBoundaries<D>>,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -225,6 +227,7 @@ impl<const D: usize> Simulation<D> {
             wall_speed: 0.0,
             lightest_rho0: config.rho0,
             phases: Phases::Single,
+            open: None,
             config,
         })
     }

@@ -28,6 +28,11 @@ pub struct StepReport {
     /// Fluid particles removed at the start of the step for having left the domain
     /// ([`escape::EscapePolicy::Remove`](super::escape::EscapePolicy::Remove)).
     pub removed: u64,
+    /// Fluid particles created at the start of the step behind an inflow ([`open`](super::open)).
+    pub created: u64,
+    /// Fluid particles removed at the start of the step past an outflow's buffer
+    /// ([`open`](super::open)).
+    pub outflow: u64,
 }
 
 /// Density statistics over a run, from the state at the start of every step (fluid particles;
@@ -53,6 +58,12 @@ pub struct RunStats {
     /// Fluid particles removed for having left the domain ([`escape`](super::escape)).
     #[serde(default)]
     pub removed_particles: u64,
+    /// Fluid particles created behind an inflow ([`open`](super::open)).
+    #[serde(default)]
+    pub created_particles: u64,
+    /// Fluid particles removed past an outflow's buffer ([`open`](super::open)).
+    #[serde(default)]
+    pub outflow_particles: u64,
 }
 
 /// What the position correction did over a run.

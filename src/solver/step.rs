@@ -68,7 +68,11 @@ impl<const D: usize> Simulation<D> {
             limit: TimeStepLimit::Fixed,
             extremes: StateExtremes::default(),
             removed: 0,
+            created: 0,
+            outflow: 0,
         };
+        // Open boundaries: buffer particles set, created and removed (`solver::open`).
+        let open = self.update_open_boundaries()?;
         let solids = self.solid_names.len();
         // Until this step stores its start (SSP-RK3), the guard has no start to go by.
         self.step_start_stored = false;
@@ -144,6 +148,8 @@ impl<const D: usize> Simulation<D> {
                     Stage::TimeStep => {
                         if k == 0 {
                             report = self.choose_time_step(&params, end_time)?;
+                            report.created = open.created;
+                            report.outflow = open.removed;
                         }
                     }
                     Stage::Integrate | Stage::RkStage => {

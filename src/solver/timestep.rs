@@ -268,6 +268,8 @@ impl<const D: usize> Simulation<D> {
             limit,
             extremes: e,
             removed,
+            created: 0,
+            outflow: 0,
         })
     }
 }

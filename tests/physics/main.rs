@@ -14,6 +14,7 @@ mod floating;
 mod focused;
 mod gauges;
 mod multiphase;
+mod open_channel;
 mod poiseuille;
 mod poiseuille_periodic;
 mod rotating_frame;

@@ -127,6 +127,36 @@ fn floating_body_restart_is_bit_identical() {
     straight_and_restarted_in(scene, "floating", &[], 60, 60);
 }
 
+/// Open boundaries (`scenes/open_channel_2d.toml`, the fluid moving at the inflow's speed from
+/// the start): the particles created behind the inflow and removed past the outflow between the
+/// checkpoint and the end are the same, with the same ids, in the same order.
+#[test]
+fn open_boundary_restart_is_bit_identical() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/open_channel_2d.toml");
+    for integrator in ["symplectic_euler", "rk3"] {
+        let integrator = format!("solver.integrator={integrator}");
+        let sets = [
+            "fluid_box.0.velocity=[0.2, 0.0]",
+            "open_boundary.0.ramp=0.001",
+            &integrator,
+        ];
+        straight_and_restarted_in(scene, "open_boundary", &sets, 60, 60);
+        // Particles were created and removed after the checkpoint.
+        let (mut half, mut whole) = (sim_of(scene, &sets), sim_of(scene, &sets));
+        steps(&mut half, 60);
+        steps(&mut whole, 120);
+        let (h, w) = (half.stats(), whole.stats());
+        assert!(
+            w.created_particles > h.created_particles && w.outflow_particles > h.outflow_particles,
+            "{integrator}: created {} then {}, removed {} then {}",
+            h.created_particles,
+            w.created_particles,
+            h.outflow_particles,
+            w.outflow_particles
+        );
+    }
+}
+
 #[test]
 fn corrected_restart_is_bit_identical() {
     straight_and_restarted("corrected", &["particles.spacing=0.01"], 15, 15);

@@ -7,6 +7,7 @@ mod common;
 
 mod flap;
 mod lattice;
+mod open_boundary;
 mod periodic;
 mod scene;
 mod scene_fuzz;

@@ -25,6 +25,7 @@ mod density;
 mod density_rate;
 mod forces;
 mod integrate;
+mod open_boundary;
 mod rigid_motion;
 mod solid_forces;
 mod sort_by_cell;

@@ -8,7 +8,8 @@
 
 use super::params::StepParams;
 use super::{
-    Backend, CorrectionError, ForceTerms, SolidForceSource, SolidLoad, StateExtremes, Sweep, WallModel,
+    Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, SolidLoad, StateExtremes, Sweep,
+    WallModel,
 };
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
@@ -119,6 +120,11 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn kind(&self) -> super::BackendKind {
         super::BackendKind::Cpu
+    }
+
+    fn reload(&mut self, _fields: &Fields<D>, _params: &StepParams<D>) -> Result<(), BackendError> {
+        *self = Self::new();
+        Ok(())
     }
 
     fn heap_bytes(&self) -> usize {

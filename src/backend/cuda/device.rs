@@ -358,13 +358,19 @@ mod wall_pressure;
 #[path = "wrap_positions.rs"]
 mod wrap_positions;
 
-impl<const D: usize, K: Launch<D>> Backend<D> for CudaBackend<D, K> {
+impl<const D: usize, K: Launch<D> + Clone> Backend<D> for CudaBackend<D, K> {
     fn name(&self) -> &'static str {
         "cuda"
     }
 
     fn kind(&self) -> crate::backend::BackendKind {
         crate::backend::BackendKind::Cuda
+    }
+
+    fn reload(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> Result<(), BackendError> {
+        // The device and its compiled kernels stay; every buffer is made again.
+        *self = Self::on_device(self.dev.clone(), fields, params)?;
+        Ok(())
     }
 
     fn heap_bytes(&self) -> usize {

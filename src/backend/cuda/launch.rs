@@ -124,6 +124,7 @@ pub trait Memory {
 
 /// A GPU through cudarc: one stream, and the kernels of `kernels/` compiled for it, in the order
 /// of [`KERNEL_NAMES`].
+#[derive(Clone)]
 pub struct Gpu {
     stream: Arc<CudaStream>,
     functions: Vec<CudaFunction>,

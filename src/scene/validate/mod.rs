@@ -31,6 +31,7 @@ mod geometry;
 mod keys;
 mod memory;
 mod motion;
+mod open;
 mod periodic;
 mod probes;
 mod sea;
@@ -491,6 +492,15 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
         None => Some(crate::periodic::PeriodicAxes::NONE),
     };
 
+    let mut open_boundaries = Vec::new();
+    let mut open_ok = true;
+    for (i, b) in file.open_boundary.iter().enumerate() {
+        match open::check_open_boundary(&mut c, i, b, dim, spacing, h) {
+            Some(b) => open_boundaries.push(b),
+            None => open_ok = false,
+        }
+    }
+
     let resolved = (|| {
         Some(Scene {
             name: file.name.clone(),
@@ -526,13 +536,15 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
             probes,
             damping_zone: damping_zone?,
             periodic: periodic?,
+            open_boundaries,
         })
     })();
     match resolved {
-        Some(scene) if boxes_ok && probes_ok => {
+        Some(scene) if boxes_ok && probes_ok && open_ok => {
             // Geometry is checked even when other keys have problems, so
             // that everything is reported at once.
             check_geometry(&mut c, &scene);
+            open::check_open_geometry(&mut c, &scene);
             // Values the f32 solver cannot hold, then values that cannot finish (whose
             // estimates need the magnitudes to hold).
             let magnitudes = super::magnitude::check(&scene);
