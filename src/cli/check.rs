@@ -157,11 +157,17 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
     } else {
         String::new()
     };
-    let fluid = if solver.per_fluid > 0 {
+    let mut fluid = if solver.per_fluid > 0 {
         format!(" and {} more per fluid particle", solver.per_fluid)
     } else {
         String::new()
     };
+    if solver.per_solid > 0 {
+        fluid += &format!(
+            ", {} more per solid particle for floating contact",
+            solver.per_solid
+        );
+    }
     println!(
         "  memory needed    {:>12.1} MiB ({} bytes per particle with {}{fluid}{frames}; {:.1} MiB for the program)",
         bytes as f64 / (1024.0 * 1024.0),

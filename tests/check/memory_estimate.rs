@@ -2,8 +2,8 @@
 //! particle and one per fluid particle by dimension and solver, and the frame writer's share)
 //! against the peak resident set a run reaches (`summary.json` `extra.peak_resident_bytes`,
 //! Linux): within 10 % on every shipped scene with both solvers, as the scene runs (frames
-//! written), on 2 threads. Measured on the Xeon 2-core VM (commit after 215e6e3, base 7.75 MiB):
-//! −6.4 % to +4.3 %, with about 3 % run-to-run spread.
+//! written), on 2 threads. The small scenes' peaks move with the machine's load by up to
+//! 0.6 MiB (`scene::validate::memory::BASE_BYTES`), about 7 % of theirs.
 
 use crate::common::run::SPH as BIN;
 use sph::output::read_summary;

@@ -11,6 +11,7 @@ mod basics;
 mod dam_break_pressure;
 mod density_diffusion;
 mod floating;
+mod floating_3d;
 mod focused;
 mod gauges;
 mod multiphase;

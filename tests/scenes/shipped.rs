@@ -8,7 +8,7 @@ use sph::run::{RunOptions, run_scene, simulation_from_scene};
 use sph::scene::{count_particles, load_scene};
 use std::path::Path;
 
-const SHIPPED: [&str; 17] = [
+const SHIPPED: [&str; 19] = [
     "scenes/dam_break_2d.toml",
     "scenes/dam_break_wall_2d.toml",
     "scenes/droplet_2d.toml",
@@ -23,8 +23,10 @@ const SHIPPED: [&str; 17] = [
     "scenes/wave_flap_2d.toml",
     "scenes/floating_box_2d.toml",
     "scenes/floating_box_waves_2d.toml",
+    "scenes/floating_box_3d.toml",
     "scenes/wave_flume_column_3d.toml",
     "scenes/wave_flume_focused_2d.toml",
+    "scenes/wave_flume_irregular_2d.toml",
     "scenes/open_channel_2d.toml",
 ];
 

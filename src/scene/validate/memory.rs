@@ -6,11 +6,13 @@
 use super::*;
 
 /// The resident memory of the process before particles \[B\]: the program, its libraries, the
-/// worker threads' stacks and the allocator's arenas, 7.75 MiB. It grows with the program: at
-/// 7.5 MiB the estimate's error over the shipped scenes (`tests/check/memory_estimate.rs`, 2
-/// threads, frames written, Xeon 2-core, commit 215e6e3) ran from −10.2 % to +2.5 %, centred
-/// near −3.5 %, the small scenes lowest (`hard/rest_2d`, 1,528 particles, peaks at 7.98 MiB).
-pub const BASE_BYTES: u64 = 31 << 18;
+/// worker threads' stacks and the allocator's arenas, 8.25 MiB. It grows with the program, and
+/// it varies with the machine's load: `scenes/hydrostatic_2d.toml` (2 threads, 0.003 s, AMD
+/// EPYC 2-core, commit 781e462) peaks at 8.49–8.57 MiB alone and at 8.65–9.19 MiB beside three
+/// more runs (with one malloc arena as well, so not the arenas); the estimate at 7.75 MiB then
+/// read the small 2D scenes 10–11 % low in `tests/check/memory_estimate.rs` under load. 8.25 MiB
+/// puts the small scenes about 4 % high alone and 6 % low under such load.
+pub const BASE_BYTES: u64 = 33 << 18;
 
 /// Estimated peak resident memory \[B\] that each particle, and each fluid particle on top,
 /// adds to a run.
@@ -20,7 +22,16 @@ pub struct ParticleBytes {
     pub per_particle: u64,
     /// Further bytes per fluid particle.
     pub per_fluid: u64,
+    /// Further bytes per solid particle.
+    pub per_solid: u64,
 }
+
+/// Bytes per solid particle that each floating body with contact holds
+/// (`boundary::contact::BodyContact`): the fixed solids' positions (24 B), their indices in
+/// the hash grid (4 B) and a grid cell per particle at most (its key and list, 48 B in the
+/// map, with its share of the map's control bytes and load, about 60 B, and the list's own
+/// allocation, 32 B): 120 B.
+pub const CONTACT_BYTES_PER_SOLID: u64 = 120;
 
 /// The solver's state in a run in `dim` dimensions with `solver` \[B\]: the particle fields
 /// (allocated to their exact size), the start-of-step copies, the grid's keys, sort pairs and
@@ -47,6 +58,7 @@ pub fn particle_bytes(dim: usize, solver: crate::scene::SolverKind) -> ParticleB
     ParticleBytes {
         per_particle,
         per_fluid,
+        per_solid: 0,
     }
 }
 
@@ -67,6 +79,13 @@ pub fn solver_particle_bytes(scene: &Scene) -> ParticleBytes {
     if scene.solver.kind == crate::scene::SolverKind::Corrected {
         bytes.per_particle += std::mem::size_of::<crate::math::Real>() as u64;
     }
+    let touching = scene
+        .solids
+        .iter()
+        .filter_map(|s| s.floating.as_ref())
+        .filter(|f| f.contact != crate::boundary::contact::WallContact::None)
+        .count() as u64;
+    bytes.per_solid += touching * CONTACT_BYTES_PER_SOLID;
     bytes
 }
 
@@ -100,6 +119,7 @@ pub fn run_bytes(particles: u64, fluid: u64, bytes: ParticleBytes) -> Option<u64
     particles
         .checked_mul(bytes.per_particle)?
         .checked_add(fluid.checked_mul(bytes.per_fluid)?)?
+        .checked_add(particles.saturating_sub(fluid).checked_mul(bytes.per_solid)?)?
         .checked_add(BASE_BYTES)
 }
 
