@@ -21,6 +21,7 @@ pub mod bench;
 pub mod boundary;
 pub mod charts;
 pub mod cli;
+pub mod distributed;
 pub mod error;
 pub mod fields;
 pub mod geometry;

@@ -1,0 +1,31 @@
+//! Errors of the distributed run: a peer that stopped answering, a packet that does not parse.
+
+use thiserror::Error;
+
+/// What can go wrong between ranks.
+#[derive(Debug, Error, Clone, PartialEq, Eq)]
+pub enum DistributedError {
+    /// Another rank stopped (crashed, was killed, or returned early): the whole run must stop.
+    #[error("rank {rank} stopped answering (it failed or was killed); the run stops on every rank")]
+    PeerLost {
+        /// The rank that is gone.
+        rank: usize,
+    },
+    /// A packet of particles ended early or had bytes left over.
+    #[error("malformed particle packet: {reason}")]
+    Malformed {
+        /// What was wrong.
+        reason: &'static str,
+    },
+    /// Two ranks hold different sets of fields, so their particles cannot be merged.
+    #[error("particle packet with fields {theirs:#x} where this rank holds {ours:#x}")]
+    FieldMismatch {
+        /// This rank's field mask (`packet::field_mask`).
+        ours: u32,
+        /// The packet's.
+        theirs: u32,
+    },
+    /// The MPI library reported an error.
+    #[error("MPI: {0}")]
+    Mpi(String),
+}
