@@ -19,6 +19,7 @@ pub mod encoding;
 pub mod frame;
 pub mod plot;
 pub mod pvd;
+pub mod pvtu;
 pub mod safe_file;
 pub mod summary;
 pub mod surface_series;

@@ -10,6 +10,7 @@ mod common;
 mod csv;
 mod formats;
 mod pictures;
+mod pieces;
 mod plot;
 mod readers;
 mod surface;
