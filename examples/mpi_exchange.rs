@@ -16,16 +16,18 @@ use sph::distributed::mpi_world::MpiWorld;
 use sph::distributed::{Communicator, Decomposition, Method, Region, gather_ghosts, migrate};
 use sph::fields::Fields;
 use sph::math::Vector;
+use sph::physics::pcg::Pcg32;
 
-/// A small deterministic generator (xorshift): every rank draws the same particle set.
-struct Rng(u64);
+/// Uniform draws in [0, 1) from the library's PCG32: every rank draws the same particle set.
+struct Rng(Pcg32);
 
 impl Rng {
+    fn new(seed: u64) -> Self {
+        Self(Pcg32::new(seed, 0))
+    }
+
     fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+        self.0.next_f64() as f32
     }
 }
 
@@ -33,7 +35,7 @@ const N: usize = 4000;
 const WIDTH: f32 = 0.06;
 
 fn particles() -> Fields<2> {
-    let mut rng = Rng(29);
+    let mut rng = Rng::new(29);
     let mut fields = Fields::with_capacity(N);
     for k in 0..N {
         let x = Vector::<2>::new(2.0 * rng.next(), rng.next());
@@ -86,7 +88,7 @@ fn main() {
             .map(|k| k as u32)
             .collect::<Vec<_>>(),
     );
-    let mut rng = Rng(3 + rank as u64);
+    let mut rng = Rng::new(3 + rank as u64);
     let mut moved = 0;
     for round in 0..41 {
         if round > 0 {

@@ -88,7 +88,7 @@ fn heavy_migration_loses_and_duplicates_nothing_over_many_rounds() {
     let results = LocalWorld::run(3, |comm| {
         let r = comm.rank();
         let mut mine = slice(&all, r * n / 3..(r + 1) * n / 3);
-        let mut rng = Rng(17 + r as u64);
+        let mut rng = Rng::new(17 + r as u64);
         let mut moved = 0;
         for round in 0..rounds {
             let sway = if round % 2 == 0 { 0.4 } else { -0.4 };

@@ -2,17 +2,20 @@
 
 use sph::fields::Fields;
 use sph::math::Vector;
+use sph::physics::pcg::Pcg32;
 
-/// A small deterministic generator (xorshift), so that the tests need no seed.
-pub struct Rng(pub u64);
+/// Uniform draws in [0, 1) from the library's PCG32, so that the tests need no seed.
+pub struct Rng(Pcg32);
 
 impl Rng {
+    /// The generator of `seed`.
+    pub fn new(seed: u64) -> Self {
+        Self(Pcg32::new(seed, 0))
+    }
+
     /// A uniform draw in [0, 1).
     pub fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+        self.0.next_f64() as f32
     }
 }
 
@@ -20,7 +23,7 @@ impl Rng {
 /// distinct bits (velocity, mass, density, pressure, the step-start copies and the acting
 /// pressure), so that a field swapped or dropped in transit shows; ids 0..n.
 pub fn random_fields<const D: usize>(n: usize, seed: u64) -> Fields<D> {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut fields = Fields::with_capacity(n);
     let extent = [2.0, 1.0, 0.5];
     for k in 0..n {
