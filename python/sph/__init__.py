@@ -18,14 +18,15 @@ import os
 import sys
 import time
 from pathlib import Path
-from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _sph
-from ._sph import CUDA_FEATURE, SceneError, SolverError, SphError, __version__
+from ._sph import CUDA_FEATURE, SceneError, SolverError, SphError, __version__  # noqa: F401
 
 __all__ = [
+    "__version__",
     "CUDA_FEATURE",
     "RunResult",
     "Scene",
@@ -114,13 +115,13 @@ class _Progress:
             self.line = sys.stderr.isatty()
             return
         total = max(end - start, 0.0)
-        self.bar = tqdm(total=total, unit="s", desc=label or "sph", leave=False,
-                        bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {postfix} [{elapsed}<{remaining}]")
+        self.bar = tqdm(total=total, unit="s", leave=False,
+                        bar_format="{percentage:3.0f}%|{bar}| {desc} [{elapsed}<{remaining}]")
 
     def update(self, t: float, steps: int) -> None:
         if self.bar is not None:
             now = min(t, self.end) - self.start
-            self.bar.set_postfix_str(f"{t:.4f}/{self.end:g} s, {steps} steps", refresh=False)
+            self.bar.set_description_str(f"{self.label}t = {t:.4f}/{self.end:g} s, {steps} steps", refresh=False)
             self.bar.update(now - self.shown)
             self.shown = now
         elif self.line:
