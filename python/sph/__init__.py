@@ -257,9 +257,13 @@ class Simulation:
         return self
 
     def fields(self) -> Dict[str, np.ndarray]:
-        """The particle fields as read-only arrays over the simulation's memory (no copy), valid
-        until the next step: ``position``, ``velocity`` (N, D) float32; ``density``, ``pressure``,
-        ``mass`` (N,) float32; ``kind``, ``id`` (N,) uint32."""
+        """The particle fields as read-only arrays over the simulation's memory (no copy):
+        ``position``, ``velocity`` (N, D) float32; ``density``, ``pressure``, ``mass`` (N,)
+        float32; ``kind``, ``id`` (N,) uint32; ``rest_density`` with several fluid phases.
+
+        The arrays are a snapshot of the state now, valid for as long as they live. Holding them
+        across a step costs one copy of the fields in that step (the step goes on with the copy);
+        call ``fields()`` again after a step for the new state, without a copy."""
         return self._native.fields()
 
     def forces(self) -> Dict[str, Any]:

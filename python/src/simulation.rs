@@ -5,10 +5,17 @@
 //! it (`run::record_step`): the forces on the named solids and the probes, fed the same values
 //! in the same order, so the records equal the command line's files.
 //!
-//! Fields are NumPy arrays that borrow the simulation's host memory: no copy, read-only, and
-//! valid until the next step (a step may reorder the particles, and one that removes or adds
-//! particles may move the memory); `.copy()` keeps a field. On the CUDA backend the fields are
-//! first downloaded to the host copy, which the arrays then borrow.
+//! Fields are NumPy arrays that borrow the simulation's host memory: no copy, read-only, each a
+//! snapshot of the state when `fields()` was called, valid for as long as it lives. The arrays
+//! of one `fields()` (and of every further call before the next step) share a `Generation`,
+//! which owns nothing while they show the simulation's current memory. Before anything writes
+//! into the host fields (a step, which may reorder, remove or add particles and swap buffers
+//! with scratch ones), a generation with arrays alive takes the field vectors out of the
+//! simulation (`detach_views`): a `Vec`'s heap buffer stays where it is when the `Vec` moves, so
+//! the arrays keep reading valid memory with the values they were taken with, and the
+//! simulation goes on with copies. Holding arrays across a step thus costs one copy of the
+//! fields in that step; arrays dropped before it cost nothing. On the CUDA backend the fields
+//! are first downloaded to the host copy, which the arrays then borrow.
 
 use crate::errors::{from_lib, to_py};
 use crate::scene::PyScene;
@@ -21,6 +28,8 @@ use sph::probe::{ProbeLog, column_name};
 use sph::run::AnySimulation;
 use sph::scene::Scene;
 use sph::solver::Simulation;
+use std::any::Any;
+use std::sync::{Arc, Mutex, Weak};
 
 /// Calls `$body` with `$s` bound to the simulation of either dimension.
 macro_rules! each_dim {
@@ -67,12 +76,76 @@ unsafe impl Send for State {}
 // that steps or syncs takes the exclusive borrow.
 unsafe impl Sync for State {}
 
+/// The field vectors a generation of arrays took out of the simulation (`take_fields`).
+type Held = Box<dyn Any + Send>;
+
+/// The memory behind the arrays of one generation of `fields()`: nothing while they show the
+/// simulation's current fields, the vectors they point into once the simulation moved on.
+#[derive(Default)]
+struct Generation {
+    held: Mutex<Option<Held>>,
+}
+
+/// The NumPy base of every array of one generation: keeps the generation, hence the memory the
+/// arrays read, alive for as long as any of them lives.
+#[pyclass(name = "FieldMemory", module = "sph._sph", frozen)]
+struct FieldGuard {
+    _generation: Arc<Generation>,
+}
+
 /// A scene's simulation, stepped from Python.
 #[pyclass(name = "Simulation", module = "sph._sph", subclass)]
 pub struct PySimulation {
     state: State,
     scene: Scene,
     pool: rayon::ThreadPool,
+    /// The generation of the arrays showing the current fields, while any is alive.
+    views: Weak<Generation>,
+}
+
+impl PySimulation {
+    /// Hands the field vectors to the arrays of the current generation if any is alive, the
+    /// simulation keeping copies; after this, nothing outside the simulation points into its
+    /// fields. Called before anything that writes into them.
+    fn detach_views(&mut self) {
+        if let Some(generation) = self.views.upgrade() {
+            let held = each_dim!(&mut self.state.sim, s => take_fields(&mut s.fields));
+            *generation.held.lock().unwrap_or_else(|e| e.into_inner()) = Some(held);
+        }
+        self.views = Weak::new();
+    }
+}
+
+impl Drop for PySimulation {
+    /// Arrays outliving the simulation keep its fields' memory.
+    fn drop(&mut self) {
+        if let Some(generation) = self.views.upgrade() {
+            let held = each_dim!(&mut self.state.sim, s => {
+                let fields = std::mem::take(&mut s.fields);
+                Box::new(fields) as Held
+            });
+            *generation.held.lock().unwrap_or_else(|e| e.into_inner()) = Some(held);
+        }
+    }
+}
+
+/// The vectors `fields()` hands out, moved out of `f` (their heap buffers stay where they are)
+/// and replaced there by copies.
+fn take_fields<const D: usize>(f: &mut sph::fields::Fields<D>) -> Held {
+    fn take<T: Clone>(v: &mut Vec<T>) -> Vec<T> {
+        let copy = v.clone();
+        std::mem::replace(v, copy)
+    }
+    Box::new((
+        take(&mut f.position),
+        take(&mut f.velocity),
+        take(&mut f.density),
+        take(&mut f.pressure),
+        take(&mut f.mass),
+        take(&mut f.rest_density),
+        take(&mut f.kind),
+        take(&mut f.id),
+    ))
 }
 
 /// The backend named `name` (`cpu` or `cuda`).
@@ -208,13 +281,13 @@ impl FieldMemory {
 /// A read-only 1-D array over `n` values at `ptr`, kept alive by `owner`.
 ///
 /// # Safety
-/// `ptr` must point to `n` initialised values owned by `owner`'s simulation.
+/// `ptr` must point to `n` initialised values that stay where they are while `owner` lives.
 unsafe fn borrowed_1d<'py, T: Element>(
-    owner: &Bound<'py, PySimulation>,
+    owner: &Bound<'py, PyAny>,
     ptr: *const T,
     n: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
-    // SAFETY: the caller's contract; `owner` is the array's base, so the simulation outlives it.
+    // SAFETY: the caller's contract; `owner` is the array's base, so it outlives the array.
     let array = unsafe {
         let view = ArrayView1::from_shape_ptr(n, ptr);
         PyArray1::borrow_from_array(&view, owner.clone().into_any())
@@ -226,14 +299,15 @@ unsafe fn borrowed_1d<'py, T: Element>(
 /// A read-only (n, dim) array at `ptr`, kept alive by `owner`.
 ///
 /// # Safety
-/// `ptr` must point to `n·dim` initialised values owned by `owner`'s simulation.
+/// `ptr` must point to `n·dim` initialised values that stay where they are while `owner`
+/// lives.
 unsafe fn borrowed_2d<'py>(
-    owner: &Bound<'py, PySimulation>,
+    owner: &Bound<'py, PyAny>,
     ptr: *const f32,
     n: usize,
     dim: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
-    // SAFETY: the caller's contract; `owner` is the array's base, so the simulation outlives it.
+    // SAFETY: the caller's contract; `owner` is the array's base, so it outlives the array.
     let array = unsafe {
         let view = ArrayView2::from_shape_ptr((n, dim), ptr);
         PyArray2::borrow_from_array(&view, owner.clone().into_any())
@@ -254,7 +328,12 @@ impl PySimulation {
         let state = py
             .detach(|| pool.install(|| build(&scene, kind)))
             .map_err(from_lib)?;
-        Ok(Self { state, scene, pool })
+        Ok(Self {
+            state,
+            scene,
+            pool,
+            views: Weak::new(),
+        })
     }
 
     /// Takes one step towards `until` [s] (default: the scene's end time; the step is shortened
@@ -264,6 +343,7 @@ impl PySimulation {
     fn step<'py>(&mut self, py: Python<'py>, until: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
         let end = self.scene.end_time;
         let until = until.unwrap_or(end);
+        self.detach_views();
         let State {
             sim,
             probes,
@@ -331,30 +411,52 @@ impl PySimulation {
     /// `position` and `velocity` (N, D) float32 [m, m/s], `density` [kg/m^3], `pressure` [Pa],
     /// `mass` [kg] (N,) float32, `rest_density` (N,) float32 with several fluid phases (else
     /// absent), `kind` (N,) uint32 (0 fluid, k+1 solid k) and `id` (N,) uint32 (stable ids, as
-    /// in the frames). Valid until the next step: copy what you keep.
+    /// in the frames). A snapshot of the state now, valid for as long as the arrays live;
+    /// holding them across a step costs one copy of the fields in that step.
     fn fields<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let py = slf.py();
-        let memory = {
+        let (memory, generation) = {
             let mut this = slf.borrow_mut();
-            each_dim!(&mut this.state.sim, s => {
+            let this = &mut *this;
+            // Between steps the host fields are in sync once arrays exist (they were taken after
+            // a sync, and only a step makes them stale), so this writes into no array's memory.
+            let memory = each_dim!(&mut this.state.sim, s => {
                 s.sync_fields().map_err(from_lib)?;
                 FieldMemory::of(&s.fields)
-            })
+            });
+            let generation = match this.views.upgrade() {
+                Some(generation) => generation,
+                None => {
+                    let generation = Arc::new(Generation::default());
+                    this.views = Arc::downgrade(&generation);
+                    generation
+                }
+            };
+            (memory, generation)
         };
+        let guard = Bound::new(
+            py,
+            FieldGuard {
+                _generation: generation,
+            },
+        )?
+        .into_any();
         let dict = PyDict::new(py);
         let n = memory.n;
         // SAFETY: each pointer is the start of a field of `n` entries (`n·dim` for vectors) of
-        // the simulation `slf` holds, read under its borrow just now; the arrays keep `slf`
-        // alive, and the simulation's memory stays where it is until its next step.
+        // the simulation `slf` holds, read under its borrow just now. `guard`, every array's
+        // base, holds the generation the simulation points to, so before the simulation next
+        // writes into its fields or is dropped (`detach_views`, `drop`) it moves these vectors
+        // into the generation, where their heap buffers stay put until the last array is gone.
         unsafe {
             for (name, ptr) in memory.vectors {
-                dict.set_item(name, borrowed_2d(slf, ptr, n, memory.dim)?)?;
+                dict.set_item(name, borrowed_2d(&guard, ptr, n, memory.dim)?)?;
             }
             for (name, ptr) in memory.reals {
-                dict.set_item(name, borrowed_1d(slf, ptr, n)?)?;
+                dict.set_item(name, borrowed_1d(&guard, ptr, n)?)?;
             }
             for (name, ptr) in memory.indices {
-                dict.set_item(name, borrowed_1d(slf, ptr, n)?)?;
+                dict.set_item(name, borrowed_1d(&guard, ptr, n)?)?;
             }
         }
         Ok(dict)
