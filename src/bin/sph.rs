@@ -13,25 +13,7 @@ fn main() {
         sph::run::out_of_memory::fail_allocations_above(bytes);
     }
     if let Err(e) = sph::cli::run(std::env::args_os()) {
-        eprintln!("error: {}", one_line(&e));
+        eprintln!("error: {}", sph::cli::one_line(&e));
         std::process::exit(sph::cli::signals::exit_status(&e));
     }
-}
-
-/// The error and its causes on one line, `outer: inner: ...`, leaving out a cause whose text the
-/// line already holds (the library's errors name their source in their own message, so `{:#}`
-/// would print an I/O error two or three times).
-fn one_line(e: &anyhow::Error) -> String {
-    let mut line = String::new();
-    for cause in e.chain() {
-        let text = cause.to_string();
-        if line.contains(&text) {
-            continue;
-        }
-        if !line.is_empty() {
-            line.push_str(": ");
-        }
-        line.push_str(&text);
-    }
-    line
 }

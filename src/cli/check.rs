@@ -5,6 +5,7 @@ use crate::scene::{
     generate_reported, run_bytes, scene_particle_bytes, skipped_references, solver_particle_bytes,
 };
 use anyhow::Context;
+use std::fmt::Write;
 use std::path::Path;
 
 /// Largest scene (particles before trimming) whose particles `check` generates to report the
@@ -67,11 +68,12 @@ fn shape_words(s: &crate::scene::Solid, dim: usize) -> String {
     }
 }
 
-/// Prints what generation did beyond whole-spacing boxes (the lines start with `lattice:`).
-fn print_report(scene: &Scene, report: &GenerationReport) {
+/// Writes what generation did beyond whole-spacing boxes (the lines start with `lattice:`).
+fn write_generation(out: &mut String, scene: &Scene, report: &GenerationReport) -> std::fmt::Result {
     for f in &report.fitted {
         let axis = crate::scene::count::axis_name(f.axis);
-        println!(
+        writeln!(
+            out,
             "  lattice: fluid_box[{}] is {:.3} spacings along {axis}, not a whole number: {} layer{}, {}",
             f.fluid_box,
             f.spacings,
@@ -82,38 +84,49 @@ fn print_report(scene: &Scene, report: &GenerationReport) {
             } else {
                 "at least half a spacing inside each face"
             }
-        );
+        )?;
     }
     for t in &report.trimmed {
-        println!(
+        writeln!(
+            out,
             "  lattice: trimmed {} of {} particles of {} closer than {} spacings to {}",
             t.count,
             t.of,
             describe(scene, t.removed_from),
             crate::scene::MIN_GAP,
             describe(scene, t.next_to)
-        );
+        )?;
     }
+    Ok(())
 }
 
-/// Validates the scene and prints counts, memory and plan.
-/// Reads every reference file the scene's probes name that is available (a malformed one is an
-/// error, as `sph run` would refuse it); one that is not is reported as `sph run` reports it.
+/// Validates the scene and prints counts, memory and plan ([`report`]).
 pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyhow::Result<()> {
     let scene = super::load_located(path, sets, reference_dir, false)
         .with_context(|| format!("checking scene {}", path.display()))?;
-    crate::probe::check_references(&scene).with_context(|| format!("checking scene {}", path.display()))?;
-    let lattice = count_particles(&scene)?;
+    print!("{}", report(&scene, path)?);
+    Ok(())
+}
+
+/// What `sph check` prints for the loaded `scene` read from `path`: counts, memory and plan.
+/// Reads every reference file the scene's probes name that is available (a malformed one is an
+/// error, as `sph run` would refuse it); one that is not is reported as `sph run` reports it.
+pub fn report(scene: &Scene, path: &Path) -> anyhow::Result<String> {
+    let mut text = String::new();
+    let out = &mut text;
+    crate::probe::check_references(scene).with_context(|| format!("checking scene {}", path.display()))?;
+    let lattice = count_particles(scene)?;
     let generated =
-        generated(&scene, &lattice).with_context(|| format!("checking scene {}", path.display()))?;
+        generated(scene, &lattice).with_context(|| format!("checking scene {}", path.display()))?;
     let counts = generated.as_ref().map_or(lattice, |(c, _)| c.clone());
-    println!(
+    writeln!(
+        out,
         "scene {}: valid ({}D, solver {}, integrator {}{})",
         path.display(),
         scene.dimension,
         scene.solver.kind.name(),
         scene.solver.integrator.name(),
-        match crate::run::correction(&scene) {
+        match crate::run::correction(scene) {
             Some(c) => format!(
                 ", delta {:e}, max {} iterations{}, relaxation {}",
                 c.delta,
@@ -123,31 +136,37 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
             ),
             None => String::new(),
         }
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "  spacing {} m, support radius h {} m",
         scene.spacing, scene.smoothing_length
-    );
-    println!("  fluid particles  {:>12}", counts.fluid);
+    )?;
+    writeln!(out, "  fluid particles  {:>12}", counts.fluid)?;
     for (i, fb) in scene.fluid_boxes.iter().enumerate() {
         // A shaped fluid volume says what it is, as a shaped solid does.
         if !matches!(fb.volume, crate::geometry::Volume::Aabb { .. }) {
-            println!("    fluid_box[{i}]  {}", fb.volume.describe(scene.dimension));
+            writeln!(out, "    fluid_box[{i}]  {}", fb.volume.describe(scene.dimension))?;
         }
     }
     for ((name, n), s) in counts.solid.iter().zip(&scene.solids) {
-        println!("  solid {name:<10} {n:>12}  {}", shape_words(s, scene.dimension));
+        writeln!(
+            out,
+            "  solid {name:<10} {n:>12}  {}",
+            shape_words(s, scene.dimension)
+        )?;
     }
-    println!("  total particles  {:>12}", counts.total);
+    writeln!(out, "  total particles  {:>12}", counts.total)?;
     match &generated {
-        Some((_, report)) => print_report(&scene, report),
-        None => println!(
+        Some((_, report)) => write_generation(out, scene, report)?,
+        None => writeln!(
+            out,
             "  lattice: not generated (more than {GENERATE_CAP} particles): counts before trimming, which `sph run` may do"
-        ),
+        )?,
     }
-    let per = scene_particle_bytes(&scene);
+    let per = scene_particle_bytes(scene);
     let bytes = run_bytes(counts.total, counts.fluid, per).unwrap_or(u64::MAX);
-    let solver = solver_particle_bytes(&scene);
+    let solver = solver_particle_bytes(scene);
     let frames = if scene.write_frames {
         format!(
             ", {} per particle for {} frames",
@@ -168,22 +187,24 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
             solver.per_solid
         );
     }
-    println!(
+    writeln!(
+        out,
         "  memory needed    {:>12.1} MiB ({} bytes per particle with {}{fluid}{frames}; {:.1} MiB for the program)",
         bytes as f64 / (1024.0 * 1024.0),
         solver.per_particle,
         scene.solver.kind.name(),
         crate::scene::BASE_BYTES as f64 / (1024.0 * 1024.0)
-    );
+    )?;
     let effects: Vec<&str> = scene.effects.iter().map(|e| e.name()).collect();
-    println!(
+    writeln!(
+        out,
         "  effects          {}",
         if effects.is_empty() {
             "none".into()
         } else {
             effects.join(", ")
         }
-    );
+    )?;
     if !scene.periodic.is_empty() {
         // The period of each periodic axis is the domain's extent (`crate::periodic`).
         let periods: Vec<String> = (0..scene.dimension)
@@ -193,7 +214,7 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
                 format!("{name} (period {} m)", scene.domain.max[k] - scene.domain.min[k])
             })
             .collect();
-        println!("  periodic         {}", periods.join(", "));
+        writeln!(out, "  periodic         {}", periods.join(", "))?;
     }
     for b in &scene.open_boundaries {
         // `boundary::open`: the plane, what crosses it, the buffer's depth.
@@ -204,15 +225,17 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
             }
             crate::scene::schema::OpenBoundaryKind::Outflow => "outflow".into(),
         };
-        println!(
+        writeln!(
+            out,
             "  open boundary    {axis} = {} m, {flow}, buffer {} layers",
             b.min[b.axis], b.layers
-        );
+        )?;
     }
     let pair_terms: Vec<&str> = scene.pair_terms.iter().map(|(t, _)| t.label()).collect();
-    let plan = crate::solver::plan::plan(crate::run::plan_inputs(&scene));
+    let plan = crate::solver::plan::plan(crate::run::plan_inputs(scene));
     let names: Vec<&str> = plan.iter().map(|s| s.name()).collect();
-    println!(
+    writeln!(
+        out,
         "  plan             {}{}",
         names.join(" → "),
         if pair_terms.is_empty() {
@@ -220,13 +243,13 @@ pub fn check(path: &Path, sets: &[String], reference_dir: Option<&Path>) -> anyh
         } else {
             format!(" (forces with {})", pair_terms.join(", "))
         }
-    );
-    let skipped = skipped_references(&scene);
+    )?;
+    let skipped = skipped_references(scene);
     for probe in scene.probes.iter().filter(|p| p.reference.is_some()) {
         match skipped.iter().find(|s| s.probe == probe.name) {
-            Some(s) => println!("  warning: {s}"),
-            None => println!("  probe {}: reference data found and read", probe.name),
+            Some(s) => writeln!(out, "  warning: {s}")?,
+            None => writeln!(out, "  probe {}: reference data found and read", probe.name)?,
         }
     }
-    Ok(())
+    Ok(text)
 }

@@ -20,6 +20,7 @@ mod surface;
 mod sweep;
 pub mod waves;
 
+pub use check::report as check_report;
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 
@@ -40,7 +41,7 @@ pub struct Cli {
 /// Loads the scene at `path` with `sets`, looks its probes' reference files up in the reference
 /// directory (`--reference-dir`, else `SPH_REFERENCE_DIR`) and prints one line per file that is
 /// not available when `warn` (the comparison is skipped, the rest goes on).
-pub(crate) fn load_located(
+pub fn load_located(
     path: &std::path::Path,
     sets: &[String],
     reference_dir: Option<&std::path::Path>,
@@ -54,6 +55,24 @@ pub(crate) fn load_located(
         }
     }
     Ok(scene)
+}
+
+/// The error and its causes on one line, `outer: inner: ...`, leaving out a cause whose text the
+/// line already holds (the library's errors name their source in their own message, so `{:#}`
+/// would print an I/O error two or three times). `sph` prints it after `error: `.
+pub fn one_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.contains(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line
 }
 
 /// Makes a closed output pipe end the program quietly, as it ends `cat` or `grep`: restores

@@ -37,8 +37,8 @@ mod writers;
 
 pub use folder::{RunFolder, RunFolderError, RunIdentity};
 pub use setup::{correction, integrator, plan_inputs, sim_config, simulation_from_scene};
-pub use writers::CHECKPOINT_FILE;
 use writers::Writers;
+pub use writers::{CHECKPOINT_FILE, STEP_COLUMNS};
 
 /// A simulation of either dimension, chosen once at load time.
 pub enum AnySimulation {

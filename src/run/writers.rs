@@ -22,7 +22,7 @@ use std::path::Path;
 pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
 
 /// Columns of `steps.csv`.
-const STEP_COLUMNS: [&str; 11] = [
+pub const STEP_COLUMNS: [&str; 11] = [
     "step",
     "t_s",
     "dt_s",
