@@ -3,6 +3,7 @@
 //! CPU and CUDA backends cannot diverge in the order of stages.
 
 pub mod cpu;
+pub mod partition;
 /// The step's parameters, at their home `model::params` (re-exported for the backends' users).
 pub use crate::model::params;
 pub use crate::model::{ForceTerms, SurfaceTensionModel, WallModel};
@@ -14,6 +15,7 @@ use crate::grid::GridError;
 use crate::model::pair_terms::PairTerms;
 use crate::physics::damping_zone::DampingZone;
 use params::StepParams;
+use partition::Partition;
 
 /// What `Backend::solid_forces` gives per solid: the fluid's force `F = Σ_s f_s` [N] (slots
 /// 0–2, z = 0 in 2D) and its moment about the origin `M_O = Σ_s x_s × f_s` [N m] (slots 3–5),
@@ -302,6 +304,24 @@ pub trait Backend<const D: usize> {
         margin: f32,
         from_step_start: bool,
     ) -> KeepOutReport;
+    /// Which particles this backend's reductions count (`Partition::Whole` unless set by
+    /// [`Backend::set_partition`]); its owned mask follows the order of the last sort.
+    fn partition(&self) -> &Partition {
+        &partition::WHOLE
+    }
+    /// Makes this backend one rank's share of a run split across ranks (`backend::partition`):
+    /// from now on its reductions count the particles `partition` owns and add across ranks.
+    /// The rank's ghost exchange (`distributed::rank_backend`) sets it after every sort.
+    ///
+    /// # Errors
+    /// [`BackendError::Unavailable`] for a backend that cannot run a rank's share.
+    fn set_partition(&mut self, partition: Partition) -> Result<(), BackendError> {
+        drop(partition);
+        Err(BackendError::Unavailable {
+            backend: self.name(),
+            reason: "a run across ranks needs the cpu backend on each rank".into(),
+        })
+    }
 }
 
 pub mod cuda;
@@ -327,6 +347,9 @@ pub enum BackendError {
         /// Why it cannot run.
         reason: String,
     },
+    /// A collective between ranks failed (a lost rank, a bad packet).
+    #[error("exchange between ranks failed: {0}")]
+    Ranks(#[from] crate::distributed::DistributedError),
     /// The device failed during the run (a launch, a copy, an allocation).
     #[error("backend {backend} failed while {during}: {reason}")]
     Device {

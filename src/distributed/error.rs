@@ -3,7 +3,7 @@
 use thiserror::Error;
 
 /// What can go wrong between ranks.
-#[derive(Debug, Error, Clone, PartialEq, Eq)]
+#[derive(Debug, Error, Clone, PartialEq)]
 pub enum DistributedError {
     /// Another rank stopped (crashed, was killed, or returned early): the whole run must stop.
     #[error("rank {rank} stopped answering (it failed or was killed); the run stops on every rank")]
@@ -24,6 +24,17 @@ pub enum DistributedError {
         ours: u32,
         /// The packet's.
         theirs: u32,
+    },
+    /// A particle moved further between two halo rebuilds than the halo allows for, so a
+    /// neighbour sum may have missed a particle of another rank.
+    #[error(
+        "a particle moved {moved:.3e} m between two halo rebuilds, more than the halo's margin of {margin:.3e} m; the step's sums near rank boundaries may be incomplete"
+    )]
+    HaloOutrun {
+        /// The largest move [m].
+        moved: f64,
+        /// The margin [m] (`distributed::rank_backend`).
+        margin: f64,
     },
     /// The MPI library reported an error.
     #[error("MPI: {0}")]

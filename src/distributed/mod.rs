@@ -18,9 +18,11 @@ pub mod local;
 #[cfg(feature = "mpi")]
 pub mod mpi_world;
 pub mod packet;
+pub mod rank_backend;
 
 pub use communicator::Communicator;
 pub use decomposition::{Decomposition, Method, Region, imbalance};
 pub use error::DistributedError;
 pub use exchange::{Traffic, gather_ghosts, migrate};
 pub use local::{LocalRank, LocalWorld};
+pub use rank_backend::{HaloTraffic, RankBackend};

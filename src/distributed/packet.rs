@@ -65,19 +65,7 @@ pub fn append<const D: usize>(fields: &mut Fields<D>, packet: &[u8]) -> Result<u
         });
     }
     // Checked before anything is appended, so that a bad packet leaves `fields` as it was.
-    let words: usize = Field::ALL
-        .iter()
-        .enumerate()
-        .filter(|(k, _)| mask & (1 << k) != 0)
-        .map(|(_, f)| {
-            if matches!(column(fields, *f), Column::Vector(_)) {
-                D
-            } else {
-                1
-            }
-        })
-        .sum();
-    match packet.len().cmp(&(12 + 4 * words * count)) {
+    match packet.len().cmp(&(12 + 4 * words(fields, mask) * count)) {
         std::cmp::Ordering::Less => {
             return Err(DistributedError::Malformed {
                 reason: "the packet ends inside a field",
@@ -118,6 +106,80 @@ pub fn append<const D: usize>(fields: &mut Fields<D>, packet: &[u8]) -> Result<u
     }
     debug_assert_eq!(reader.at, packet.len());
     Ok(count)
+}
+
+/// Overwrites the particles `indices` of `fields` with the packet's particles, in order (a
+/// ghost refresh: the owner's current values of particles this rank already holds). The packet
+/// must hold exactly `indices.len()` particles with this rank's fields; it is checked whole
+/// before anything is written.
+pub fn scatter<const D: usize>(
+    fields: &mut Fields<D>,
+    packet: &[u8],
+    indices: &[u32],
+) -> Result<(), DistributedError> {
+    let mut reader = Reader { bytes: packet, at: 0 };
+    let count = reader.u64()? as usize;
+    let mask = reader.u32()?;
+    if count != indices.len() {
+        return Err(DistributedError::Malformed {
+            reason: "a refresh holds another number of particles than the ghosts it is for",
+        });
+    }
+    if count == 0 {
+        return Ok(());
+    }
+    if field_mask(fields) != mask {
+        return Err(DistributedError::FieldMismatch {
+            ours: field_mask(fields),
+            theirs: mask,
+        });
+    }
+    if packet.len() != 12 + 4 * words(fields, mask) * count {
+        return Err(DistributedError::Malformed {
+            reason: "a refresh's length does not match its fields",
+        });
+    }
+    for (k, field) in Field::ALL.iter().enumerate() {
+        if mask & (1 << k) == 0 {
+            continue;
+        }
+        match column_mut(fields, *field) {
+            ColumnMut::Vector(v) => {
+                for &i in indices {
+                    for c in 0..D {
+                        v[i as usize][c] = Real::from_bits(reader.u32()?);
+                    }
+                }
+            }
+            ColumnMut::Real(v) => {
+                for &i in indices {
+                    v[i as usize] = Real::from_bits(reader.u32()?);
+                }
+            }
+            ColumnMut::Index(v) => {
+                for &i in indices {
+                    v[i as usize] = reader.u32()?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// 32-bit words per particle of the fields in `mask`.
+fn words<const D: usize>(fields: &Fields<D>, mask: u32) -> usize {
+    Field::ALL
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| mask & (1 << k) != 0)
+        .map(|(_, f)| {
+            if matches!(column(fields, *f), Column::Vector(_)) {
+                D
+            } else {
+                1
+            }
+        })
+        .sum()
 }
 
 /// One field's storage, by the type of its values.

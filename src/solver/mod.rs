@@ -9,6 +9,7 @@ pub mod escape;
 pub mod floating;
 pub mod open;
 pub mod plan;
+pub mod ranks;
 pub mod stage;
 pub mod step;
 pub mod timestep;

@@ -7,3 +7,4 @@
 mod decomposition;
 mod exchange;
 mod particles;
+mod split_run;

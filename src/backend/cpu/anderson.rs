@@ -2,6 +2,7 @@
 //! window's difference vectors, the previous iterate, and the mixing step
 //! (`Backend::mix_velocity_pressure`). Twin of `backend::cuda::anderson`.
 
+use crate::backend::partition::Partition;
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, sum_in_order};
 use crate::physics::correction;
@@ -44,6 +45,7 @@ impl AndersonBuffers {
         phases: Phases,
         rho0: Real,
         k: Real,
+        partition: &mut Partition,
     ) {
         let n = fields.len();
         let (kind, density, rest) = (&fields.kind, &fields.density, &fields.rest_density);
@@ -77,24 +79,34 @@ impl AndersonBuffers {
                 });
             let valid = (state.held + 1).min(WINDOW);
             let slots = &self.df;
-            let dots = sum_in_order::<WINDOW, _>(n, |i| {
+            let counted = &*partition;
+            let mut dots = sum_in_order::<WINDOW, _>(n, |i| {
                 let mut t = [0.0; WINDOW];
+                if !counted.counts(i) {
+                    return t; // a ghost: its owner adds it
+                }
                 for (l, out) in t.iter_mut().enumerate().take(valid) {
                     *out = f64::from(slots[s][i]) * f64::from(slots[l][i]);
                 }
                 t
             });
+            partition.sum(&mut dots);
             state.push(&dots);
         }
         let held = state.held;
         let (slots_dp, slots_df, f) = (&self.dp, &self.df, &self.f);
-        let rhs = sum_in_order::<WINDOW, _>(n, |i| {
+        let counted = &*partition;
+        let mut rhs = sum_in_order::<WINDOW, _>(n, |i| {
             let mut t = [0.0; WINDOW];
+            if !counted.counts(i) {
+                return t;
+            }
             for (l, out) in t.iter_mut().enumerate().take(held) {
                 *out = f64::from(slots_df[l][i]) * f64::from(f[i]);
             }
             t
         });
+        partition.sum(&mut rhs);
         let gamma = state.coefficients(&rhs).map(|g| g as Real);
         state.has_previous = true;
         self.previous.clone_from(&fields.pressure);

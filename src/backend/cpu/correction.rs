@@ -18,8 +18,9 @@ impl<const D: usize> CpuBackend<D> {
     pub(super) fn correction_error(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> CorrectionError {
         let f = fields;
         let (rest, rho0) = (&f.rest_density, params.rho0);
-        let [compression, residual] = max_each_in_order(f.len(), |i| {
-            if f.kind[i] == FLUID {
+        let partition = &self.partition;
+        let mut maxima = max_each_in_order(f.len(), |i| {
+            if f.kind[i] == FLUID && partition.counts(i) {
                 // (24) against the particle's own phase with the multiphase effect ([HA06]).
                 let rho0 = params.phases.rest_density(rest, i, rho0);
                 [
@@ -30,6 +31,8 @@ impl<const D: usize> CpuBackend<D> {
                 [0.0; 2]
             }
         });
+        self.partition.max(&mut maxima); // over ranks: one residual for all
+        let [compression, residual] = maxima;
         CorrectionError {
             compression: compression.max(0.0),
             residual: non_negative_or_nan(residual),
@@ -144,7 +147,8 @@ impl<const D: usize> CpuBackend<D> {
         let q = &self.pressure_terms;
         let tau2 = tau * tau;
         self.displacement.resize(n, Vector::zeros());
-        // The displacements and their largest length in one pass.
+        let partition = &self.partition;
+        // The displacements and their largest length (over this rank's own) in one pass.
         let largest = self
             .displacement
             .par_iter_mut()
@@ -167,10 +171,20 @@ impl<const D: usize> CpuBackend<D> {
                     });
                     a * tau2 // eq. (23)
                 };
-                f64::from(out.norm())
+                if partition.counts(i) {
+                    f64::from(out.norm())
+                } else {
+                    0.0
+                }
             })
             .reduce(|| f64::NEG_INFINITY, max_or_nan)
             .max(0.0);
+        // One scale on every rank (only a finite cap scales).
+        let mut largest = [largest];
+        if max_step.is_finite() {
+            self.partition.max(&mut largest);
+        }
+        let [largest] = largest;
         let scale = if largest > f64::from(max_step) {
             (f64::from(max_step) / largest) as Real
         } else {
@@ -197,7 +211,8 @@ impl<const D: usize> CpuBackend<D> {
     }
 
     pub(super) fn mix_velocity_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
-        self.anderson.mix(fields, params.phases, params.rho0, k);
+        self.anderson
+            .mix(fields, params.phases, params.rho0, k, &mut self.partition);
     }
 
     pub(super) fn velocity_from_pressure(

@@ -7,6 +7,7 @@
 //! each stage to the inherent method of the same name.
 
 use super::params::StepParams;
+use super::partition::Partition;
 use super::{
     Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, SolidLoad, StateExtremes, Sweep,
     WallModel,
@@ -75,6 +76,9 @@ pub struct CpuBackend<const D: usize> {
     velocity_neighbours: NeighbourList,
     /// The velocity solve's Anderson acceleration (`anderson.rs`).
     anderson: AndersonBuffers,
+    /// The whole simulation, or one rank's share (`backend::partition`): which particles the
+    /// reductions count and how they add across ranks.
+    partition: Partition,
 }
 
 impl<const D: usize> CpuBackend<D> {
@@ -123,7 +127,23 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
     }
 
     fn reload(&mut self, _fields: &Fields<D>, _params: &StepParams<D>) -> Result<(), BackendError> {
+        // A rank's share stays one: its owned particles are set again after the next sort.
+        let partition = std::mem::take(&mut self.partition);
         *self = Self::new();
+        self.partition = partition;
+        Ok(())
+    }
+
+    fn take_error(&mut self) -> Option<BackendError> {
+        self.partition.take_error().map(BackendError::Ranks)
+    }
+
+    fn partition(&self) -> &Partition {
+        &self.partition
+    }
+
+    fn set_partition(&mut self, partition: Partition) -> Result<(), BackendError> {
+        self.partition = partition;
         Ok(())
     }
 

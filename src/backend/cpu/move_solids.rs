@@ -46,6 +46,7 @@ impl<const D: usize> CpuBackend<D> {
         if boxes.is_empty() {
             return report;
         }
+        let partition = &self.partition;
         let (kind, mass) = (&fields.kind, &fields.mass);
         // The step's start positions, stored by `store_step_start` (SSP-RK3): the side each
         // particle came from (`KeepOutBox::push_out`).
@@ -74,11 +75,13 @@ impl<const D: usize> CpuBackend<D> {
                         mine.push((b.solid, axis, dp, push_moment(x, axis, dp)));
                     }
                 }
-                (!mine.is_empty()).then_some(mine)
+                // A ghost is pushed as its owner is, which counts the push.
+                (!mine.is_empty() && partition.counts(i)).then_some(mine)
             })
             .collect();
+        let mut pushes_here = 0u64;
         for (solid, axis, dp, moment) in pushes.into_iter().flatten() {
-            report.pushes += 1;
+            pushes_here += 1;
             if let Some(slot) = report.impulse.get_mut(solid as usize) {
                 slot[axis] += dp;
             }
@@ -87,6 +90,22 @@ impl<const D: usize> CpuBackend<D> {
                     slot[c] += moment[c];
                 }
             }
+        }
+        // Over ranks: the pushes, then each solid's impulse and angular impulse.
+        let mut totals = vec![pushes_here as f64];
+        for (j, l) in report.impulse.iter().zip(&report.angular_impulse) {
+            totals.extend(j.iter().chain(l.iter()));
+        }
+        self.partition.sum(&mut totals);
+        report.pushes = totals[0] as u64;
+        for ((j, l), t) in report
+            .impulse
+            .iter_mut()
+            .zip(report.angular_impulse.iter_mut())
+            .zip(totals[1..].chunks_exact(6))
+        {
+            j.copy_from_slice(&t[..3]);
+            l.copy_from_slice(&t[3..]);
         }
         report
     }

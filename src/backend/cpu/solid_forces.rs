@@ -30,7 +30,10 @@ impl<const D: usize> CpuBackend<D> {
             SolidForceSource::Correction => &self.delta_p,
         };
         if pressure.len() != f.len() {
-            return vec![[0.0; 6]; solids];
+            // Nothing to add here, but every rank takes part in the sum below.
+            let mut loads = vec![[0.0; 6]; solids];
+            self.add_over_ranks(&mut loads);
+            return loads;
         }
         // [HA06] (`multiphase`): the pressure pair term in the volume form, as the fluid feels it;
         // the viscous terms as without it.
@@ -39,9 +42,11 @@ impl<const D: usize> CpuBackend<D> {
             fill_volume_pressure_terms(&mut self.pressure_terms, pressure, &f.mass, &f.density);
         }
         let q = &self.pressure_terms;
-        with_pair_terms!(terms.bits(), TERMS => sum_by_group(f.len(), solids, |s| {
+        let partition = &self.partition;
+        let mut loads = with_pair_terms!(terms.bits(), TERMS => sum_by_group(f.len(), solids, |s| {
             let kind = f.kind[s];
-            if kind == FLUID || self.is_dry(s) {
+            // Dry solids add nothing; a ghost's load is its owner's.
+            if kind == FLUID || self.is_dry(s) || !partition.counts(s) {
                 return None;
             }
             let mut force = Vector::<D>::zeros();
@@ -77,6 +82,17 @@ impl<const D: usize> CpuBackend<D> {
                 force += pair;
             });
             Some((kind as usize - 1, particle_load(&f.position[s], &force)))
-        }))
+        }));
+        self.add_over_ranks(&mut loads);
+        loads
+    }
+
+    /// Each load summed over ranks (`backend::partition`).
+    pub(super) fn add_over_ranks(&mut self, loads: &mut [SolidLoad]) {
+        let mut flat: Vec<f64> = loads.iter().flatten().copied().collect();
+        self.partition.sum(&mut flat);
+        for (load, total) in loads.iter_mut().zip(flat.chunks_exact(6)) {
+            load.copy_from_slice(total);
+        }
     }
 }

@@ -17,9 +17,11 @@ impl<const D: usize> CpuBackend<D> {
             let rho0 = f64::from(params.phases.rest_density(rest, i, params.rho0));
             (f64::from(f.density[i]) - rho0) / rho0
         };
-        let fluid = |i: usize| f.kind[i] == FLUID;
+        // A rank's own fluid (`backend::partition`): ghosts are counted by their owners.
+        let partition = &self.partition;
+        let fluid = |i: usize| f.kind[i] == FLUID && partition.counts(i);
         // The largest speed, acceleration, |error|, compression and deficit in one pass.
-        let [max_speed, max_acceleration, max_abs, max_comp, max_deficit] = max_each_in_order(n, |i| {
+        let mut maxima = max_each_in_order(n, |i| {
             if !fluid(i) {
                 return [0.0; 5];
             }
@@ -32,13 +34,18 @@ impl<const D: usize> CpuBackend<D> {
                 (-e).max(0.0),
             ]
         });
-        let [count, abs_sum, comp_sum] = sum_in_order(n, |i| {
+        let mut sums = sum_in_order(n, |i| {
             if !fluid(i) {
                 return [0.0; 3];
             }
             let e = error(i);
             [1.0, e.abs(), e.max(0.0)]
         });
+        self.partition.max(&mut maxima);
+        self.partition.sum(&mut sums);
+        let [max_speed, max_acceleration, max_abs, max_comp, max_deficit] = maxima;
+        let [count, abs_sum, comp_sum] = sums;
+        let fluid = |i: usize| f.kind[i] == FLUID && self.partition.counts(i);
         let non_finite = if (max_speed + max_acceleration + max_abs).is_finite() {
             None
         } else {

@@ -1,0 +1,531 @@
+//! One rank's backend in a run split across ranks: the stages of the backend it wraps, with
+//! the rank's ghosts kept current around them (docs/distributed.md, "Runs across ranks").
+//!
+//! - Every `sort_by_cell` rebuilds the halo: ghosts are dropped, particles that left the rank's
+//!   region migrate to their owners with every field, the owned particles within
+//!   [`RankBackend::width`] of another region go there as ghosts, and the whole set is sorted.
+//!   The wrapped backend's reductions then count owned particles only and add across ranks
+//!   (`backend::partition`).
+//! - Before each stage that sums over neighbours, if any stage wrote fields since the last
+//!   exchange, the ghosts get every field of their owners again (a refresh, in the same order
+//!   as the rebuild's). Stages run on ghosts too; what they compute there is overwritten by the
+//!   next refresh. A value computed on a ghost and read by a neighbour before a refresh (the
+//!   correction's pressure increments of the walls) is exact because the halo is two supports
+//!   wide: a ghost within one support of the region has all its neighbours here.
+//! - Between rebuilds particles may move at most [`RankBackend::margin`]; a rebuild that finds
+//!   a particle moved further reports [`super::DistributedError::HaloOutrun`] rather than sums
+//!   that may have missed a neighbour.
+
+use super::decomposition::Decomposition;
+use super::error::DistributedError;
+use super::halo::{departures, halo_sends};
+use super::packet::{append, pack, scatter};
+use crate::backend::partition::{Partition, SharedCommunicator, lock};
+use crate::backend::{
+    Backend, BackendError, BackendKind, CorrectionError, ForceTerms, SolidForceSource, SolidLoad,
+    StateExtremes, Sweep, WallModel,
+};
+use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
+use crate::boundary::motion::{SolidKinematics, SolidReference};
+use crate::fields::Fields;
+use crate::grid::GridError;
+use crate::math::{Real, Vector};
+use crate::model::params::StepParams;
+use crate::physics::damping_zone::DampingZone;
+use std::collections::HashMap;
+
+/// Bytes this rank sent to other ranks, by kind of exchange, since the backend was made.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HaloTraffic {
+    /// Halo rebuilds (one per sort).
+    pub rebuilds: u64,
+    /// Ghost refreshes between rebuilds.
+    pub refreshes: u64,
+    /// Bytes of migrating particles.
+    pub migration_bytes: u64,
+    /// Bytes of ghosts sent at rebuilds.
+    pub ghost_bytes: u64,
+    /// Bytes of refreshes.
+    pub refresh_bytes: u64,
+}
+
+/// The halo since the last rebuild: who gets which particles, by id and by current index.
+#[derive(Debug, Default)]
+struct Halo<const D: usize> {
+    /// Per rank, the ids of this rank's particles sent there as ghosts, in sending order.
+    send_ids: Vec<Vec<u32>>,
+    /// Per rank, the ids of the ghosts received from it, in its sending order.
+    recv_ids: Vec<Vec<u32>>,
+    /// `send_ids`, `recv_ids` as indices in the current (last sorted) order.
+    send_index: Vec<Vec<u32>>,
+    recv_index: Vec<Vec<u32>>,
+    /// Every ghost id (to drop them at the next rebuild, whatever the order then).
+    ghosts: HashMap<u32, ()>,
+    /// Positions [m] right after the rebuild's sort, in that order (for the drift check).
+    anchor: Vec<Vector<D>>,
+}
+
+/// One rank's share of a split run around the backend that runs its stages.
+pub struct RankBackend<const D: usize> {
+    inner: Box<dyn Backend<D> + Send>,
+    comm: SharedCommunicator,
+    decomposition: Decomposition<D>,
+    width: Real,
+    margin: Real,
+    halo: Option<Halo<D>>,
+    dirty: bool,
+    error: Option<BackendError>,
+    traffic: HaloTraffic,
+}
+
+impl<const D: usize> RankBackend<D> {
+    /// Rank `comm.rank()` of `decomposition`, running its stages on `inner`. `reach` is the
+    /// kernel's support [m]; particles may move `margin` [m] between two sorts. The rank holds
+    /// `particles` particles of its own and no ghosts yet.
+    ///
+    /// # Errors
+    /// [`BackendError::Unavailable`] when `inner` cannot run a rank's share.
+    pub fn new(
+        mut inner: Box<dyn Backend<D> + Send>,
+        comm: SharedCommunicator,
+        decomposition: Decomposition<D>,
+        reach: Real,
+        margin: Real,
+        particles: usize,
+    ) -> Result<Self, BackendError> {
+        inner.set_partition(Partition::Rank {
+            owned: vec![true; particles],
+            comm: comm.clone(),
+            error: None,
+        })?;
+        Ok(Self {
+            inner,
+            comm,
+            decomposition,
+            width: 2.0 * reach + 2.0 * margin,
+            margin,
+            halo: None,
+            dirty: true,
+            error: None,
+            traffic: HaloTraffic::default(),
+        })
+    }
+
+    /// How far from its region [m] a rank receives ghosts: two supports (see the module's
+    /// doc) plus the distance both particles of a pair may move between rebuilds.
+    pub fn width(&self) -> Real {
+        self.width
+    }
+
+    /// How far [m] a particle may move between rebuilds.
+    pub fn margin(&self) -> Real {
+        self.margin
+    }
+
+    /// The bytes sent so far.
+    pub fn traffic(&self) -> HaloTraffic {
+        self.traffic
+    }
+
+    fn fail(&mut self, error: DistributedError) {
+        self.error.get_or_insert(BackendError::Ranks(error));
+    }
+
+    /// Drops the ghosts, migrates, gathers the ghosts again, sorts and indexes the halo.
+    fn rebuild(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> Result<(), GridError> {
+        if let Err(e) = self.exchange_particles(fields) {
+            self.fail(e);
+        }
+        self.inner.sort_by_cell(fields, params)?;
+        self.index(fields);
+        Ok(())
+    }
+
+    fn exchange_particles(&mut self, fields: &mut Fields<D>) -> Result<(), DistributedError> {
+        let comm = self.comm.clone();
+        let comm = lock(&comm);
+        let rank = comm.rank();
+        if let Some(halo) = self.halo.take() {
+            // Drift since the last rebuild, over this rank's own particles.
+            let mut drift: f64 = 0.0;
+            if halo.anchor.len() == fields.len() {
+                for (i, x) in fields.position.iter().enumerate() {
+                    if !halo.ghosts.contains_key(&fields.id[i]) {
+                        drift = drift.max(f64::from((x - halo.anchor[i]).norm()));
+                    }
+                }
+            }
+            let drift = comm.max(drift)?;
+            if drift > f64::from(self.margin) {
+                return Err(DistributedError::HaloOutrun {
+                    moved: drift,
+                    margin: f64::from(self.margin),
+                });
+            }
+            let kept: Vec<u32> = (0..fields.len() as u32)
+                .filter(|&i| !halo.ghosts.contains_key(&fields.id[i as usize]))
+                .collect();
+            if kept.len() < fields.len() {
+                fields.keep(&kept);
+            }
+        }
+        // Migration.
+        let (leaving, kept) = departures(&self.decomposition, &fields.position, rank);
+        let packets: Vec<Vec<u8>> = leaving.iter().map(|indices| pack(fields, indices)).collect();
+        self.traffic.migration_bytes += sent_bytes(&packets, rank);
+        if kept.len() < fields.len() {
+            fields.keep(&kept);
+        }
+        for packet in &comm.exchange(packets)? {
+            append(fields, packet)?;
+        }
+        // Ghosts, appended after the owned particles.
+        let sends = halo_sends(&self.decomposition, &fields.position, rank, self.width);
+        let packets: Vec<Vec<u8>> = sends.iter().map(|indices| pack(fields, indices)).collect();
+        self.traffic.ghost_bytes += sent_bytes(&packets, rank);
+        let send_ids: Vec<Vec<u32>> = sends
+            .iter()
+            .map(|indices| indices.iter().map(|&i| fields.id[i as usize]).collect())
+            .collect();
+        let mut recv_ids = Vec::with_capacity(comm.size());
+        let mut ghosts = HashMap::new();
+        for packet in &comm.exchange(packets)? {
+            let first = fields.len();
+            let count = append(fields, packet)?;
+            let ids = fields.id[first..first + count].to_vec();
+            ghosts.extend(ids.iter().map(|&id| (id, ())));
+            recv_ids.push(ids);
+        }
+        self.traffic.rebuilds += 1;
+        self.halo = Some(Halo {
+            send_ids,
+            recv_ids,
+            ghosts,
+            ..Halo::default()
+        });
+        Ok(())
+    }
+
+    /// After a sort: the halo's current indices, the owned mask the reductions count, and the
+    /// positions the next drift check starts from.
+    fn index(&mut self, fields: &Fields<D>) {
+        let Some(halo) = self.halo.as_mut() else {
+            return;
+        };
+        let at: HashMap<u32, u32> = fields
+            .id
+            .iter()
+            .enumerate()
+            .map(|(i, &id)| (id, i as u32))
+            .collect();
+        let lookup = |ids: &Vec<Vec<u32>>| -> Vec<Vec<u32>> {
+            ids.iter()
+                .map(|list| list.iter().map(|id| at[id]).collect())
+                .collect()
+        };
+        halo.send_index = lookup(&halo.send_ids);
+        halo.recv_index = lookup(&halo.recv_ids);
+        let mut owned = vec![true; fields.len()];
+        for list in &halo.recv_index {
+            for &i in list {
+                owned[i as usize] = false;
+            }
+        }
+        halo.anchor.clone_from(&fields.position);
+        // Errors of the old partition stay reported.
+        if let Some(e) = self.inner.take_error() {
+            self.error.get_or_insert(e);
+        }
+        let partition = Partition::Rank {
+            owned,
+            comm: self.comm.clone(),
+            error: None,
+        };
+        if let Err(e) = self.inner.set_partition(partition) {
+            self.error.get_or_insert(e);
+        }
+        self.dirty = false;
+    }
+
+    /// Sends the owners' current fields to their ghosts if a stage wrote fields since the last
+    /// exchange.
+    fn refresh(&mut self, fields: &mut Fields<D>) {
+        if !self.dirty {
+            return;
+        }
+        let Some(halo) = self.halo.as_ref() else {
+            return; // before the first sort there are no ghosts
+        };
+        let result = (|| {
+            let comm = lock(&self.comm);
+            let packets: Vec<Vec<u8>> = halo.send_index.iter().map(|idx| pack(fields, idx)).collect();
+            let bytes = sent_bytes(&packets, comm.rank());
+            let received = comm.exchange(packets)?;
+            if received.len() != halo.recv_index.len() {
+                return Err(DistributedError::Malformed {
+                    reason: "a refresh from another number of ranks",
+                });
+            }
+            for (packet, indices) in received.iter().zip(&halo.recv_index) {
+                scatter(fields, packet, indices)?;
+            }
+            Ok(bytes)
+        })();
+        match result {
+            Ok(bytes) => {
+                self.traffic.refreshes += 1;
+                self.traffic.refresh_bytes += bytes;
+            }
+            Err(e) => self.fail(e),
+        }
+        self.dirty = false;
+    }
+
+    /// A stage that sums over neighbours: ghosts refreshed first; it writes fields.
+    fn summing<T>(
+        &mut self,
+        fields: &mut Fields<D>,
+        stage: impl FnOnce(&mut dyn Backend<D>, &mut Fields<D>) -> T,
+    ) -> T {
+        self.refresh(fields);
+        let out = stage(self.inner.as_mut(), fields);
+        self.dirty = true;
+        out
+    }
+
+    /// A stage of each particle on its own: it writes fields.
+    fn local<T>(
+        &mut self,
+        fields: &mut Fields<D>,
+        stage: impl FnOnce(&mut dyn Backend<D>, &mut Fields<D>) -> T,
+    ) -> T {
+        let out = stage(self.inner.as_mut(), fields);
+        self.dirty = true;
+        out
+    }
+}
+
+/// Bytes of `packets` bound for other ranks than `rank`.
+fn sent_bytes(packets: &[Vec<u8>], rank: usize) -> u64 {
+    packets
+        .iter()
+        .enumerate()
+        .filter(|(r, _)| *r != rank)
+        .map(|(_, p)| p.len() as u64)
+        .sum()
+}
+
+impl<const D: usize> Backend<D> for RankBackend<D> {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn kind(&self) -> BackendKind {
+        self.inner.kind()
+    }
+
+    fn heap_bytes(&self) -> usize {
+        self.inner.heap_bytes()
+    }
+
+    fn device(&self) -> Option<String> {
+        self.inner.device()
+    }
+
+    fn holds_state(&self) -> bool {
+        self.inner.holds_state()
+    }
+
+    fn download(&mut self, fields: &mut Fields<D>) -> Result<(), BackendError> {
+        self.inner.download(fields)
+    }
+
+    fn reload(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> Result<(), BackendError> {
+        // The host changed the particles (escapes removed): the halo's indices no longer hold;
+        // its ghost ids still name the ghosts to drop at the next rebuild.
+        if let Some(halo) = self.halo.as_mut() {
+            halo.anchor.clear();
+            halo.send_index.clear();
+            halo.recv_index.clear();
+        }
+        self.inner.reload(fields, params)
+    }
+
+    fn synchronize(&mut self) {
+        self.inner.synchronize();
+    }
+
+    fn take_error(&mut self) -> Option<BackendError> {
+        self.error.take().or_else(|| self.inner.take_error())
+    }
+
+    fn sort_by_cell(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> Result<(), GridError> {
+        self.rebuild(fields, params)
+    }
+
+    fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        self.summing(fields, |b, f| b.density(f, params));
+    }
+
+    fn density_rate(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        self.summing(fields, |b, f| b.density_rate(f, params));
+    }
+
+    fn integrate_density(&mut self, fields: &mut Fields<D>, dt: f32) {
+        self.local(fields, |b, f| b.integrate_density(f, dt));
+    }
+
+    fn store_density_start(&mut self, fields: &mut Fields<D>) {
+        self.local(fields, |b, f| b.store_density_start(f));
+    }
+
+    fn rk_density_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
+        self.local(fields, |bk, f| bk.rk_density_stage(f, dt, a, b));
+    }
+
+    fn damping_zone(&mut self, fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32) {
+        self.local(fields, |b, f| b.damping_zone(f, zone, dt));
+    }
+
+    fn wrap_positions(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        self.local(fields, |b, f| b.wrap_positions(f, params));
+    }
+
+    fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        self.local(fields, |b, f| b.equation_of_state(f, params));
+    }
+
+    fn move_solids(
+        &mut self,
+        fields: &mut Fields<D>,
+        reference: &SolidReference<D>,
+        kinematics: &[SolidKinematics<D>],
+    ) {
+        self.local(fields, |b, f| b.move_solids(f, reference, kinematics));
+    }
+
+    fn wall_pressure(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        model: WallModel,
+        kinematics: &[SolidKinematics<D>],
+    ) {
+        self.summing(fields, |b, f| b.wall_pressure(f, params, model, kinematics));
+    }
+
+    fn wall_velocity(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        self.summing(fields, |b, f| b.wall_velocity(f, params));
+    }
+
+    fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
+        self.summing(fields, |b, f| b.forces(f, params, terms));
+    }
+
+    fn surface_normals(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        self.summing(fields, |b, f| b.surface_normals(f, params));
+    }
+
+    fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        self.summing(fields, |b, f| b.surface_tension(f, params));
+    }
+
+    fn solid_forces(
+        &mut self,
+        fields: &Fields<D>,
+        params: &StepParams<D>,
+        solids: usize,
+        source: SolidForceSource,
+    ) -> Vec<SolidLoad> {
+        // Reads neighbours, but through `&Fields`: the stage before it (the force stage, or
+        // the correction's pressure) already refreshed what it reads.
+        self.inner.solid_forces(fields, params, solids, source)
+    }
+
+    fn state_extremes(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> StateExtremes {
+        self.inner.state_extremes(fields, params)
+    }
+
+    fn integrate(&mut self, fields: &mut Fields<D>, dt: f32) {
+        self.local(fields, |b, f| b.integrate(f, dt));
+    }
+
+    fn store_step_start(&mut self, fields: &mut Fields<D>) {
+        self.local(fields, |b, f| b.store_step_start(f));
+    }
+
+    fn rk_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
+        self.local(fields, |bk, f| bk.rk_stage(f, dt, a, b));
+    }
+
+    fn correction_error(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> CorrectionError {
+        self.inner.correction_error(fields, params)
+    }
+
+    fn begin_correction(&mut self, fields: &mut Fields<D>) {
+        self.inner.begin_correction(fields);
+    }
+
+    fn correction_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
+        self.summing(fields, |b, f| b.correction_pressure(f, params, k));
+    }
+
+    fn correct_positions(
+        &mut self,
+        fields: &mut Fields<D>,
+        params: &StepParams<D>,
+        tau: f32,
+        kick_tau: f32,
+        max_step: f32,
+    ) -> Sweep {
+        self.summing(fields, |b, f| {
+            b.correct_positions(f, params, tau, kick_tau, max_step)
+        })
+    }
+
+    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
+        self.refresh(fields);
+        self.inner.begin_velocity_solve(fields);
+    }
+
+    fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
+        self.summing(fields, |b, f| b.predicted_density(f, params, tau));
+    }
+
+    fn mix_velocity_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
+        self.local(fields, |b, f| b.mix_velocity_pressure(f, params, k));
+    }
+
+    fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
+        self.summing(fields, |b, f| b.velocity_from_pressure(f, params, tau));
+    }
+
+    fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {
+        self.local(fields, |b, f| b.end_velocity_solve(f, keep));
+    }
+
+    fn record_acting_pressure(&mut self, fields: &mut Fields<D>) {
+        self.local(fields, |b, f| b.record_acting_pressure(f));
+    }
+
+    fn keep_out(
+        &mut self,
+        fields: &mut Fields<D>,
+        boxes: &[KeepOutBox<D>],
+        solids: usize,
+        margin: f32,
+        from_step_start: bool,
+    ) -> KeepOutReport {
+        self.local(fields, |b, f| {
+            b.keep_out(f, boxes, solids, margin, from_step_start)
+        })
+    }
+
+    fn partition(&self) -> &Partition {
+        self.inner.partition()
+    }
+
+    fn set_partition(&mut self, partition: Partition) -> Result<(), BackendError> {
+        self.inner.set_partition(partition)
+    }
+}

@@ -1,0 +1,105 @@
+//! A simulation split across ranks (`crate::distributed`): every rank builds the whole scene,
+//! keeps the particles of its region and runs its stages on a [`RankBackend`], which exchanges
+//! ghosts and migrating particles and makes every reduction global. The driver (`step.rs`) is
+//! the same; every rank takes the same decisions (time step, sorts, sweeps) because each one
+//! rests on a reduction over all ranks.
+
+use super::Simulation;
+use crate::backend::cpu::CpuBackend;
+use crate::backend::partition::SharedCommunicator;
+use crate::backend::{Backend, BackendError, BackendKind};
+use crate::distributed::{Decomposition, Method, RankBackend, Region};
+use crate::fields::Fields;
+use crate::math::Real;
+use crate::periodic::PeriodicAxes;
+
+/// How far [m], in units of the kernel's support, a particle may move between two sorts of a
+/// split run (`RankBackend::margin`). A step moves particles by under a quarter support (the
+/// time step's CFL limit) and the correction re-sorts after `RESORT_DRIFT` supports, so half a
+/// support leaves room; a move past it is an error, not a silent miss.
+pub const HALO_MARGIN: f64 = 0.5;
+
+/// Why a simulation cannot be split across ranks.
+#[derive(Debug, thiserror::Error)]
+pub enum SplitError {
+    /// The scene uses something a split run does not handle yet.
+    #[error("a run across ranks does not support {0} yet")]
+    Unsupported(&'static str),
+    /// The backend cannot run a rank's share.
+    #[error(transparent)]
+    Backend(#[from] BackendError),
+}
+
+impl<const D: usize> Simulation<D> {
+    /// Makes this simulation (the whole scene, built the same way on every rank) rank
+    /// `comm.rank()`'s share: the domain box is cut among the ranks by `method` at particle-count
+    /// quantiles (`distributed::decomposition`), the particles of other regions are dropped,
+    /// and the stages run on a [`RankBackend`] around the CPU backend.
+    ///
+    /// # Errors
+    /// [`SplitError::Unsupported`] for open boundaries, periodic axes or the CUDA backend.
+    pub fn split_across_ranks(
+        &mut self,
+        comm: SharedCommunicator,
+        method: Method,
+    ) -> Result<Decomposition<D>, SplitError> {
+        if self.open.is_some() {
+            return Err(SplitError::Unsupported("open boundaries (inflow and outflow)"));
+        }
+        if self.config.periodic != PeriodicAxes::NONE {
+            return Err(SplitError::Unsupported("periodic boundaries"));
+        }
+        if self.backend.kind() != BackendKind::Cpu {
+            return Err(SplitError::Unsupported("the cuda backend"));
+        }
+        self.sync_fields()?;
+        let (rank, size) = {
+            let comm = crate::backend::partition::lock(&comm);
+            (comm.rank(), comm.size())
+        };
+        let domain = Region {
+            lo: self.config.domain_min,
+            hi: self.config.domain_max,
+        };
+        let decomposition = Decomposition::build(domain, &self.fields.position, size, method);
+        let mine: Vec<u32> = (0..self.fields.len() as u32)
+            .filter(|&i| decomposition.owner(&self.fields.position[i as usize]) == rank)
+            .collect();
+        self.fields.keep(&mine);
+        let reach = self.config.h as Real;
+        let margin = (HALO_MARGIN * self.config.h) as Real;
+        let regions = decomposition.clone();
+        self.use_backend_from(move |fields, _| {
+            let inner: Box<dyn Backend<D> + Send> = Box::new(CpuBackend::new());
+            let backend = RankBackend::new(inner, comm, regions, reach, margin, fields.len())?;
+            Ok(Box::new(backend))
+        })?;
+        Ok(decomposition)
+    }
+
+    /// Whether this simulation is one rank's share of a split run.
+    pub fn is_split(&self) -> bool {
+        matches!(
+            self.backend.partition(),
+            crate::backend::partition::Partition::Rank { .. }
+        )
+    }
+
+    /// This rank's own particles (all of them for a whole simulation), without its ghosts, in
+    /// the order of the last sort.
+    ///
+    /// # Errors
+    /// [`BackendError`] when the fields cannot be copied from the backend.
+    pub fn owned_fields(&mut self) -> Result<Fields<D>, BackendError> {
+        self.sync_fields()?;
+        let partition = self.backend.partition();
+        let kept: Vec<u32> = (0..self.fields.len() as u32)
+            .filter(|&i| partition.counts(i as usize))
+            .collect();
+        let mut owned = self.fields.clone();
+        if kept.len() < owned.len() {
+            owned.keep(&kept);
+        }
+        Ok(owned)
+    }
+}
