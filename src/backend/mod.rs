@@ -309,6 +309,11 @@ pub trait Backend<const D: usize> {
     fn partition(&self) -> &Partition {
         &partition::WHOLE
     }
+    /// What a rank's share did and sent so far (`distributed::RankBackend`); `None` for a
+    /// backend that holds the whole simulation.
+    fn halo_traffic(&self) -> Option<crate::distributed::HaloTraffic> {
+        None
+    }
     /// Makes this backend one rank's share of a run split across ranks (`backend::partition`):
     /// from now on its reductions count the particles `partition` owns and add across ranks.
     /// The rank's ghost exchange (`distributed::rank_backend`) sets it after every sort.

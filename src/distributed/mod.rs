@@ -25,4 +25,4 @@ pub use decomposition::{Decomposition, Method, Region, imbalance};
 pub use error::DistributedError;
 pub use exchange::{Traffic, gather_ghosts, migrate};
 pub use local::{LocalRank, LocalWorld};
-pub use rank_backend::{HaloTraffic, RankBackend};
+pub use rank_backend::{HaloTraffic, RankBackend, Rebalance};

@@ -16,7 +16,8 @@
 //!   a particle moved further reports [`super::DistributedError::HaloOutrun`] rather than sums
 //!   that may have missed a neighbour.
 
-use super::decomposition::Decomposition;
+use super::communicator::Communicator;
+use super::decomposition::{Decomposition, Method, imbalance};
 use super::error::DistributedError;
 use super::halo::{departures, halo_sends};
 use super::packet::{append, pack, scatter};
@@ -34,11 +35,28 @@ use crate::model::params::StepParams;
 use crate::physics::damping_zone::DampingZone;
 use std::collections::HashMap;
 
-/// Bytes this rank sent to other ranks, by kind of exchange, since the backend was made.
+/// When a split run cuts the domain again (`sph run --rebalance`, `[ranks] rebalance`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Rebalance {
+    /// Keep the regions of the start.
+    Never,
+    /// At a halo rebuild whose per-rank particle counts have an imbalance
+    /// (`distributed::imbalance`, `max/mean − 1`) above this: regions are cut again at the
+    /// particle-count quantiles of the moment, by the run's method, and particles migrate.
+    Above(f64),
+}
+
+/// What this rank did and sent since the backend was made.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct HaloTraffic {
     /// Halo rebuilds (one per sort).
     pub rebuilds: u64,
+    /// Times the regions were cut again ([`Rebalance`]).
+    pub rebalances: u64,
+    /// Particles this rank owned at the last rebuild.
+    pub owned: u64,
+    /// Ghosts this rank held at the last rebuild.
+    pub ghosts: u64,
     /// Ghost refreshes between rebuilds.
     pub refreshes: u64,
     /// Bytes of migrating particles.
@@ -70,6 +88,8 @@ pub struct RankBackend<const D: usize> {
     inner: Box<dyn Backend<D> + Send>,
     comm: SharedCommunicator,
     decomposition: Decomposition<D>,
+    method: Method,
+    rebalance: Rebalance,
     width: Real,
     margin: Real,
     halo: Option<Halo<D>>,
@@ -79,16 +99,20 @@ pub struct RankBackend<const D: usize> {
 }
 
 impl<const D: usize> RankBackend<D> {
-    /// Rank `comm.rank()` of `decomposition`, running its stages on `inner`. `reach` is the
-    /// kernel's support [m]; particles may move `margin` [m] between two sorts. The rank holds
-    /// `particles` particles of its own and no ghosts yet.
+    /// Rank `comm.rank()` of `decomposition` (cut by `method`, again when `rebalance` says),
+    /// running its stages on `inner`. `reach` is the kernel's support [m]; particles may move
+    /// `margin` [m] between two sorts. The rank holds `particles` particles of its own and no
+    /// ghosts yet.
     ///
     /// # Errors
     /// [`BackendError::Unavailable`] when `inner` cannot run a rank's share.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         mut inner: Box<dyn Backend<D> + Send>,
         comm: SharedCommunicator,
         decomposition: Decomposition<D>,
+        method: Method,
+        rebalance: Rebalance,
         reach: Real,
         margin: Real,
         particles: usize,
@@ -102,6 +126,8 @@ impl<const D: usize> RankBackend<D> {
             inner,
             comm,
             decomposition,
+            method,
+            rebalance,
             width: 2.0 * reach + 2.0 * margin,
             margin,
             halo: None,
@@ -169,16 +195,38 @@ impl<const D: usize> RankBackend<D> {
                 fields.keep(&kept);
             }
         }
-        // Migration.
-        let (leaving, kept) = departures(&self.decomposition, &fields.position, rank);
-        let packets: Vec<Vec<u8>> = leaving.iter().map(|indices| pack(fields, indices)).collect();
-        self.traffic.migration_bytes += sent_bytes(&packets, rank);
-        if kept.len() < fields.len() {
-            fields.keep(&kept);
+        self.migrate(&**comm, fields)?;
+        if let Rebalance::Above(limit) = self.rebalance {
+            let counts: Vec<usize> = comm
+                .all_gather(&[fields.len() as f64])?
+                .iter()
+                .map(|c| c[0] as usize)
+                .collect();
+            if imbalance(&counts) > limit {
+                // Every rank cuts the same regions from every position, gathered in rank order.
+                let bytes: Vec<u8> = fields
+                    .position
+                    .iter()
+                    .flat_map(|x| x.iter().flat_map(|c| c.to_le_bytes()).collect::<Vec<u8>>())
+                    .collect();
+                let all = comm.exchange(vec![bytes; comm.size()])?;
+                let mut points = Vec::with_capacity(counts.iter().sum());
+                for b in &all {
+                    for chunk in b.chunks_exact(4 * D) {
+                        let mut x = Vector::<D>::zeros();
+                        for (k, c) in chunk.chunks_exact(4).enumerate() {
+                            x[k] = Real::from_le_bytes(c.try_into().expect("4 bytes"));
+                        }
+                        points.push(x);
+                    }
+                }
+                self.decomposition =
+                    Decomposition::build(self.decomposition.domain, &points, comm.size(), self.method);
+                self.traffic.rebalances += 1;
+                self.migrate(&**comm, fields)?;
+            }
         }
-        for packet in &comm.exchange(packets)? {
-            append(fields, packet)?;
-        }
+        self.traffic.owned = fields.len() as u64;
         // Ghosts, appended after the owned particles.
         let sends = halo_sends(&self.decomposition, &fields.position, rank, self.width);
         let packets: Vec<Vec<u8>> = sends.iter().map(|indices| pack(fields, indices)).collect();
@@ -197,6 +245,7 @@ impl<const D: usize> RankBackend<D> {
             recv_ids.push(ids);
         }
         self.traffic.rebuilds += 1;
+        self.traffic.ghosts = (fields.len() as u64).saturating_sub(self.traffic.owned);
         self.halo = Some(Halo {
             send_ids,
             recv_ids,
@@ -204,6 +253,26 @@ impl<const D: usize> RankBackend<D> {
             ..Halo::default()
         });
         Ok(())
+    }
+
+    /// Sends every particle another region owns there and appends those sent here.
+    fn migrate(&mut self, comm: &dyn Communicator, fields: &mut Fields<D>) -> Result<(), DistributedError> {
+        let rank = comm.rank();
+        let (leaving, kept) = departures(&self.decomposition, &fields.position, rank);
+        let packets: Vec<Vec<u8>> = leaving.iter().map(|indices| pack(fields, indices)).collect();
+        self.traffic.migration_bytes += sent_bytes(&packets, rank);
+        if kept.len() < fields.len() {
+            fields.keep(&kept);
+        }
+        for packet in &comm.exchange(packets)? {
+            append(fields, packet)?;
+        }
+        Ok(())
+    }
+
+    /// The regions now.
+    pub fn decomposition(&self) -> &Decomposition<D> {
+        &self.decomposition
     }
 
     /// After a sort: the halo's current indices, the owned mask the reductions count, and the
@@ -523,6 +592,10 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
 
     fn partition(&self) -> &Partition {
         self.inner.partition()
+    }
+
+    fn halo_traffic(&self) -> Option<HaloTraffic> {
+        Some(self.traffic)
     }
 
     fn set_partition(&mut self, partition: Partition) -> Result<(), BackendError> {

@@ -8,7 +8,7 @@ use super::Simulation;
 use crate::backend::cpu::CpuBackend;
 use crate::backend::partition::SharedCommunicator;
 use crate::backend::{Backend, BackendError, BackendKind};
-use crate::distributed::{Decomposition, Method, RankBackend, Region};
+use crate::distributed::{Decomposition, HaloTraffic, Method, RankBackend, Rebalance, Region};
 use crate::fields::Fields;
 use crate::math::Real;
 use crate::periodic::PeriodicAxes;
@@ -34,7 +34,8 @@ impl<const D: usize> Simulation<D> {
     /// Makes this simulation (the whole scene, built the same way on every rank) rank
     /// `comm.rank()`'s share: the domain box is cut among the ranks by `method` at particle-count
     /// quantiles (`distributed::decomposition`), the particles of other regions are dropped,
-    /// and the stages run on a [`RankBackend`] around the CPU backend.
+    /// and the stages run on a [`RankBackend`] around the CPU backend, which cuts the regions
+    /// again as `rebalance` says. Returns the regions of the start.
     ///
     /// # Errors
     /// [`SplitError::Unsupported`] for open boundaries, periodic axes or the CUDA backend.
@@ -42,6 +43,7 @@ impl<const D: usize> Simulation<D> {
         &mut self,
         comm: SharedCommunicator,
         method: Method,
+        rebalance: Rebalance,
     ) -> Result<Decomposition<D>, SplitError> {
         if self.open.is_some() {
             return Err(SplitError::Unsupported("open boundaries (inflow and outflow)"));
@@ -71,10 +73,24 @@ impl<const D: usize> Simulation<D> {
         let regions = decomposition.clone();
         self.use_backend_from(move |fields, _| {
             let inner: Box<dyn Backend<D> + Send> = Box::new(CpuBackend::new());
-            let backend = RankBackend::new(inner, comm, regions, reach, margin, fields.len())?;
+            let backend = RankBackend::new(
+                inner,
+                comm,
+                regions,
+                method,
+                rebalance,
+                reach,
+                margin,
+                fields.len(),
+            )?;
             Ok(Box::new(backend))
         })?;
         Ok(decomposition)
+    }
+
+    /// What this rank did and sent so far, for a split run.
+    pub fn halo_traffic(&self) -> Option<HaloTraffic> {
+        self.backend.halo_traffic()
     }
 
     /// Whether this simulation is one rank's share of a split run.

@@ -4,6 +4,7 @@
 //! The ranks are threads of one process (`LocalWorld`), which run the same collective code as
 //! MPI; `tests/mpi` runs the MPI transport under `mpirun`.
 
+mod balance;
 mod decomposition;
 mod exchange;
 mod particles;

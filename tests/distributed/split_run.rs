@@ -2,45 +2,56 @@
 //! MPI runs): the 2D dam break on 1, 2 and 4 ranks against the same run unsplit.
 
 use sph::backend::partition::SharedCommunicator;
-use sph::distributed::{LocalWorld, Method};
+use sph::distributed::{LocalWorld, Method, Rebalance};
 use sph::fields::FLUID;
 use sph::run::simulation_from_scene;
 use sph::scene::load_scene;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
 
-/// What a run ends with, summed or maximised over ranks.
+/// What a run ends with, summed or maximised over ranks, and this rank's own share.
 #[derive(Clone, Debug, PartialEq)]
-struct Outcome {
-    steps: u64,
-    time: f64,
-    fluid: f64,
-    mass: f64,
+pub struct Outcome {
+    pub steps: u64,
+    pub time: f64,
+    pub fluid: f64,
+    pub mass: f64,
     /// The surge front: largest fluid x [m].
-    front: f64,
-    /// Impulse of the fluid on the tank over the run, `Σ F dt` [N s/m].
-    impulse: [f64; 2],
+    pub front: f64,
+    /// Impulse of the fluid on the first solid over the run, `Σ F dt` [N s/m].
+    pub impulse: [f64; 2],
     /// The largest residual (24) after a correction stage over the run (`corrected` only).
-    residual_after: f64,
+    pub residual_after: f64,
     /// Correction stages that ended above `δ`.
-    unconverged: u64,
-    /// Fluid particles ever owned by more than one rank at the end (ids seen twice).
-    duplicated: f64,
+    pub unconverged: u64,
+    /// Particles owned by more than one rank at the end (ids seen twice).
+    pub duplicated: f64,
+    /// Particles of the scene missing at the end.
+    pub missing: f64,
+    /// Every rank's particle count at the end, in rank order.
+    pub counts: Vec<f64>,
 }
 
-/// The shipped 2D dam break at twice its spacing, with `solver`, to `end` [s] on `ranks`
-/// ranks (`None`: one simulation, not split).
-fn dam_break(solver: &str, ranks: Option<usize>, method: Method, end: f64) -> Vec<Outcome> {
-    let sets = [
-        format!("solver.kind={solver}"),
-        "particles.spacing=0.01".to_string(),
-        format!("solver.end_time={end}"),
-    ];
-    let scene = load_scene(Path::new("scenes/dam_break_2d.toml"), &sets).expect("shipped scene");
+/// How a run is split: `None` runs the scene whole.
+#[derive(Clone, Copy, Debug)]
+pub struct Split {
+    pub ranks: usize,
+    pub method: Method,
+    pub rebalance: Rebalance,
+}
+
+/// Runs `scene` with `sets` to `end` [s] whole or split, and returns each rank's outcome (one
+/// for a whole run). `on_rank` sees each rank's simulation at the end.
+pub fn run(scene: &str, sets: &[String], split: Option<Split>, end: f64) -> Vec<Outcome> {
+    let mut sets = sets.to_vec();
+    sets.push(format!("solver.end_time={end}"));
+    let scene = load_scene(Path::new(scene), &sets).expect("shipped scene");
     let body = |comm: Option<SharedCommunicator>| -> Outcome {
         let mut sim = simulation_from_scene::<2>(&scene).expect("builds");
-        if let Some(comm) = &comm {
-            sim.split_across_ranks(comm.clone(), method).expect("splits");
+        let initial = sim.fields.len();
+        if let (Some(comm), Some(split)) = (&comm, split) {
+            sim.split_across_ranks(comm.clone(), split.method, split.rebalance)
+                .expect("splits");
         }
         let mut impulse = [0.0; 2];
         while sim.clock().time < end {
@@ -60,31 +71,34 @@ fn dam_break(solver: &str, ranks: Option<usize>, method: Method, end: f64) -> Ve
             .map(|&i| f64::from(owned.position[i][0]))
             .fold(f64::NEG_INFINITY, f64::max);
         let mut ids: Vec<u32> = owned.id.clone();
-        let mut duplicated = 0.0;
+        let mut counts = vec![owned.len() as f64];
         if let Some(comm) = &comm {
             let comm = comm.lock().expect("communicator");
             sums = comm.sum(&sums).expect("sum");
             front = comm.max(front).expect("max");
-            let all: Vec<f64> = ids.iter().map(|&i| f64::from(i)).collect();
-            // Every rank's ids, to count duplicates.
-            let gathered = comm
-                .exchange(vec![
-                    all.iter().flat_map(|v| v.to_le_bytes()).collect();
-                    comm.size()
-                ])
-                .expect("ids");
+            counts = comm
+                .all_gather(&[owned.len() as f64])
+                .expect("counts")
+                .iter()
+                .map(|c| c[0])
+                .collect();
+            // Every rank's ids, to count duplicates and missing particles.
+            let bytes: Vec<u8> = ids.iter().flat_map(|i| i.to_le_bytes()).collect();
+            let gathered = comm.exchange(vec![bytes; comm.size()]).expect("ids");
             ids = gathered
                 .iter()
                 .flat_map(|b| {
-                    b.chunks_exact(8)
-                        .map(|c| f64::from_le_bytes(c.try_into().unwrap()) as u32)
+                    b.chunks_exact(4)
+                        .map(|c| u32::from_le_bytes(c.try_into().expect("4 bytes")))
                 })
                 .collect();
-            let n = ids.len();
-            ids.sort_unstable();
-            ids.dedup();
-            duplicated = (n - ids.len()) as f64;
         }
+        let n = ids.len();
+        ids.sort_unstable();
+        ids.dedup();
+        let missing = (0..initial as u32)
+            .filter(|i| ids.binary_search(i).is_err())
+            .count();
         let stats = sim.stats();
         Outcome {
             steps: sim.clock().step,
@@ -95,12 +109,14 @@ fn dam_break(solver: &str, ranks: Option<usize>, method: Method, end: f64) -> Ve
             impulse,
             residual_after: stats.correction.max_residual_after,
             unconverged: stats.correction.unconverged_stages,
-            duplicated,
+            duplicated: (n - ids.len()) as f64,
+            missing: missing as f64,
+            counts,
         }
     };
-    match ranks {
+    match split {
         None => vec![body(None)],
-        Some(n) => LocalWorld::run(n, |rank| {
+        Some(split) => LocalWorld::run(split.ranks, |rank| {
             let comm: SharedCommunicator = Arc::new(Mutex::new(Box::new(rank)));
             body(Some(comm))
         })
@@ -110,14 +126,31 @@ fn dam_break(solver: &str, ranks: Option<usize>, method: Method, end: f64) -> Ve
     }
 }
 
+/// The shipped 2D dam break at twice its spacing with `solver`, to `end` [s].
+fn dam_break(solver: &str, split: Option<Split>, end: f64) -> Vec<Outcome> {
+    let sets = [
+        format!("solver.kind={solver}"),
+        "particles.spacing=0.01".to_string(),
+    ];
+    run("scenes/dam_break_2d.toml", &sets, split, end)
+}
+
+fn split(ranks: usize, method: Method) -> Option<Split> {
+    Some(Split {
+        ranks,
+        method,
+        rebalance: Rebalance::Never,
+    })
+}
+
 /// On one rank the split run is the whole run, bit for bit: no ghosts, and every reduction
 /// over one rank is the rank's own.
 #[test]
 fn one_rank_repeats_the_whole_run_bit_for_bit() {
     for solver in ["wcsph", "corrected"] {
-        let whole = dam_break(solver, None, Method::Bisection, 0.05);
-        let split = dam_break(solver, Some(1), Method::Bisection, 0.05);
-        assert_eq!(whole, split, "{solver}");
+        let whole = dam_break(solver, None, 0.05);
+        let one = dam_break(solver, split(1, Method::Bisection), 0.05);
+        assert_eq!(whole, one, "{solver}");
     }
 }
 
@@ -131,9 +164,9 @@ fn one_rank_repeats_the_whole_run_bit_for_bit() {
 #[test]
 fn two_and_four_ranks_agree_with_one() {
     for solver in ["wcsph", "corrected"] {
-        let one = dam_break(solver, None, Method::Bisection, 0.15).remove(0);
+        let one = dam_break(solver, None, 0.15).remove(0);
         for (ranks, method) in [(2, Method::Slabs), (4, Method::Bisection)] {
-            let runs = dam_break(solver, Some(ranks), method, 0.15);
+            let runs = dam_break(solver, split(ranks, method), 0.15);
             for r in &runs {
                 assert_eq!(r, &runs[0], "every rank ends with the same global figures");
             }
@@ -143,7 +176,7 @@ fn two_and_four_ranks_agree_with_one() {
                 (split.steps, split.fluid, split.mass),
                 (one.steps, one.fluid, one.mass)
             );
-            assert_eq!(split.duplicated, 0.0);
+            assert_eq!((split.duplicated, split.missing), (0.0, 0.0));
             assert!(
                 (split.front - one.front).abs() < 1e-3,
                 "front {} against {}",
