@@ -48,4 +48,7 @@ pub enum Error {
     /// The requested backend is not available.
     #[error(transparent)]
     Backend(#[from] crate::backend::BackendError),
+    /// The run cannot be split across ranks.
+    #[error(transparent)]
+    Split(#[from] crate::solver::ranks::SplitError),
 }

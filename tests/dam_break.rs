@@ -32,6 +32,7 @@ fn corrected_dam_break_front_within_8_percent_of_martin_moyce() {
         out_dir: None,
         force: false,
         stop: None,
+        ranks: None,
         backend: Default::default(),
         threads: rayon::current_num_threads(),
         scene_name: "dam_break_2d".into(),

@@ -140,6 +140,7 @@ pub fn run_file(
         out_dir: Some(out.clone()),
         force,
         stop: Some(stop.flag.clone()),
+        ranks: None,
         backend: kind,
         threads: pool.current_num_threads(),
         scene_name: scene.name.clone().unwrap_or_else(|| stem(&path)),
@@ -228,6 +229,7 @@ pub fn sweep_file(
         out_dir: None,
         force,
         stop: Some(stop.flag.clone()),
+        ranks: None,
         backend: kind,
         threads: pool.current_num_threads(),
         scene_name: scenes

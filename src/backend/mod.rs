@@ -309,6 +309,11 @@ pub trait Backend<const D: usize> {
     fn partition(&self) -> &Partition {
         &partition::WHOLE
     }
+    /// Replaces each of `values` by its sum over the ranks of a split run (`backend::partition`;
+    /// unchanged for a backend that holds the whole simulation). Every rank must call it.
+    fn sum_over_ranks(&mut self, values: &mut [f64]) {
+        let _ = values;
+    }
     /// What a rank's share did and sent so far (`distributed::RankBackend`); `None` for a
     /// backend that holds the whole simulation.
     fn halo_traffic(&self) -> Option<crate::distributed::HaloTraffic> {

@@ -112,6 +112,7 @@ pub fn run(
         threads: pool.current_num_threads(),
         scene_name: scene.name.clone().unwrap_or(stem),
         restart,
+        ranks: None,
     };
     let bar = progress_bar();
     let mut last = std::time::Instant::now();

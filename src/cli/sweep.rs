@@ -64,6 +64,7 @@ pub fn sweep(
         out_dir: None,
         force,
         stop: super::signals::stop_flag(),
+        ranks: None,
         backend: match backend {
             BackendArg::Cpu => BackendKind::Cpu,
             BackendArg::Cuda => BackendKind::Cuda,

@@ -36,6 +36,12 @@ pub enum DistributedError {
         /// The margin [m] (`distributed::rank_backend`).
         margin: f64,
     },
+    /// Rank 0 stopped the run before the ranks began (the others stop with this).
+    #[error("rank 0 stopped the run: {reason}")]
+    RootStopped {
+        /// Why.
+        reason: &'static str,
+    },
     /// The MPI library reported an error.
     #[error("MPI: {0}")]
     Mpi(String),

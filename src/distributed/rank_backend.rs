@@ -594,6 +594,10 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         self.inner.partition()
     }
 
+    fn sum_over_ranks(&mut self, values: &mut [f64]) {
+        self.inner.sum_over_ranks(values);
+    }
+
     fn halo_traffic(&self) -> Option<HaloTraffic> {
         Some(self.traffic)
     }

@@ -31,11 +31,13 @@ use std::time::Instant;
 
 pub mod folder;
 pub mod out_of_memory;
+pub mod ranks;
 mod report;
 mod setup;
 mod writers;
 
 pub use folder::{RunFolder, RunFolderError, RunIdentity};
+pub use ranks::Ranks;
 pub use setup::{correction, integrator, plan_inputs, sim_config, simulation_from_scene};
 use writers::Writers;
 pub use writers::{CHECKPOINT_FILE, STEP_COLUMNS};
@@ -81,6 +83,8 @@ pub struct RunOptions {
     /// Set to a signal number (non-zero) to end the run after its current step with a
     /// checkpoint and status `interrupted` ([`Error::Interrupted`]).
     pub stop: Option<Arc<AtomicUsize>>,
+    /// The run is split across ranks (`mpirun -np N sph run`, [`ranks`]); `None`: one process.
+    pub ranks: Option<Ranks>,
 }
 
 /// Checkpoints of a run (`sph run --checkpoint-every N`, `sph run --resume DIR`).
@@ -240,6 +244,8 @@ struct Loop {
     start: Instant,
     /// Largest particle speed over the steps [m/s].
     max_speed: f64,
+    /// Frames written so far (every rank of a split run counts them, to name its pieces).
+    frames_written: usize,
 }
 
 fn drive<const D: usize>(
@@ -250,18 +256,28 @@ fn drive<const D: usize>(
 ) -> Result<Summary, Error> {
     let restart = &options.restart;
     let with_forces = !sim.solid_names().is_empty();
-    // The folder first: a refused folder is left exactly as it was.
-    let folder = match &options.out_dir {
-        Some(dir) if restart.resume => Some(RunFolder::resume(dir)?),
-        Some(dir) => {
-            let identity = RunIdentity {
-                scene_hash: scene_hash(options)?,
-                ..RunIdentity::new(None)
-            };
-            Some(RunFolder::fresh(dir, identity, options.force)?)
+    let root = options.ranks.as_ref().is_none_or(Ranks::is_root);
+    if options.ranks.is_some() && (restart.resume || restart.every.is_some()) {
+        return Err(crate::solver::ranks::SplitError::Unsupported(
+            "checkpoints (--checkpoint-every, --resume)",
+        )
+        .into());
+    }
+    // The folder first: a refused folder is left exactly as it was. Split across ranks, rank 0
+    // opens it, and the others go on only if it did.
+    let folder = if root { open_folder(options) } else { Ok(None) };
+    if let Some(ranks) = &options.ranks {
+        let opened = ranks.root_says(f64::from(u8::from(folder.is_ok())))?;
+        if opened == 0.0 && !root {
+            return Err(crate::backend::BackendError::Ranks(
+                crate::distributed::DistributedError::RootStopped {
+                    reason: "it could not open the run folder",
+                },
+            )
+            .into());
         }
-        None => None,
-    };
+    }
+    let folder = folder?;
     let resumed = match &folder {
         Some(f) if restart.resume => Some(resumed_state(&mut sim, f, options)?),
         _ => None,
@@ -275,6 +291,7 @@ fn drive<const D: usize>(
         wall_before: 0.0,
         start: Instant::now(),
         max_speed: 0.0,
+        frames_written: 0,
     };
     let ending = match start(
         &mut sim,
@@ -291,7 +308,22 @@ fn drive<const D: usize>(
         Ok(ending) => ending,
         Err(e) => Ending::Failed(e),
     };
-    report::finish(&mut sim, scene, &mut summary, &mut state, ending)
+    report::finish(&mut sim, scene, options, &mut summary, &mut state, ending)
+}
+
+/// The run folder of a new run, or of the run `--resume` continues.
+fn open_folder(options: &RunOptions) -> Result<Option<RunFolder>, Error> {
+    Ok(match &options.out_dir {
+        Some(dir) if options.restart.resume => Some(RunFolder::resume(dir)?),
+        Some(dir) => {
+            let identity = RunIdentity {
+                scene_hash: scene_hash(options)?,
+                ..RunIdentity::new(None)
+            };
+            Some(RunFolder::fresh(dir, identity, options.force)?)
+        }
+        None => None,
+    })
 }
 
 /// Opens the output files, writes the `running` summary and, on a new run, the first frame.
@@ -312,6 +344,10 @@ fn start<const D: usize>(
         (None, _) => None,
     };
     sim.use_backend(options.backend)?;
+    if let Some(ranks) = &options.ranks {
+        sim.split_across_ranks(ranks.comm.clone(), ranks.method, ranks.rebalance)?;
+        summary.extra.insert("ranks".into(), ranks.size().into());
+    }
     summary.backend = sim.backend_name().into();
     if let Some(w) = state.writers.as_mut() {
         w.summary(summary)?;
@@ -330,19 +366,9 @@ fn start<const D: usize>(
             state.wall_before = r.wall_seconds;
         }
         None => {
-            let mut probes = ProbeLog::create(scene, probe_dir, probe_interval)?;
-            if let Some(w) = state.writers.as_mut() {
-                w.frame(sim, scene.write_frames)?;
-            }
-            probes.record_loads(
-                0.0,
-                0.0,
-                &sim.fields,
-                sim.solid_forces(),
-                sim.solid_moments(),
-                true,
-            )?;
-            state.probes = Some(probes);
+            state.probes = Some(ProbeLog::create(scene, probe_dir, probe_interval)?);
+            write_frame(sim, scene, options, state)?;
+            record_probes(sim, options, state, 0.0, 0.0, true)?;
         }
     }
     state.start = Instant::now();
@@ -400,10 +426,14 @@ fn steps<const D: usize>(
             .ok()
             .and_then(|v| v.as_str().map(String::from))
             .unwrap_or_default();
-        record_step(sim, scene, state, &report, name, iterations_before)?;
+        record_step(sim, scene, options, state, &report, name, iterations_before)?;
         let clock = sim.clock();
         let last = clock.time >= end;
-        let signal = options.stop.as_ref().map_or(0, |s| s.load(Ordering::SeqCst));
+        let mut signal = options.stop.as_ref().map_or(0, |s| s.load(Ordering::SeqCst));
+        if let Some(ranks) = &options.ranks {
+            // A signal on any rank stops every rank after the same step.
+            signal = ranks.largest(signal as f64)? as usize;
+        }
         if every.is_some_and(|n| clock.step % n.max(1) == 0 || last) || signal != 0 {
             write_checkpoint(sim, options, state)?;
         }
@@ -411,6 +441,9 @@ fn steps<const D: usize>(
             return Ok(Ending::Interrupted(signal));
         }
         let wall = state.start.elapsed().as_secs_f64();
+        if !options.ranks.as_ref().is_none_or(Ranks::is_root) {
+            continue;
+        }
         progress(&Progress {
             time: clock.time,
             end_time: end,
@@ -428,6 +461,7 @@ fn steps<const D: usize>(
 fn record_step<const D: usize>(
     sim: &mut Simulation<D>,
     scene: &Scene,
+    options: &RunOptions,
     state: &mut Loop,
     report: &StepReport,
     name: String,
@@ -455,19 +489,7 @@ fn record_step<const D: usize>(
     state.max_speed = state.max_speed.max(report.extremes.max_speed);
     let last = clock.time >= end;
     let frame_time = clock.time >= state.next_frame - 1e-12 * end || last;
-    let frame_due = state.writers.is_some() && (scene.write_frames || scene.write_surface) && frame_time;
-    let probes = state.probes.as_mut().expect("opened by start");
-    if frame_due || probes.wants_fields(clock.time, last) {
-        sim.sync_fields()?;
-    }
-    probes.record_loads(
-        clock.time,
-        report.dt,
-        &sim.fields,
-        sim.solid_forces(),
-        sim.solid_moments(),
-        last,
-    )?;
+    record_probes(sim, options, state, clock.time, report.dt, last)?;
     if let Some(w) = state.writers.as_mut() {
         if let Some(log) = w.forces.as_mut() {
             for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {
@@ -482,12 +504,98 @@ fn record_step<const D: usize>(
                 }
             }
         }
-        if frame_time {
-            w.frame(sim, scene.write_frames)?;
-            while state.next_frame <= clock.time + 1e-12 * end {
-                state.next_frame += scene.output_interval;
+    }
+    if frame_time && options.out_dir.is_some() {
+        write_frame(sim, scene, options, state)?;
+        while state.next_frame <= clock.time + 1e-12 * end {
+            state.next_frame += scene.output_interval;
+        }
+    }
+    Ok(())
+}
+
+/// The probes at `time` [s] after a step of `dt` [s] (`now`: a sample is due whatever the
+/// interval). Split across ranks, rank 0 decides whether they read particles; if so every
+/// rank's are gathered there, and rank 0 records.
+fn record_probes<const D: usize>(
+    sim: &mut Simulation<D>,
+    options: &RunOptions,
+    state: &mut Loop,
+    time: f64,
+    dt: f64,
+    now: bool,
+) -> Result<(), Error> {
+    let probes = state.probes.as_mut().expect("opened by start");
+    let wants = probes.wants_fields(time, now);
+    let gathered = match &options.ranks {
+        None => {
+            if wants {
+                sim.sync_fields()?;
+            }
+            None
+        }
+        Some(ranks) => {
+            if ranks.root_says(f64::from(u8::from(wants)))? == 0.0 {
+                None
+            } else {
+                let owned = sim.owned_fields()?;
+                let all = ranks.gather(&owned)?;
+                if !ranks.is_root() {
+                    return Ok(());
+                }
+                all
             }
         }
+    };
+    if !options.ranks.as_ref().is_none_or(Ranks::is_root) {
+        return Ok(());
+    }
+    let fields = gathered.as_ref().unwrap_or(&sim.fields);
+    probes.record_loads(time, dt, fields, sim.solid_forces(), sim.solid_moments(), now)?;
+    Ok(())
+}
+
+/// The frame (and surface) of the state now: one file, or split across ranks one piece per
+/// rank and rank 0's header, each piece claimed before any is written and the header written
+/// after every piece.
+fn write_frame<const D: usize>(
+    sim: &mut Simulation<D>,
+    scene: &Scene,
+    options: &RunOptions,
+    state: &mut Loop,
+) -> Result<(), Error> {
+    let Some(ranks) = &options.ranks else {
+        if let Some(w) = state.writers.as_mut() {
+            sim.sync_fields()?;
+            w.frame(sim, scene.write_frames)?;
+        }
+        return Ok(());
+    };
+    let Some(dir) = &options.out_dir else {
+        return Ok(());
+    };
+    let time = sim.clock().time;
+    let owned = sim.owned_fields()?;
+    let all = if scene.write_surface {
+        ranks.gather(&owned)?
+    } else {
+        None
+    };
+    if scene.write_frames {
+        if let Some(w) = state.writers.as_mut() {
+            w.claim_pieces(ranks.size())?;
+        }
+        ranks.barrier()?;
+        let stem = format!("frame_{:05}", state.frames_written);
+        let piece = dir
+            .join("frames")
+            .join(crate::output::pvtu::piece_name(&stem, ranks.rank()));
+        writers::write_frame_file(&piece, time, &owned, scene.fluid_only, scene.output_encoding)?;
+        ranks.barrier()?;
+        state.frames_written += 1;
+    }
+    if let Some(w) = state.writers.as_mut() {
+        w.parallel_frame(time, ranks.size(), all.as_ref(), scene.write_frames)?;
     }
     Ok(())
 }

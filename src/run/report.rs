@@ -48,11 +48,29 @@ pub(super) fn initial<const D: usize>(
 pub(super) fn finish<const D: usize>(
     sim: &mut Simulation<D>,
     scene: &Scene,
+    options: &RunOptions,
     summary: &mut Summary,
     state: &mut Loop,
     ending: Ending,
 ) -> Result<Summary, Error> {
-    let ending = match statistics(sim, scene, summary, state) {
+    // Split across ranks: the whole run's totals, a collective every rank reaches unless the
+    // run failed (a failed rank may be gone); only rank 0 writes.
+    let mut totals = None;
+    let mut ending = ending;
+    if options.ranks.is_some() && !matches!(ending, Ending::Failed(_)) {
+        totals = Some(sim.totals_over_ranks());
+        if let Some(e) = sim.synchronize().err() {
+            ending = Ending::Failed(e.into());
+        }
+    }
+    if !options.ranks.as_ref().is_none_or(super::Ranks::is_root) {
+        return match ending {
+            Ending::Completed => Ok(summary.clone()),
+            Ending::Failed(e) => Err(e),
+            Ending::Interrupted(signal) => Err(Error::Interrupted { signal }),
+        };
+    }
+    let ending = match statistics(sim, scene, summary, state, totals) {
         Ok(()) => ending,
         Err(e) => match ending {
             Ending::Completed => Ending::Failed(e),
@@ -82,8 +100,11 @@ fn statistics<const D: usize>(
     scene: &Scene,
     summary: &mut Summary,
     state: &mut Loop,
+    totals: Option<(u64, f64)>,
 ) -> Result<(), Error> {
     sim.sync_fields()?;
+    // Particles and fluid mass of the whole run (summed over ranks when split).
+    let (particles, fluid_mass) = totals.unwrap_or((sim.fields.len() as u64, sim.fluid_mass()));
     let clock = sim.clock();
     let stats = sim.stats();
     let wall = state.wall_before + state.start.elapsed().as_secs_f64();
@@ -91,7 +112,7 @@ fn statistics<const D: usize>(
     summary.steps = clock.step;
     summary.simulated_time = clock.time;
     summary.wall_seconds = wall;
-    summary.particle_steps_per_second = clock.step as f64 * sim.fields.len() as f64 / wall.max(1e-9);
+    summary.particle_steps_per_second = clock.step as f64 * particles as f64 / wall.max(1e-9);
     summary.max_compression = stats.max_compression;
     summary.mean_compression = stats.sum_mean_compression / steps;
     summary.max_surface_deficit = stats.max_surface_deficit;
@@ -115,7 +136,7 @@ fn statistics<const D: usize>(
     extra.insert("removed_particles".into(), stats.removed_particles.into());
     extra.insert("created_particles".into(), stats.created_particles.into());
     extra.insert("outflow_particles".into(), stats.outflow_particles.into());
-    extra.insert("fluid_mass".into(), sim.fluid_mass().into());
+    extra.insert("fluid_mass".into(), fluid_mass.into());
     extra.insert("memory_bytes".into(), (sim.heap_bytes() as u64).into());
     // The process's peak resident set (Linux), what `sph check`'s estimate is held to.
     if let Some(peak) = crate::memory::peak_resident_bytes() {
@@ -123,7 +144,7 @@ fn statistics<const D: usize>(
     }
     extra.insert(
         "memory_bytes_per_particle".into(),
-        (sim.heap_bytes() as f64 / sim.fields.len().max(1) as f64).into(),
+        (sim.heap_bytes() as f64 / sim.fields.len().max(1) as f64).into(), // this rank's
     );
     extra.insert("smoothing_length".into(), scene.smoothing_length.into());
     extra.insert("spacing".into(), scene.spacing.into());

@@ -5,8 +5,10 @@
 use super::RunState;
 use super::folder::RunFolder;
 use crate::error::Error;
+use crate::fields::Fields;
 use crate::math::Vector;
 use crate::output::bodies::BodyLog;
+use crate::output::pvtu::{piece_name, write_pvtu};
 use crate::output::surface_series::{SurfaceOutputError, SurfaceSeries};
 use crate::output::vtu::Frame;
 use crate::output::{
@@ -221,6 +223,56 @@ impl Writers {
         sim: &Simulation<D>,
         write_frame: bool,
     ) -> Result<(), Error> {
+        self.surface_and_logs(sim.clock().time, &sim.fields)?;
+        if !write_frame {
+            return Ok(());
+        }
+        let f = &sim.fields;
+        let time = sim.clock().time;
+        let name = format!("frames/frame_{:05}.vtu", self.pvd.len());
+        let path = self.folder.claim(&name)?;
+        write_frame_file(&path, time, f, self.fluid_only, self.encoding)?;
+        self.pvd.push(time, name);
+        Ok(self.pvd.write(&self.folder.claim("particles.pvd")?)?)
+    }
+
+    /// The pieces of the next frame of a run split over `ranks` ranks, claimed in the folder
+    /// before any rank writes one (paths, in rank order).
+    pub(super) fn claim_pieces(&mut self, ranks: usize) -> Result<Vec<std::path::PathBuf>, Error> {
+        let stem = format!("frame_{:05}", self.pvd.len());
+        (0..ranks)
+            .map(|r| Ok(self.folder.claim(&format!("frames/{}", piece_name(&stem, r)))?))
+            .collect()
+    }
+
+    /// Flushes the logs and, once every rank wrote its piece of the frame at `time` [s]
+    /// ([`Writers::claim_pieces`], [`write_frame_file`]), writes the `.pvtu` header and adds it
+    /// to the series (when `write_frame`); the surface from `all`, every rank's particles.
+    pub(super) fn parallel_frame<const D: usize>(
+        &mut self,
+        time: f64,
+        ranks: usize,
+        all: Option<&Fields<D>>,
+        write_frame: bool,
+    ) -> Result<(), Error> {
+        if let Some(all) = all {
+            self.surface_and_logs(time, all)?;
+        } else {
+            self.surface_and_logs::<D>(time, &Fields::default())?;
+        }
+        if !write_frame {
+            return Ok(());
+        }
+        let stem = format!("frame_{:05}", self.pvd.len());
+        let name = format!("frames/{stem}.pvtu");
+        let pieces: Vec<String> = (0..ranks).map(|r| piece_name(&stem, r)).collect();
+        write_pvtu(&self.folder.claim(&name)?, &pieces)?;
+        self.pvd.push(time, name);
+        Ok(self.pvd.write(&self.folder.claim("particles.pvd")?)?)
+    }
+
+    /// Flushes the logs and writes the surface of the fluid of `f` at `time` [s].
+    fn surface_and_logs<const D: usize>(&mut self, time: f64, f: &Fields<D>) -> Result<(), Error> {
         if let Some(f) = self.forces.as_mut() {
             f.flush()?;
         }
@@ -228,8 +280,6 @@ impl Writers {
             b.flush()?;
         }
         self.steps.flush()?;
-        let f = &sim.fields;
-        let time = sim.clock().time;
         if let Some((series, params)) = self.surface.as_mut() {
             let index = series.entries().len();
             self.folder
@@ -243,26 +293,31 @@ impl Writers {
                 .push(index, time, &mesh)
                 .map_err(SurfaceOutputError::from)?;
         }
-        if !write_frame {
-            return Ok(());
-        }
-        let name = format!("frames/frame_{:05}.vtu", self.pvd.len());
-        let path = self.folder.claim(&name)?;
-        let frame = Frame {
-            time,
-            position: &f.position,
-            velocity: &f.velocity,
-            density: &f.density,
-            pressure: &f.pressure,
-            kind: &f.kind,
-            id: &f.id,
-        };
-        if self.fluid_only {
-            write_vtu(&path, &frame.fluid().frame(), self.encoding)?;
-        } else {
-            write_vtu(&path, &frame, self.encoding)?;
-        }
-        self.pvd.push(time, name);
-        Ok(self.pvd.write(&self.folder.claim("particles.pvd")?)?)
+        Ok(())
+    }
+}
+
+/// Writes the particles `f` at `time` [s] to the `.vtu` file `path` (only the fluid with
+/// `fluid_only`): a whole frame, or one rank's piece of a parallel one.
+pub(super) fn write_frame_file<const D: usize>(
+    path: &Path,
+    time: f64,
+    f: &Fields<D>,
+    fluid_only: bool,
+    encoding: Encoding,
+) -> Result<(), OutputError> {
+    let frame = Frame {
+        time,
+        position: &f.position,
+        velocity: &f.velocity,
+        density: &f.density,
+        pressure: &f.pressure,
+        kind: &f.kind,
+        id: &f.id,
+    };
+    if fluid_only {
+        write_vtu(path, &frame.fluid().frame(), encoding)
+    } else {
+        write_vtu(path, &frame, encoding)
     }
 }

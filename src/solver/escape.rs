@@ -47,14 +47,22 @@ impl<const D: usize> Simulation<D> {
             .filter(|&i| f.kind[i] != FLUID || !outside(i))
             .map(|i| i as u32)
             .collect();
-        let removed = (f.len() - kept.len()) as u64;
-        if removed == 0 {
-            return Ok(0);
+        // Split across ranks, a ghost's removal is counted by its owner; the count is global.
+        let partition = self.backend.partition();
+        let mut removed = [(0..f.len())
+            .filter(|&i| f.kind[i] == FLUID && outside(i) && partition.counts(i))
+            .count() as f64];
+        let any = kept.len() < f.len();
+        self.backend.sum_over_ranks(&mut removed);
+        let removed = removed[0] as u64;
+        if any {
+            self.fields.keep(&kept);
         }
-        self.fields.keep(&kept);
         self.stats.removed_particles += removed;
-        self.reload_backend()
-            .map_err(|source| StepError::Backend { step, source })?;
+        if any {
+            self.reload_backend()
+                .map_err(|source| StepError::Backend { step, source })?;
+        }
         Ok(removed)
     }
 }

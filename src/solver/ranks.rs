@@ -101,6 +101,26 @@ impl<const D: usize> Simulation<D> {
         )
     }
 
+    /// Particles and fluid mass [kg] (2D: per metre) of the whole run: summed over ranks when
+    /// split (every rank must call it then), this simulation's own otherwise.
+    pub fn totals_over_ranks(&mut self) -> (u64, f64) {
+        let f = &self.fields;
+        let partition = self.backend.partition();
+        let mut totals = crate::math::sum_in_order(f.len(), |i| {
+            if !partition.counts(i) {
+                return [0.0; 2];
+            }
+            let fluid_mass = if f.kind[i] == crate::fields::FLUID {
+                f64::from(f.mass[i])
+            } else {
+                0.0
+            };
+            [1.0, fluid_mass]
+        });
+        self.backend.sum_over_ranks(&mut totals);
+        (totals[0] as u64, totals[1])
+    }
+
     /// This rank's own particles (all of them for a whole simulation), without its ghosts, in
     /// the order of the last sort.
     ///

@@ -189,10 +189,13 @@ impl<const D: usize> Simulation<D> {
         let (step, time) = (self.clock.step, self.clock.time);
         let mut e = self.backend.state_extremes(&self.fields, params);
         let mut removed = 0;
-        if e.non_finite.is_none()
-            && e.escaped.is_some()
-            && self.config.on_escape == super::escape::EscapePolicy::Remove
-        {
+        // Split across ranks, every rank removes when any has a particle to remove (the removal
+        // and the extremes after it are collective).
+        let mut escaped = [f64::from(u8::from(e.non_finite.is_none() && e.escaped.is_some()))];
+        if self.config.on_escape == super::escape::EscapePolicy::Remove {
+            self.backend.sum_over_ranks(&mut escaped);
+        }
+        if escaped[0] > 0.0 && self.config.on_escape == super::escape::EscapePolicy::Remove {
             self.fields_stale = self.backend.holds_state();
             self.sync_fields()
                 .map_err(|source| StepError::Backend { step, source })?;

@@ -4,8 +4,12 @@
 //! The ranks are threads of one process (`LocalWorld`), which run the same collective code as
 //! MPI; `tests/mpi` runs the MPI transport under `mpirun`.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod balance;
 mod decomposition;
 mod exchange;
 mod particles;
+mod split_output;
 mod split_run;

@@ -115,6 +115,7 @@ fn run_writes_summary_frames_and_forces() {
         out_dir: Some(out.clone()),
         force: false,
         stop: None,
+        ranks: None,
         backend: sph::backend::BackendKind::Cpu,
         threads: rayon::current_num_threads(),
         scene_name: "dam_break_2d".into(),

@@ -90,6 +90,7 @@ fn options() -> RunOptions {
         out_dir: None,
         force: false,
         stop: None,
+        ranks: None,
         backend: Default::default(),
         threads: rayon::current_num_threads(),
         scene_name: "tiny_dam_break".into(),

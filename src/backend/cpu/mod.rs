@@ -142,6 +142,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         &self.partition
     }
 
+    fn sum_over_ranks(&mut self, values: &mut [f64]) {
+        self.partition.sum(values);
+    }
+
     fn set_partition(&mut self, partition: Partition) -> Result<(), BackendError> {
         self.partition = partition;
         Ok(())
