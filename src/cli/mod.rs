@@ -13,6 +13,7 @@ mod check;
 mod compare;
 mod plan;
 mod plot;
+mod ranks;
 mod render;
 mod run;
 pub mod signals;
@@ -136,6 +137,13 @@ enum Command {
         /// With --resume: continue although the scene file changed since the run started.
         #[arg(long, requires = "resume")]
         accept_edited_scene: bool,
+        /// Under mpirun (built with --features mpi): how the domain is cut among the ranks.
+        #[arg(long, value_enum, default_value_t = ranks::DecompositionArg::Bisection)]
+        decomposition: ranks::DecompositionArg,
+        /// Under mpirun: cut the domain again when the ranks' particle counts differ by more
+        /// than this imbalance (max/mean - 1), or `never`.
+        #[arg(long, value_name = "LIMIT", default_value = "0.1", value_parser = ranks::parse_rebalance)]
+        rebalance: crate::distributed::Rebalance,
     },
     /// Run one variant of a scene per value of the swept keys and compare them: writes sweep.csv,
     /// sweep.png (error against wall time), fronts.png (probe curves with reference data) and
@@ -343,6 +351,8 @@ where
             resume,
             force,
             accept_edited_scene,
+            decomposition,
+            rebalance,
         } => {
             if let Some(t) = end_time {
                 sets.push(format!("solver.end_time={t:e}"));
@@ -353,7 +363,17 @@ where
                 force,
                 accept_edited_scene,
             };
-            run::run(scene.as_deref(), out, threads, backend, &sets, checkpoint, refs)
+            let ranks = ranks::join(decomposition.into(), rebalance)?;
+            run::run(
+                scene.as_deref(),
+                out,
+                threads,
+                backend,
+                &sets,
+                checkpoint,
+                refs,
+                ranks,
+            )
         }
         Command::Sweep {
             scene,

@@ -44,7 +44,9 @@ pub struct CheckpointArgs {
     pub accept_edited_scene: bool,
 }
 
-/// Runs the scene at `path`, or resumes the run in `checkpoint.resume`.
+/// Runs the scene at `path`, or resumes the run in `checkpoint.resume`; as one rank of a split
+/// run with `ranks` (only rank 0 reports).
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     path: Option<&Path>,
     out: Option<PathBuf>,
@@ -53,7 +55,9 @@ pub fn run(
     sets: &[String],
     checkpoint: CheckpointArgs,
     reference_dir: Option<&Path>,
+    ranks: Option<crate::run::Ranks>,
 ) -> anyhow::Result<()> {
+    let root = ranks.as_ref().is_none_or(crate::run::Ranks::is_root);
     anyhow::ensure!(
         checkpoint.every != Some(0),
         "--checkpoint-every must be at least 1 step"
@@ -83,7 +87,7 @@ pub fn run(
         }
     };
     let path = path.as_path();
-    let scene = super::load_located(path, &sets, reference_dir, true)
+    let scene = super::load_located(path, &sets, reference_dir, root)
         .with_context(|| format!("loading scene {}", path.display()))?;
     let stem = stem(path);
     // Stored absolute, so that --resume works from any folder.
@@ -98,6 +102,10 @@ pub fn run(
     if let Some(n) = threads {
         anyhow::ensure!(n > 0, "--threads must be at least 1");
         builder = builder.num_threads(n);
+    } else if ranks.is_some() {
+        // The ranks on one machine share its cores.
+        let cores = std::thread::available_parallelism().map_or(1, usize::from);
+        builder = builder.num_threads((cores / super::ranks::local_ranks()).max(1));
     }
     let pool = builder.build().context("starting the worker threads")?;
     check_address_space(&scene, pool.current_num_threads())?;
@@ -112,9 +120,13 @@ pub fn run(
         threads: pool.current_num_threads(),
         scene_name: scene.name.clone().unwrap_or(stem),
         restart,
-        ranks: None,
+        ranks,
     };
-    let bar = progress_bar();
+    let bar = if root {
+        progress_bar()
+    } else {
+        ProgressBar::hidden()
+    };
     let mut last = std::time::Instant::now();
     let mut warned = 0u64;
     let mut warned_removed = false;
@@ -167,6 +179,9 @@ pub fn run(
             format!("running scene {} (nothing written)", path.display())
         }
     })?;
+    if !root {
+        return Ok(());
+    }
     println!(
         "{}: {} particles ({} fluid), {} steps to t = {:.4} s in {:.1} s wall, {:.3e} particle-steps/s; results in {}",
         summary.scene,

@@ -1,0 +1,81 @@
+//! `mpirun -np N sph run`: whether this process is one of several MPI ranks, and the split
+//! run it then takes part in (`run::Ranks`, docs/distributed.md).
+
+use crate::distributed::{Method, Rebalance};
+use crate::run::Ranks;
+
+/// How the CLI asks to cut the domain (`--decomposition`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DecompositionArg {
+    /// Slabs along the domain's longest axis.
+    Slabs,
+    /// Recursive coordinate bisection.
+    Bisection,
+}
+
+impl From<DecompositionArg> for Method {
+    fn from(arg: DecompositionArg) -> Self {
+        match arg {
+            DecompositionArg::Slabs => Method::Slabs,
+            DecompositionArg::Bisection => Method::Bisection,
+        }
+    }
+}
+
+/// `--rebalance LIMIT` or `never`.
+pub fn parse_rebalance(text: &str) -> Result<Rebalance, String> {
+    if text == "never" {
+        return Ok(Rebalance::Never);
+    }
+    match text.parse::<f64>() {
+        Ok(limit) if limit.is_finite() && limit > 0.0 => Ok(Rebalance::Above(limit)),
+        _ => Err(format!(
+            "expected an imbalance above which to cut the domain again (max/mean - 1, e.g. 0.1) or never, got {text}"
+        )),
+    }
+}
+
+/// The number of ranks an MPI launcher started, from the variables it sets (Open MPI, MPICH
+/// and Intel MPI's Hydra, Slurm's PMI), if this process was started by one.
+pub fn launched_ranks() -> Option<usize> {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok()?.parse().ok())
+}
+
+/// Ranks on this machine, for the default thread count (each rank takes its share of the cores).
+pub fn local_ranks() -> usize {
+    ["OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok()?.parse().ok())
+        .unwrap_or(1)
+}
+
+/// The split run this process takes part in, if an MPI launcher started it as one of several
+/// ranks.
+///
+/// # Errors
+/// When started as one of several ranks by a build without the `mpi` feature (each would run
+/// the whole scene into the same folder), or when MPI cannot start.
+pub fn join(method: Method, rebalance: Rebalance) -> anyhow::Result<Option<Ranks>> {
+    let launched = launched_ranks().unwrap_or(1);
+    #[cfg(feature = "mpi")]
+    if launched > 1 {
+        use std::sync::{Arc, Mutex};
+        let world = crate::distributed::mpi_world::MpiWorld::initialize()?;
+        let comm: crate::backend::partition::SharedCommunicator = Arc::new(Mutex::new(Box::new(world)));
+        return Ok(Some(Ranks {
+            comm,
+            method,
+            rebalance,
+        }));
+    }
+    let _ = (method, rebalance);
+    anyhow::ensure!(
+        launched <= 1,
+        "started as one of {launched} MPI ranks, but this sph was built without the mpi feature: \
+         every rank would run the whole scene into the same folder. Build with \
+         cargo build --release --features mpi (docs/distributed.md)"
+    );
+    Ok(None)
+}
