@@ -314,6 +314,11 @@ pub trait Backend<const D: usize> {
     fn sum_over_ranks(&mut self, values: &mut [f64]) {
         let _ = values;
     }
+    /// The regions of a split run now (`distributed::RankBackend`); `None` for a backend that
+    /// holds the whole simulation.
+    fn decomposition(&self) -> Option<crate::distributed::Decomposition<D>> {
+        None
+    }
     /// What a rank's share did and sent so far (`distributed::RankBackend`); `None` for a
     /// backend that holds the whole simulation.
     fn halo_traffic(&self) -> Option<crate::distributed::HaloTraffic> {

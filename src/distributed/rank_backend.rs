@@ -598,6 +598,10 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         self.inner.sum_over_ranks(values);
     }
 
+    fn decomposition(&self) -> Option<Decomposition<D>> {
+        Some(self.decomposition.clone())
+    }
+
     fn halo_traffic(&self) -> Option<HaloTraffic> {
         Some(self.traffic)
     }

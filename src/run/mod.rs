@@ -34,6 +34,7 @@ pub mod out_of_memory;
 pub mod ranks;
 mod report;
 mod setup;
+mod split_checkpoint;
 mod writers;
 
 pub use folder::{RunFolder, RunFolderError, RunIdentity};
@@ -129,6 +130,9 @@ pub struct RunState {
     pub bodies_len: Option<u64>,
     /// Wall seconds spent before the checkpoint.
     pub wall_seconds: f64,
+    /// The pieces of a split run's checkpoint (`split_checkpoint`); `None` for a whole run's.
+    #[serde(default)]
+    pub ranks: Option<split_checkpoint::RankPieces>,
 }
 
 /// Progress of a run, reported after every step.
@@ -176,12 +180,24 @@ fn scene_hash(options: &RunOptions) -> Result<String, Error> {
     }
 }
 
-/// The checkpoint to resume from, checked against the folder's run and the scene file.
+/// The checkpoint to resume from, checked against the folder's run and the scene file, and
+/// applied to `sim`.
 fn resumed_state<const D: usize>(
     sim: &mut Simulation<D>,
     folder: &RunFolder,
     options: &RunOptions,
 ) -> Result<RunState, Error> {
+    let (checkpoint, state) = checked_checkpoint::<D>(folder, options)?;
+    sim.restore(checkpoint)?;
+    Ok(state)
+}
+
+/// The folder's checkpoint and its run state, checked against the folder's run and the scene
+/// file.
+fn checked_checkpoint<const D: usize>(
+    folder: &RunFolder,
+    options: &RunOptions,
+) -> Result<(Checkpoint<D>, RunState), Error> {
     let path = folder.dir().join(CHECKPOINT_FILE);
     let bad = |reason: String| CheckpointError::Malformed {
         path: path.clone(),
@@ -220,8 +236,7 @@ fn resumed_state<const D: usize>(
         ))
         .into());
     }
-    sim.restore(checkpoint)?;
-    Ok(state)
+    Ok((checkpoint, state))
 }
 
 /// Where the time loop ended.
@@ -257,12 +272,6 @@ fn drive<const D: usize>(
     let restart = &options.restart;
     let with_forces = !sim.solid_names().is_empty();
     let root = options.ranks.as_ref().is_none_or(Ranks::is_root);
-    if options.ranks.is_some() && (restart.resume || restart.every.is_some()) {
-        return Err(crate::solver::ranks::SplitError::Unsupported(
-            "checkpoints (--checkpoint-every, --resume)",
-        )
-        .into());
-    }
     // The folder first: a refused folder is left exactly as it was. Split across ranks, rank 0
     // opens it, and the others go on only if it did.
     let folder = if root { open_folder(options) } else { Ok(None) };
@@ -278,8 +287,14 @@ fn drive<const D: usize>(
         }
     }
     let folder = folder?;
-    let resumed = match &folder {
-        Some(f) if restart.resume => Some(resumed_state(&mut sim, f, options)?),
+    let resumed = match (&folder, &options.ranks) {
+        (_, Some(ranks)) if restart.resume => Some(split_checkpoint::resume(
+            &mut sim,
+            folder.as_ref(),
+            options,
+            ranks,
+        )?),
+        (Some(f), None) if restart.resume => Some(resumed_state(&mut sim, f, options)?),
         _ => None,
     };
     let mut summary = report::initial(&sim, scene, options, folder.as_ref().map(|f| f.identity()));
@@ -345,7 +360,8 @@ fn start<const D: usize>(
     };
     sim.use_backend(options.backend)?;
     if let Some(ranks) = &options.ranks {
-        sim.split_across_ranks(ranks.comm.clone(), ranks.method, ranks.rebalance)?;
+        let pieces = resumed.as_ref().and_then(|r| r.ranks.as_ref());
+        split_checkpoint::split(sim, ranks, pieces)?;
         summary.extra.insert("ranks".into(), ranks.size().into());
     }
     summary.backend = sim.backend_name().into();
@@ -361,6 +377,7 @@ fn start<const D: usize>(
     match resumed {
         Some(r) => {
             state.probes = Some(ProbeLog::resume(scene, probe_dir, probe_interval, r.probes)?);
+            state.frames_written = r.frames.len();
             state.next_frame = r.next_frame;
             state.limits = r.limits;
             state.wall_before = r.wall_seconds;
@@ -381,8 +398,20 @@ fn write_checkpoint<const D: usize>(
     options: &RunOptions,
     state: &mut Loop,
 ) -> Result<(), Error> {
-    let (Some(w), Some(probes)) = (state.writers.as_mut(), state.probes.as_mut()) else {
+    if let Some(ranks) = &options.ranks {
+        return split_checkpoint::write(sim, options, state, ranks);
+    }
+    let Some(run_state) = run_state(options, state)? else {
         return Ok(());
+    };
+    let w = state.writers.as_mut().expect("run_state needs the writers");
+    w.checkpoint(sim, &run_state)
+}
+
+/// The run driver's state now, for a checkpoint (`None` without output files).
+fn run_state(options: &RunOptions, state: &mut Loop) -> Result<Option<RunState>, Error> {
+    let (Some(w), Some(probes)) = (state.writers.as_mut(), state.probes.as_mut()) else {
+        return Ok(None);
     };
     let run_state = RunState {
         identity: Some(w.folder.identity().clone()),
@@ -402,8 +431,9 @@ fn write_checkpoint<const D: usize>(
             None => None,
         },
         wall_seconds: state.wall_before + state.start.elapsed().as_secs_f64(),
+        ranks: None,
     };
-    w.checkpoint(sim, &run_state)
+    Ok(Some(run_state))
 }
 
 /// Steps to the end time (or a failure, or a stop signal).

@@ -75,6 +75,12 @@ impl Ranks {
         lock(&self.comm).max(value).map_err(failed)
     }
 
+    /// Every rank's `count`, in rank order.
+    pub fn counts(&self, count: usize) -> Result<Vec<u64>, Error> {
+        let all = lock(&self.comm).all_gather(&[count as f64]).map_err(failed)?;
+        Ok(all.iter().map(|c| c[0] as u64).collect())
+    }
+
     /// Waits until every rank got here.
     pub fn barrier(&self) -> Result<(), Error> {
         lock(&self.comm).all_gather(&[]).map_err(failed)?;

@@ -128,12 +128,24 @@ impl Writers {
                 return Err(missing(name).into());
             }
         }
-        let kept: std::collections::BTreeSet<&String> = state
+        let mut kept: std::collections::BTreeSet<String> = state
             .frames
             .iter()
             .chain(&state.surfaces)
-            .map(|(_, n)| n)
+            .map(|(_, n)| n.clone())
             .collect();
+        // A parallel frame keeps its pieces (`output::pvtu`).
+        for (_, name) in &state.frames {
+            if let Some(stem) = name.strip_suffix(".pvtu") {
+                let folder_of = |piece: &str| match stem.rsplit_once('/') {
+                    Some((parent, _)) => format!("{parent}/{piece}"),
+                    None => piece.to_string(),
+                };
+                for piece in crate::output::pvtu::read_pvtu_pieces(&folder.dir().join(name))? {
+                    kept.insert(folder_of(&piece));
+                }
+            }
+        }
         for prefix in ["frames/", "surface/"] {
             for name in folder.listed(prefix) {
                 if !kept.contains(&name) {

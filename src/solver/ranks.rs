@@ -12,6 +12,7 @@ use crate::distributed::{Decomposition, HaloTraffic, Method, RankBackend, Rebala
 use crate::fields::Fields;
 use crate::math::Real;
 use crate::periodic::PeriodicAxes;
+use crate::solver::checkpoint::{Checkpoint, CheckpointError};
 
 /// How far [m], in units of the kernel's support, a particle may move between two sorts of a
 /// split run (`RankBackend::margin`). A step moves particles by under a quarter support (the
@@ -45,6 +46,31 @@ impl<const D: usize> Simulation<D> {
         method: Method,
         rebalance: Rebalance,
     ) -> Result<Decomposition<D>, SplitError> {
+        let size = crate::backend::partition::lock(&comm).size();
+        let domain = Region {
+            lo: self.config.domain_min,
+            hi: self.config.domain_max,
+        };
+        self.sync_fields()?;
+        let decomposition = Decomposition::build(domain, &self.fields.position, size, method);
+        self.split_with(comm, decomposition.clone(), method, rebalance, None)?;
+        Ok(decomposition)
+    }
+
+    /// [`Simulation::split_across_ranks`] into the given regions, keeping the particles of
+    /// `mine` (indices, increasing), or those in this rank's region when `None` (a resumed run
+    /// keeps the particles it owned at the checkpoint, in their order there).
+    ///
+    /// # Errors
+    /// [`SplitError::Unsupported`] for open boundaries, periodic axes or the CUDA backend.
+    pub fn split_with(
+        &mut self,
+        comm: SharedCommunicator,
+        decomposition: Decomposition<D>,
+        method: Method,
+        rebalance: Rebalance,
+        mine: Option<std::ops::Range<usize>>,
+    ) -> Result<(), SplitError> {
         if self.open.is_some() {
             return Err(SplitError::Unsupported("open boundaries (inflow and outflow)"));
         }
@@ -55,28 +81,22 @@ impl<const D: usize> Simulation<D> {
             return Err(SplitError::Unsupported("the cuda backend"));
         }
         self.sync_fields()?;
-        let (rank, size) = {
-            let comm = crate::backend::partition::lock(&comm);
-            (comm.rank(), comm.size())
+        let rank = crate::backend::partition::lock(&comm).rank();
+        let kept: Vec<u32> = match mine {
+            Some(block) => (block.start as u32..block.end as u32).collect(),
+            None => (0..self.fields.len() as u32)
+                .filter(|&i| decomposition.owner(&self.fields.position[i as usize]) == rank)
+                .collect(),
         };
-        let domain = Region {
-            lo: self.config.domain_min,
-            hi: self.config.domain_max,
-        };
-        let decomposition = Decomposition::build(domain, &self.fields.position, size, method);
-        let mine: Vec<u32> = (0..self.fields.len() as u32)
-            .filter(|&i| decomposition.owner(&self.fields.position[i as usize]) == rank)
-            .collect();
-        self.fields.keep(&mine);
+        self.fields.keep(&kept);
         let reach = self.config.h as Real;
         let margin = (HALO_MARGIN * self.config.h) as Real;
-        let regions = decomposition.clone();
         self.use_backend_from(move |fields, _| {
             let inner: Box<dyn Backend<D> + Send> = Box::new(CpuBackend::new());
             let backend = RankBackend::new(
                 inner,
                 comm,
-                regions,
+                decomposition,
                 method,
                 rebalance,
                 reach,
@@ -85,7 +105,7 @@ impl<const D: usize> Simulation<D> {
             )?;
             Ok(Box::new(backend))
         })?;
-        Ok(decomposition)
+        Ok(())
     }
 
     /// What this rank did and sent so far, for a split run.
@@ -99,6 +119,30 @@ impl<const D: usize> Simulation<D> {
             self.backend.partition(),
             crate::backend::partition::Partition::Rank { .. }
         )
+    }
+
+    /// The regions of a split run now (`None` for a whole simulation).
+    pub fn decomposition(&self) -> Option<Decomposition<D>> {
+        self.backend.decomposition()
+    }
+
+    /// [`Simulation::checkpoint`] of this rank's own particles (without its ghosts).
+    ///
+    /// # Errors
+    /// [`CheckpointError::Backend`] when the device copy fails.
+    pub fn checkpoint_owned(
+        &mut self,
+        metadata: serde_json::Value,
+    ) -> Result<Checkpoint<D>, CheckpointError> {
+        let mut checkpoint = self.checkpoint(metadata)?;
+        let partition = self.backend.partition();
+        let kept: Vec<u32> = (0..checkpoint.fields.len() as u32)
+            .filter(|&i| partition.counts(i as usize))
+            .collect();
+        if kept.len() < checkpoint.fields.len() {
+            checkpoint.fields.keep(&kept);
+        }
+        Ok(checkpoint)
     }
 
     /// Particles and fluid mass [kg] (2D: per metre) of the whole run: summed over ranks when

@@ -14,5 +14,6 @@ mod balance;
 mod decomposition;
 mod exchange;
 mod particles;
+mod split_checkpoint;
 mod split_output;
 mod split_run;
