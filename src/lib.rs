@@ -18,6 +18,7 @@ pub use nalgebra;
 
 pub mod backend;
 pub mod bench;
+pub mod bench_scaling;
 pub mod boundary;
 pub mod charts;
 pub mod cli;

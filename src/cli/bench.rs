@@ -135,3 +135,57 @@ pub fn run_bench(
     }
     Ok(())
 }
+
+/// `sph bench --ranks 1,2,4`: the scaling table (`bench_scaling`), printed and written to
+/// `bench_scaling.csv`.
+pub fn run_scaling(
+    scene: &Path,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+    ranks: &[usize],
+    sizes: &[String],
+    steps: usize,
+    sets: &[String],
+) -> anyhow::Result<()> {
+    use crate::bench_scaling::{ScalingRow, scaling, scaling_csv};
+    let sizes = sizes
+        .iter()
+        .map(|s| parse_size(s))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    anyhow::ensure!(steps >= 1, "--steps must be at least 1");
+    anyhow::ensure!(
+        ranks.iter().all(|&r| (1..=1024).contains(&r)),
+        "--ranks: each rank count must be 1 to 1024"
+    );
+    let threads = match threads {
+        Some(n) => {
+            anyhow::ensure!(n > 0, "--threads must be at least 1");
+            n
+        }
+        None => std::thread::available_parallelism().map_or(1, usize::from),
+    };
+    println!(
+        "{:>11} {:>5} {:>8} {:>12} {:>10} {:>14} {:>10} {:>10}",
+        "particles", "ranks", "thr/rank", "s/step", "efficiency", "halo B/step", "refresh/st", "ghosts/rk"
+    );
+    let mut print = |r: &ScalingRow| {
+        println!(
+            "{:>11} {:>5} {:>8} {:>12.3e} {:>10.2} {:>14.3e} {:>10.1} {:>10.0}",
+            r.particles,
+            r.ranks,
+            r.threads_per_rank,
+            r.seconds_per_step,
+            r.efficiency,
+            r.bytes_per_step,
+            r.refreshes_per_step,
+            r.ghosts_per_rank
+        );
+    };
+    let rows = scaling(scene, sets, &sizes, ranks, steps, threads, &mut print)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join("bench"));
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let csv = out.join("bench_scaling.csv");
+    std::fs::write(&csv, scaling_csv(&rows)).with_context(|| format!("writing {}", csv.display()))?;
+    println!("wrote {}", csv.display());
+    Ok(())
+}

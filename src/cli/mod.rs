@@ -209,6 +209,10 @@ enum Command {
         /// Also write bench.png: time per step against particles, log-log, one line per backend.
         #[arg(long)]
         plot: bool,
+        /// Instead, the scaling table of runs split across these rank counts (e.g. 1,2,4):
+        /// ranks as threads of this process sharing --threads; writes bench_scaling.csv.
+        #[arg(long, value_delimiter = ',')]
+        ranks: Vec<usize>,
     },
     /// Draw one probe of several finished runs (their probes.csv) against the scene's
     /// reference data on one figure, and print each run's error or force peak.
@@ -412,7 +416,14 @@ where
             threads,
             sets,
             plot,
-        } => bench::run_bench(&scene, out, threads, &backend, &sizes, steps, sweeps, &sets, plot),
+            ranks,
+        } => {
+            if ranks.is_empty() {
+                bench::run_bench(&scene, out, threads, &backend, &sizes, steps, sweeps, &sets, plot)
+            } else {
+                bench::run_scaling(&scene, out, threads, &ranks, &sizes, steps, &sets)
+            }
+        }
         Command::Render {
             run_dir,
             every,

@@ -26,6 +26,9 @@ pub enum SplitError {
     /// The scene uses something a split run does not handle yet.
     #[error("a run across ranks does not support {0} yet")]
     Unsupported(&'static str),
+    /// A rank stopped (its message).
+    #[error("a rank failed: {0}")]
+    RankFailed(String),
     /// The backend cannot run a rank's share.
     #[error(transparent)]
     Backend(#[from] BackendError),

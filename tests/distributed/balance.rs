@@ -66,3 +66,30 @@ fn rebalancing_keeps_ranks_even_as_the_surge_moves() {
         }
     }
 }
+
+/// `sph bench --ranks`'s table (`bench_scaling`) on the 3D column scaled to about 3,000
+/// particles: every row has the whole run's particles, one rank sends nothing and has
+/// efficiency 1, and two and three ranks send ghosts every step.
+#[test]
+fn the_scaling_table_counts_the_halo() {
+    let rows = sph::bench_scaling::scaling(
+        std::path::Path::new("scenes/dam_break_column_3d.toml"),
+        &[],
+        &[3000],
+        &[1, 2, 3],
+        2,
+        2,
+        &mut |_| {},
+    )
+    .expect("scaling table");
+    assert_eq!(rows.len(), 3);
+    assert!(
+        rows.iter()
+            .all(|r| r.particles == rows[0].particles && r.seconds_per_step > 0.0)
+    );
+    assert_eq!((rows[0].bytes_per_step, rows[0].efficiency), (0.0, 1.0));
+    for r in &rows[1..] {
+        assert!(r.bytes_per_step > 0.0 && r.ghosts_per_rank > 0.0, "{r:?}");
+        assert!(r.efficiency > 0.0 && r.efficiency.is_finite(), "{r:?}");
+    }
+}
