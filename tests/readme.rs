@@ -6,7 +6,8 @@
 //! lines are the build and test commands themselves: `.ci/run` runs them on a bare copy of the
 //! repository. A block that starts with `# needs the reference data` runs in the validation
 //! suite (`tests/validation_data.rs`); one that starts with `# needs a GPU` is checked here to
-//! parse (`sph` refuses `--backend cuda` without a GPU, which `.ci/run` checks).
+//! parse (`sph` refuses `--backend cuda` without a GPU, which `.ci/run` checks); so is one that
+//! starts with `# needs MPI` (`.ci/run` runs `sph run` under `mpirun`).
 
 mod readme_commands;
 
@@ -62,4 +63,22 @@ fn readme_gpu_commands_parse() {
         }
     }
     assert!(parsed >= 1, "the README shows no GPU command");
+}
+
+/// The MPI blocks' `sph` commands (after `mpirun ...` where there is one) parse.
+#[test]
+fn readme_mpi_commands_parse() {
+    use clap::Parser;
+    let mut parsed = 0;
+    for block in blocks().iter().filter(|b| b.needs == Needs::Mpi) {
+        for line in &block.commands {
+            let w = words(line);
+            let Some(at) = w.iter().position(|x| x == "sph") else {
+                continue;
+            };
+            sph::cli::Cli::try_parse_from(&w[at..]).unwrap_or_else(|e| panic!("{line}: {e}"));
+            parsed += 1;
+        }
+    }
+    assert!(parsed >= 3, "the README shows {parsed} MPI commands");
 }

@@ -314,6 +314,10 @@ pub trait Backend<const D: usize> {
     fn sum_over_ranks(&mut self, values: &mut [f64]) {
         let _ = values;
     }
+    /// From now on, check after every ghost refresh that every field of every ghost is its
+    /// owner's (a split run's stages' write lists, `distributed::RankBackend`); nothing for a
+    /// backend that holds the whole simulation.
+    fn verify_halo(&mut self) {}
     /// The regions of a split run now (`distributed::RankBackend`); `None` for a backend that
     /// holds the whole simulation.
     fn decomposition(&self) -> Option<crate::distributed::Decomposition<D>> {

@@ -36,6 +36,15 @@ pub enum DistributedError {
         /// The margin [m] (`distributed::rank_backend`).
         margin: f64,
     },
+    /// A ghost's fields differed from its owner's after a refresh (checked with
+    /// `SPH_VERIFY_HALO`): a stage wrote a field its write list does not name.
+    #[error(
+        "a ghost's fields differ from its owner's after the refresh before {stage}: a stage's write list misses a field"
+    )]
+    StaleGhosts {
+        /// The stage the refresh came before.
+        stage: &'static str,
+    },
     /// Rank 0 stopped the run before the ranks began (the others stop with this).
     #[error("rank 0 stopped the run: {reason}")]
     RootStopped {

@@ -23,7 +23,13 @@ pub fn field_mask<const D: usize>(fields: &Fields<D>) -> u32 {
 
 /// The particles `indices` of `fields`, packed.
 pub fn pack<const D: usize>(fields: &Fields<D>, indices: &[u32]) -> Vec<u8> {
-    let mask = field_mask(fields);
+    pack_fields(fields, indices, field_mask(fields))
+}
+
+/// The fields in `mask` (allocated ones, bit `k`: `Field::ALL[k]`) of the particles `indices`
+/// of `fields`, packed: what a ghost refresh sends.
+pub fn pack_fields<const D: usize>(fields: &Fields<D>, indices: &[u32], mask: u32) -> Vec<u8> {
+    let mask = mask & field_mask(fields);
     let mut out = Vec::with_capacity(12 + indices.len() * 4 * (6 * D + 10));
     out.extend_from_slice(&(indices.len() as u64).to_le_bytes());
     out.extend_from_slice(&mask.to_le_bytes());
@@ -110,7 +116,7 @@ pub fn append<const D: usize>(fields: &mut Fields<D>, packet: &[u8]) -> Result<u
 
 /// Overwrites the particles `indices` of `fields` with the packet's particles, in order (a
 /// ghost refresh: the owner's current values of particles this rank already holds). The packet
-/// must hold exactly `indices.len()` particles with this rank's fields; it is checked whole
+/// must hold exactly `indices.len()` particles, and fields this rank holds; it is checked whole
 /// before anything is written.
 pub fn scatter<const D: usize>(
     fields: &mut Fields<D>,
@@ -128,7 +134,7 @@ pub fn scatter<const D: usize>(
     if count == 0 {
         return Ok(());
     }
-    if field_mask(fields) != mask {
+    if mask & !field_mask(fields) != 0 {
         return Err(DistributedError::FieldMismatch {
             ours: field_mask(fields),
             theirs: mask,

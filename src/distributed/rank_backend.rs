@@ -20,7 +20,7 @@ use super::communicator::Communicator;
 use super::decomposition::{Decomposition, Method, imbalance};
 use super::error::DistributedError;
 use super::halo::{departures, halo_sends};
-use super::packet::{append, pack, scatter};
+use super::packet::{append, field_mask, pack, pack_fields, scatter};
 use crate::backend::partition::{Partition, SharedCommunicator, lock};
 use crate::backend::{
     Backend, BackendError, BackendKind, CorrectionError, ForceTerms, SolidForceSource, SolidLoad,
@@ -28,7 +28,7 @@ use crate::backend::{
 };
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
-use crate::fields::Fields;
+use crate::fields::{Field, Fields};
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
 use crate::model::params::StepParams;
@@ -93,7 +93,12 @@ pub struct RankBackend<const D: usize> {
     width: Real,
     margin: Real,
     halo: Option<Halo<D>>,
-    dirty: bool,
+    /// The fields (mask, bit `k`: `Field::ALL[k]`) a stage wrote since the last exchange.
+    dirty: u32,
+    /// After every refresh, also check every field of every ghost against its owner's
+    /// (`Backend::verify_halo`, or `SPH_VERIFY_HALO` set in the environment): the check that
+    /// the stages' write lists below are complete.
+    verify: bool,
     error: Option<BackendError>,
     traffic: HaloTraffic,
 }
@@ -131,7 +136,8 @@ impl<const D: usize> RankBackend<D> {
             width: 2.0 * reach + 2.0 * margin,
             margin,
             halo: None,
-            dirty: true,
+            dirty: u32::MAX,
+            verify: std::env::var_os("SPH_VERIFY_HALO").is_some(),
             error: None,
             traffic: HaloTraffic::default(),
         })
@@ -313,21 +319,26 @@ impl<const D: usize> RankBackend<D> {
         if let Err(e) = self.inner.set_partition(partition) {
             self.error.get_or_insert(e);
         }
-        self.dirty = false;
+        self.dirty = 0;
     }
 
-    /// Sends the owners' current fields to their ghosts if a stage wrote fields since the last
-    /// exchange.
-    fn refresh(&mut self, fields: &mut Fields<D>) {
-        if !self.dirty {
+    /// Sends the owners' current values of the fields a stage wrote since the last exchange to
+    /// their ghosts, before `stage` reads them.
+    fn refresh(&mut self, fields: &mut Fields<D>, stage: &'static str) {
+        let mask = self.dirty & field_mask(fields);
+        if mask == 0 {
             return;
         }
         let Some(halo) = self.halo.as_ref() else {
             return; // before the first sort there are no ghosts
         };
-        let result = (|| {
+        let exchange = |fields: &mut Fields<D>, mask: u32| -> Result<u64, DistributedError> {
             let comm = lock(&self.comm);
-            let packets: Vec<Vec<u8>> = halo.send_index.iter().map(|idx| pack(fields, idx)).collect();
+            let packets: Vec<Vec<u8>> = halo
+                .send_index
+                .iter()
+                .map(|idx| pack_fields(fields, idx, mask))
+                .collect();
             let bytes = sent_bytes(&packets, comm.rank());
             let received = comm.exchange(packets)?;
             if received.len() != halo.recv_index.len() {
@@ -339,7 +350,25 @@ impl<const D: usize> RankBackend<D> {
                 scatter(fields, packet, indices)?;
             }
             Ok(bytes)
-        })();
+        };
+        let mut result = exchange(fields, mask);
+        if self.verify && result.is_ok() {
+            // Every field of every ghost must now be its owner's: a second, whole exchange
+            // may not change a bit.
+            let before = fields.clone();
+            result = exchange(fields, u32::MAX).and_then(|bytes| {
+                let all = field_mask(fields);
+                let unchanged = halo
+                    .recv_index
+                    .iter()
+                    .all(|idx| pack_fields(&before, idx, all) == pack_fields(fields, idx, all));
+                if unchanged {
+                    Ok(bytes)
+                } else {
+                    Err(DistributedError::StaleGhosts { stage })
+                }
+            });
+        }
         match result {
             Ok(bytes) => {
                 self.traffic.refreshes += 1;
@@ -347,30 +376,44 @@ impl<const D: usize> RankBackend<D> {
             }
             Err(e) => self.fail(e),
         }
-        self.dirty = false;
+        self.dirty = 0;
     }
 
-    /// A stage that sums over neighbours: ghosts refreshed first; it writes fields.
+    /// A stage that sums over neighbours: the ghosts refreshed first; it writes `writes`.
     fn summing<T>(
         &mut self,
         fields: &mut Fields<D>,
-        stage: impl FnOnce(&mut dyn Backend<D>, &mut Fields<D>) -> T,
+        stage: &'static str,
+        writes: &[Field],
+        run: impl FnOnce(&mut dyn Backend<D>, &mut Fields<D>) -> T,
     ) -> T {
-        self.refresh(fields);
-        let out = stage(self.inner.as_mut(), fields);
-        self.dirty = true;
+        self.refresh(fields, stage);
+        let out = run(self.inner.as_mut(), fields);
+        self.wrote(writes);
         out
     }
 
-    /// A stage of each particle on its own: it writes fields.
+    /// A stage of each particle on its own: it writes `writes`.
     fn local<T>(
         &mut self,
         fields: &mut Fields<D>,
-        stage: impl FnOnce(&mut dyn Backend<D>, &mut Fields<D>) -> T,
+        writes: &[Field],
+        run: impl FnOnce(&mut dyn Backend<D>, &mut Fields<D>) -> T,
     ) -> T {
-        let out = stage(self.inner.as_mut(), fields);
-        self.dirty = true;
+        let out = run(self.inner.as_mut(), fields);
+        self.wrote(writes);
         out
+    }
+
+    /// Marks `writes` as changed since the last exchange.
+    fn wrote(&mut self, writes: &[Field]) {
+        for f in writes {
+            let k = Field::ALL
+                .iter()
+                .position(|a| a == f)
+                .expect("every field is in Field::ALL");
+            self.dirty |= 1 << k;
+        }
     }
 }
 
@@ -433,35 +476,39 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
     }
 
     fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, |b, f| b.density(f, params));
+        self.summing(fields, "density", &[Field::Density], |b, f| b.density(f, params));
     }
 
     fn density_rate(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, |b, f| b.density_rate(f, params));
+        self.summing(fields, "density_rate", &[Field::DensityRate], |b, f| {
+            b.density_rate(f, params)
+        });
     }
 
     fn integrate_density(&mut self, fields: &mut Fields<D>, dt: f32) {
-        self.local(fields, |b, f| b.integrate_density(f, dt));
+        self.local(fields, &[Field::Density], |b, f| b.integrate_density(f, dt));
     }
 
     fn store_density_start(&mut self, fields: &mut Fields<D>) {
-        self.local(fields, |b, f| b.store_density_start(f));
+        self.local(fields, &[Field::DensityStart], |b, f| b.store_density_start(f));
     }
 
     fn rk_density_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
-        self.local(fields, |bk, f| bk.rk_density_stage(f, dt, a, b));
+        self.local(fields, &[Field::Density], |bk, f| {
+            bk.rk_density_stage(f, dt, a, b)
+        });
     }
 
     fn damping_zone(&mut self, fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32) {
-        self.local(fields, |b, f| b.damping_zone(f, zone, dt));
+        self.local(fields, &[Field::Velocity], |b, f| b.damping_zone(f, zone, dt));
     }
 
     fn wrap_positions(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.local(fields, |b, f| b.wrap_positions(f, params));
+        self.local(fields, &[Field::Position], |b, f| b.wrap_positions(f, params));
     }
 
     fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.local(fields, |b, f| b.equation_of_state(f, params));
+        self.local(fields, &[Field::Pressure], |b, f| b.equation_of_state(f, params));
     }
 
     fn move_solids(
@@ -470,7 +517,9 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         reference: &SolidReference<D>,
         kinematics: &[SolidKinematics<D>],
     ) {
-        self.local(fields, |b, f| b.move_solids(f, reference, kinematics));
+        self.local(fields, &[Field::Position, Field::Velocity], |b, f| {
+            b.move_solids(f, reference, kinematics)
+        });
     }
 
     fn wall_pressure(
@@ -480,23 +529,36 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         model: WallModel,
         kinematics: &[SolidKinematics<D>],
     ) {
-        self.summing(fields, |b, f| b.wall_pressure(f, params, model, kinematics));
+        self.summing(
+            fields,
+            "wall_pressure",
+            &[Field::Pressure, Field::Density],
+            |b, f| b.wall_pressure(f, params, model, kinematics),
+        );
     }
 
     fn wall_velocity(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, |b, f| b.wall_velocity(f, params));
+        self.summing(fields, "wall_velocity", &[Field::WallVelocity], |b, f| {
+            b.wall_velocity(f, params)
+        });
     }
 
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
-        self.summing(fields, |b, f| b.forces(f, params, terms));
+        self.summing(fields, "forces", &[Field::Acceleration], |b, f| {
+            b.forces(f, params, terms)
+        });
     }
 
     fn surface_normals(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, |b, f| b.surface_normals(f, params));
+        self.summing(fields, "surface_normals", &[Field::Normal], |b, f| {
+            b.surface_normals(f, params)
+        });
     }
 
     fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, |b, f| b.surface_tension(f, params));
+        self.summing(fields, "surface_tension", &[Field::Acceleration], |b, f| {
+            b.surface_tension(f, params)
+        });
     }
 
     fn solid_forces(
@@ -516,15 +578,21 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
     }
 
     fn integrate(&mut self, fields: &mut Fields<D>, dt: f32) {
-        self.local(fields, |b, f| b.integrate(f, dt));
+        self.local(fields, &[Field::Position, Field::Velocity], |b, f| {
+            b.integrate(f, dt)
+        });
     }
 
     fn store_step_start(&mut self, fields: &mut Fields<D>) {
-        self.local(fields, |b, f| b.store_step_start(f));
+        self.local(fields, &[Field::PositionStart, Field::VelocityStart], |b, f| {
+            b.store_step_start(f)
+        });
     }
 
     fn rk_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
-        self.local(fields, |bk, f| bk.rk_stage(f, dt, a, b));
+        self.local(fields, &[Field::Position, Field::Velocity], |bk, f| {
+            bk.rk_stage(f, dt, a, b)
+        });
     }
 
     fn correction_error(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> CorrectionError {
@@ -536,7 +604,9 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
     }
 
     fn correction_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
-        self.summing(fields, |b, f| b.correction_pressure(f, params, k));
+        self.summing(fields, "correction_pressure", &[Field::Pressure], |b, f| {
+            b.correction_pressure(f, params, k)
+        });
     }
 
     fn correct_positions(
@@ -547,34 +617,57 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         kick_tau: f32,
         max_step: f32,
     ) -> Sweep {
-        self.summing(fields, |b, f| {
-            b.correct_positions(f, params, tau, kick_tau, max_step)
-        })
+        self.summing(
+            fields,
+            "correct_positions",
+            &[Field::Position, Field::Velocity],
+            |b, f| b.correct_positions(f, params, tau, kick_tau, max_step),
+        )
     }
 
     fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
-        self.refresh(fields);
+        self.refresh(fields, "begin_velocity_solve");
         self.inner.begin_velocity_solve(fields);
     }
 
     fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
-        self.summing(fields, |b, f| b.predicted_density(f, params, tau));
+        self.summing(fields, "predicted_density", &[Field::Density], |b, f| {
+            b.predicted_density(f, params, tau)
+        });
     }
 
     fn mix_velocity_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
-        self.local(fields, |b, f| b.mix_velocity_pressure(f, params, k));
+        self.local(fields, &[Field::Pressure], |b, f| {
+            b.mix_velocity_pressure(f, params, k)
+        });
     }
 
     fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
-        self.summing(fields, |b, f| b.velocity_from_pressure(f, params, tau));
+        self.summing(
+            fields,
+            "velocity_from_pressure",
+            &[Field::Velocity, Field::Pressure],
+            |b, f| b.velocity_from_pressure(f, params, tau),
+        );
     }
 
     fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {
-        self.local(fields, |b, f| b.end_velocity_solve(f, keep));
+        self.local(
+            fields,
+            &[
+                Field::ActingPressure,
+                Field::Pressure,
+                Field::Velocity,
+                Field::Density,
+            ],
+            |b, f| b.end_velocity_solve(f, keep),
+        );
     }
 
     fn record_acting_pressure(&mut self, fields: &mut Fields<D>) {
-        self.local(fields, |b, f| b.record_acting_pressure(f));
+        self.local(fields, &[Field::ActingPressure], |b, f| {
+            b.record_acting_pressure(f)
+        });
     }
 
     fn keep_out(
@@ -585,7 +678,7 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         margin: f32,
         from_step_start: bool,
     ) -> KeepOutReport {
-        self.local(fields, |b, f| {
+        self.local(fields, &[Field::Position, Field::Velocity], |b, f| {
             b.keep_out(f, boxes, solids, margin, from_step_start)
         })
     }
@@ -596,6 +689,10 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
 
     fn sum_over_ranks(&mut self, values: &mut [f64]) {
         self.inner.sum_over_ranks(values);
+    }
+
+    fn verify_halo(&mut self) {
+        self.verify = true;
     }
 
     fn decomposition(&self) -> Option<Decomposition<D>> {

@@ -116,6 +116,13 @@ impl<const D: usize> Simulation<D> {
         self.backend.halo_traffic()
     }
 
+    /// Checks from now on, after every ghost refresh of a split run, that every field of every
+    /// ghost is its owner's; a difference stops the step with `DistributedError::StaleGhosts`.
+    /// Costs a second, whole exchange per refresh (for tests and debugging).
+    pub fn verify_halo(&mut self) {
+        self.backend.verify_halo();
+    }
+
     /// Whether this simulation is one rank's share of a split run.
     pub fn is_split(&self) -> bool {
         matches!(

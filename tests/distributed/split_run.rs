@@ -52,6 +52,8 @@ pub fn run(scene: &str, sets: &[String], split: Option<Split>, end: f64) -> Vec<
         if let (Some(comm), Some(split)) = (&comm, split) {
             sim.split_across_ranks(comm.clone(), split.method, split.rebalance)
                 .expect("splits");
+            // Every ghost equals its owner before every neighbour sum (the write lists).
+            sim.verify_halo();
         }
         let mut impulse = [0.0; 2];
         while sim.clock().time < end {

@@ -15,6 +15,8 @@ pub enum Needs {
     ReferenceData,
     /// `# needs a GPU`.
     Gpu,
+    /// `# needs MPI` (an MPI library and launcher; `.ci/run` runs split runs under `mpirun`).
+    Mpi,
 }
 
 /// One ```sh block: its commands, one per line, without comments.
@@ -40,6 +42,7 @@ pub fn readme_blocks() -> Vec<Block> {
                 let needs = match lines.first().map(|l| l.trim()) {
                     Some("# needs the reference data") => Needs::ReferenceData,
                     Some("# needs a GPU") => Needs::Gpu,
+                    Some("# needs MPI") => Needs::Mpi,
                     _ => Needs::Cpu,
                 };
                 let commands = lines
