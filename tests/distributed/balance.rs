@@ -14,13 +14,13 @@ use sph::distributed::{Method, Rebalance};
 #[test]
 fn sloshing_across_the_cut_keeps_every_particle_once() {
     let sets: Vec<String> = Vec::new();
-    let whole = run("scenes/hard/sloshing_2d.toml", &sets, None, 2.0).remove(0);
+    let whole = run::<2>("scenes/hard/sloshing_2d.toml", &sets, None, 2.0).remove(0);
     let split = Split {
         ranks: 2,
         method: Method::Slabs,
         rebalance: Rebalance::Never,
     };
-    let runs = run("scenes/hard/sloshing_2d.toml", &sets, Some(split), 2.0);
+    let runs = run::<2>("scenes/hard/sloshing_2d.toml", &sets, Some(split), 2.0);
     let r = &runs[0];
     eprintln!("sloshing on 2: {r:?}\n  whole: {whole:?}");
     assert_eq!((r.duplicated, r.missing), (0.0, 0.0));
@@ -53,7 +53,7 @@ fn rebalancing_keeps_ranks_even_as_the_surge_moves() {
             method: Method::Slabs,
             rebalance,
         };
-        let r = run("scenes/dam_break_2d.toml", &sets, Some(split), 0.4).remove(0);
+        let r = run::<2>("scenes/dam_break_2d.toml", &sets, Some(split), 0.4).remove(0);
         eprintln!(
             "{rebalance:?}: counts {:?}, spread {:.3}",
             r.counts,
