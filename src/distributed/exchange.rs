@@ -24,7 +24,7 @@ pub struct Traffic {
 /// Sends every particle of `fields` that another rank's region owns to that rank, removes it
 /// here, and appends the particles other ranks sent (in rank order, each rank's in its own
 /// order). Fields travel bit for bit (`packet`).
-pub fn migrate<C: Communicator, const D: usize>(
+pub fn migrate<C: Communicator + ?Sized, const D: usize>(
     comm: &C,
     decomposition: &Decomposition<D>,
     fields: &mut Fields<D>,
@@ -52,7 +52,7 @@ pub fn migrate<C: Communicator, const D: usize>(
 
 /// The ghosts of this rank: copies of the particles of other ranks within `width` [m] of this
 /// rank's region, in rank order, with every field. `owned` are this rank's own particles.
-pub fn gather_ghosts<C: Communicator, const D: usize>(
+pub fn gather_ghosts<C: Communicator + ?Sized, const D: usize>(
     comm: &C,
     decomposition: &Decomposition<D>,
     owned: &Fields<D>,
@@ -81,7 +81,7 @@ pub fn gather_ghosts<C: Communicator, const D: usize>(
 }
 
 /// Bytes of `packets` bound for other ranks than `rank`.
-fn sent_bytes(packets: &[Vec<u8>], rank: usize) -> usize {
+pub(super) fn sent_bytes(packets: &[Vec<u8>], rank: usize) -> usize {
     packets
         .iter()
         .enumerate()

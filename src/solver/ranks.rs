@@ -123,14 +123,6 @@ impl<const D: usize> Simulation<D> {
         self.backend.verify_halo();
     }
 
-    /// Whether this simulation is one rank's share of a split run.
-    pub fn is_split(&self) -> bool {
-        matches!(
-            self.backend.partition(),
-            crate::backend::partition::Partition::Rank { .. }
-        )
-    }
-
     /// The regions of a split run now (`None` for a whole simulation).
     pub fn decomposition(&self) -> Option<Decomposition<D>> {
         self.backend.decomposition()

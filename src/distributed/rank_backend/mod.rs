@@ -3,7 +3,8 @@
 //!
 //! - Every `sort_by_cell` rebuilds the halo: ghosts are dropped, particles that left the rank's
 //!   region migrate to their owners with every field, the owned particles within
-//!   [`RankBackend::width`] of another region go there as ghosts, and the whole set is sorted.
+//!   the halo's width (two supports plus twice the margin) of another region go there as
+//!   ghosts, and the whole set is sorted.
 //!   The wrapped backend's reductions then count owned particles only and add across ranks
 //!   (`backend::partition`).
 //! - Before each stage that sums over neighbours, if any stage wrote fields since the last
@@ -12,30 +13,27 @@
 //!   next refresh. A value computed on a ghost and read by a neighbour before a refresh (the
 //!   correction's pressure increments of the walls) is exact because the halo is two supports
 //!   wide: a ghost within one support of the region has all its neighbours here.
-//! - Between rebuilds particles may move at most [`RankBackend::margin`]; a rebuild that finds
+//! - Between rebuilds particles may move at most the margin given to [`RankBackend::new`]; a rebuild that finds
 //!   a particle moved further reports [`super::DistributedError::HaloOutrun`] rather than sums
 //!   that may have missed a neighbour.
 
 use super::communicator::Communicator;
 use super::decomposition::{Decomposition, Method, imbalance};
 use super::error::DistributedError;
-use super::halo::{departures, halo_sends};
+use super::exchange::{migrate, sent_bytes};
+use super::halo::halo_sends;
 use super::packet::{append, field_mask, pack, pack_fields, scatter};
 use crate::backend::partition::{Partition, SharedCommunicator, lock};
-use crate::backend::{
-    Backend, BackendError, BackendKind, CorrectionError, ForceTerms, SolidForceSource, SolidLoad,
-    StateExtremes, Sweep, WallModel,
-};
-use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
-use crate::boundary::motion::{SolidKinematics, SolidReference};
+use crate::backend::{Backend, BackendError};
 use crate::fields::{Field, Fields};
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
 use crate::model::params::StepParams;
-use crate::physics::damping_zone::DampingZone;
 use std::collections::HashMap;
 
-/// When a split run cuts the domain again (`sph run --rebalance`, `[ranks] rebalance`).
+mod stages;
+
+/// When a split run cuts the domain again (`sph run --rebalance`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Rebalance {
     /// Keep the regions of the start.
@@ -143,22 +141,6 @@ impl<const D: usize> RankBackend<D> {
         })
     }
 
-    /// How far from its region [m] a rank receives ghosts: two supports (see the module's
-    /// doc) plus the distance both particles of a pair may move between rebuilds.
-    pub fn width(&self) -> Real {
-        self.width
-    }
-
-    /// How far [m] a particle may move between rebuilds.
-    pub fn margin(&self) -> Real {
-        self.margin
-    }
-
-    /// The bytes sent so far.
-    pub fn traffic(&self) -> HaloTraffic {
-        self.traffic
-    }
-
     fn fail(&mut self, error: DistributedError) {
         self.error.get_or_insert(BackendError::Ranks(error));
     }
@@ -236,7 +218,7 @@ impl<const D: usize> RankBackend<D> {
         // Ghosts, appended after the owned particles.
         let sends = halo_sends(&self.decomposition, &fields.position, rank, self.width);
         let packets: Vec<Vec<u8>> = sends.iter().map(|indices| pack(fields, indices)).collect();
-        self.traffic.ghost_bytes += sent_bytes(&packets, rank);
+        self.traffic.ghost_bytes += sent_bytes(&packets, rank) as u64;
         let send_ids: Vec<Vec<u32>> = sends
             .iter()
             .map(|indices| indices.iter().map(|&i| fields.id[i as usize]).collect())
@@ -263,22 +245,9 @@ impl<const D: usize> RankBackend<D> {
 
     /// Sends every particle another region owns there and appends those sent here.
     fn migrate(&mut self, comm: &dyn Communicator, fields: &mut Fields<D>) -> Result<(), DistributedError> {
-        let rank = comm.rank();
-        let (leaving, kept) = departures(&self.decomposition, &fields.position, rank);
-        let packets: Vec<Vec<u8>> = leaving.iter().map(|indices| pack(fields, indices)).collect();
-        self.traffic.migration_bytes += sent_bytes(&packets, rank);
-        if kept.len() < fields.len() {
-            fields.keep(&kept);
-        }
-        for packet in &comm.exchange(packets)? {
-            append(fields, packet)?;
-        }
+        let moved = migrate(comm, &self.decomposition, fields)?;
+        self.traffic.migration_bytes += moved.bytes_sent as u64;
         Ok(())
-    }
-
-    /// The regions now.
-    pub fn decomposition(&self) -> &Decomposition<D> {
-        &self.decomposition
     }
 
     /// After a sort: the halo's current indices, the owned mask the reductions count, and the
@@ -339,7 +308,7 @@ impl<const D: usize> RankBackend<D> {
                 .iter()
                 .map(|idx| pack_fields(fields, idx, mask))
                 .collect();
-            let bytes = sent_bytes(&packets, comm.rank());
+            let bytes = sent_bytes(&packets, comm.rank()) as u64;
             let received = comm.exchange(packets)?;
             if received.len() != halo.recv_index.len() {
                 return Err(DistributedError::Malformed {
@@ -414,296 +383,5 @@ impl<const D: usize> RankBackend<D> {
                 .expect("every field is in Field::ALL");
             self.dirty |= 1 << k;
         }
-    }
-}
-
-/// Bytes of `packets` bound for other ranks than `rank`.
-fn sent_bytes(packets: &[Vec<u8>], rank: usize) -> u64 {
-    packets
-        .iter()
-        .enumerate()
-        .filter(|(r, _)| *r != rank)
-        .map(|(_, p)| p.len() as u64)
-        .sum()
-}
-
-impl<const D: usize> Backend<D> for RankBackend<D> {
-    fn name(&self) -> &'static str {
-        self.inner.name()
-    }
-
-    fn kind(&self) -> BackendKind {
-        self.inner.kind()
-    }
-
-    fn heap_bytes(&self) -> usize {
-        self.inner.heap_bytes()
-    }
-
-    fn device(&self) -> Option<String> {
-        self.inner.device()
-    }
-
-    fn holds_state(&self) -> bool {
-        self.inner.holds_state()
-    }
-
-    fn download(&mut self, fields: &mut Fields<D>) -> Result<(), BackendError> {
-        self.inner.download(fields)
-    }
-
-    fn reload(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> Result<(), BackendError> {
-        // The host changed the particles (escapes removed): the halo's indices no longer hold;
-        // its ghost ids still name the ghosts to drop at the next rebuild.
-        if let Some(halo) = self.halo.as_mut() {
-            halo.anchor.clear();
-            halo.send_index.clear();
-            halo.recv_index.clear();
-        }
-        self.inner.reload(fields, params)
-    }
-
-    fn synchronize(&mut self) {
-        self.inner.synchronize();
-    }
-
-    fn take_error(&mut self) -> Option<BackendError> {
-        self.error.take().or_else(|| self.inner.take_error())
-    }
-
-    fn sort_by_cell(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> Result<(), GridError> {
-        self.rebuild(fields, params)
-    }
-
-    fn density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, "density", &[Field::Density], |b, f| b.density(f, params));
-    }
-
-    fn density_rate(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, "density_rate", &[Field::DensityRate], |b, f| {
-            b.density_rate(f, params)
-        });
-    }
-
-    fn integrate_density(&mut self, fields: &mut Fields<D>, dt: f32) {
-        self.local(fields, &[Field::Density], |b, f| b.integrate_density(f, dt));
-    }
-
-    fn store_density_start(&mut self, fields: &mut Fields<D>) {
-        self.local(fields, &[Field::DensityStart], |b, f| b.store_density_start(f));
-    }
-
-    fn rk_density_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
-        self.local(fields, &[Field::Density], |bk, f| {
-            bk.rk_density_stage(f, dt, a, b)
-        });
-    }
-
-    fn damping_zone(&mut self, fields: &mut Fields<D>, zone: &DampingZone<D>, dt: f32) {
-        self.local(fields, &[Field::Velocity], |b, f| b.damping_zone(f, zone, dt));
-    }
-
-    fn wrap_positions(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.local(fields, &[Field::Position], |b, f| b.wrap_positions(f, params));
-    }
-
-    fn equation_of_state(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.local(fields, &[Field::Pressure], |b, f| b.equation_of_state(f, params));
-    }
-
-    fn move_solids(
-        &mut self,
-        fields: &mut Fields<D>,
-        reference: &SolidReference<D>,
-        kinematics: &[SolidKinematics<D>],
-    ) {
-        self.local(fields, &[Field::Position, Field::Velocity], |b, f| {
-            b.move_solids(f, reference, kinematics)
-        });
-    }
-
-    fn wall_pressure(
-        &mut self,
-        fields: &mut Fields<D>,
-        params: &StepParams<D>,
-        model: WallModel,
-        kinematics: &[SolidKinematics<D>],
-    ) {
-        self.summing(
-            fields,
-            "wall_pressure",
-            &[Field::Pressure, Field::Density],
-            |b, f| b.wall_pressure(f, params, model, kinematics),
-        );
-    }
-
-    fn wall_velocity(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, "wall_velocity", &[Field::WallVelocity], |b, f| {
-            b.wall_velocity(f, params)
-        });
-    }
-
-    fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
-        self.summing(fields, "forces", &[Field::Acceleration], |b, f| {
-            b.forces(f, params, terms)
-        });
-    }
-
-    fn surface_normals(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, "surface_normals", &[Field::Normal], |b, f| {
-            b.surface_normals(f, params)
-        });
-    }
-
-    fn surface_tension(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
-        self.summing(fields, "surface_tension", &[Field::Acceleration], |b, f| {
-            b.surface_tension(f, params)
-        });
-    }
-
-    fn solid_forces(
-        &mut self,
-        fields: &Fields<D>,
-        params: &StepParams<D>,
-        solids: usize,
-        source: SolidForceSource,
-    ) -> Vec<SolidLoad> {
-        // Reads neighbours, but through `&Fields`: the stage before it (the force stage, or
-        // the correction's pressure) already refreshed what it reads.
-        self.inner.solid_forces(fields, params, solids, source)
-    }
-
-    fn state_extremes(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> StateExtremes {
-        self.inner.state_extremes(fields, params)
-    }
-
-    fn integrate(&mut self, fields: &mut Fields<D>, dt: f32) {
-        self.local(fields, &[Field::Position, Field::Velocity], |b, f| {
-            b.integrate(f, dt)
-        });
-    }
-
-    fn store_step_start(&mut self, fields: &mut Fields<D>) {
-        self.local(fields, &[Field::PositionStart, Field::VelocityStart], |b, f| {
-            b.store_step_start(f)
-        });
-    }
-
-    fn rk_stage(&mut self, fields: &mut Fields<D>, dt: f32, a: f32, b: f32) {
-        self.local(fields, &[Field::Position, Field::Velocity], |bk, f| {
-            bk.rk_stage(f, dt, a, b)
-        });
-    }
-
-    fn correction_error(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> CorrectionError {
-        self.inner.correction_error(fields, params)
-    }
-
-    fn begin_correction(&mut self, fields: &mut Fields<D>) {
-        self.inner.begin_correction(fields);
-    }
-
-    fn correction_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
-        self.summing(fields, "correction_pressure", &[Field::Pressure], |b, f| {
-            b.correction_pressure(f, params, k)
-        });
-    }
-
-    fn correct_positions(
-        &mut self,
-        fields: &mut Fields<D>,
-        params: &StepParams<D>,
-        tau: f32,
-        kick_tau: f32,
-        max_step: f32,
-    ) -> Sweep {
-        self.summing(
-            fields,
-            "correct_positions",
-            &[Field::Position, Field::Velocity],
-            |b, f| b.correct_positions(f, params, tau, kick_tau, max_step),
-        )
-    }
-
-    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
-        self.refresh(fields, "begin_velocity_solve");
-        self.inner.begin_velocity_solve(fields);
-    }
-
-    fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
-        self.summing(fields, "predicted_density", &[Field::Density], |b, f| {
-            b.predicted_density(f, params, tau)
-        });
-    }
-
-    fn mix_velocity_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {
-        self.local(fields, &[Field::Pressure], |b, f| {
-            b.mix_velocity_pressure(f, params, k)
-        });
-    }
-
-    fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
-        self.summing(
-            fields,
-            "velocity_from_pressure",
-            &[Field::Velocity, Field::Pressure],
-            |b, f| b.velocity_from_pressure(f, params, tau),
-        );
-    }
-
-    fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {
-        self.local(
-            fields,
-            &[
-                Field::ActingPressure,
-                Field::Pressure,
-                Field::Velocity,
-                Field::Density,
-            ],
-            |b, f| b.end_velocity_solve(f, keep),
-        );
-    }
-
-    fn record_acting_pressure(&mut self, fields: &mut Fields<D>) {
-        self.local(fields, &[Field::ActingPressure], |b, f| {
-            b.record_acting_pressure(f)
-        });
-    }
-
-    fn keep_out(
-        &mut self,
-        fields: &mut Fields<D>,
-        boxes: &[KeepOutBox<D>],
-        solids: usize,
-        margin: f32,
-        from_step_start: bool,
-    ) -> KeepOutReport {
-        self.local(fields, &[Field::Position, Field::Velocity], |b, f| {
-            b.keep_out(f, boxes, solids, margin, from_step_start)
-        })
-    }
-
-    fn partition(&self) -> &Partition {
-        self.inner.partition()
-    }
-
-    fn sum_over_ranks(&mut self, values: &mut [f64]) {
-        self.inner.sum_over_ranks(values);
-    }
-
-    fn verify_halo(&mut self) {
-        self.verify = true;
-    }
-
-    fn decomposition(&self) -> Option<Decomposition<D>> {
-        Some(self.decomposition.clone())
-    }
-
-    fn halo_traffic(&self) -> Option<HaloTraffic> {
-        Some(self.traffic)
-    }
-
-    fn set_partition(&mut self, partition: Partition) -> Result<(), BackendError> {
-        self.inner.set_partition(partition)
     }
 }
