@@ -314,6 +314,11 @@ pub trait Backend<const D: usize> {
     fn sum_over_ranks(&mut self, values: &mut [f64]) {
         let _ = values;
     }
+    /// Replaces each of `values` by its largest over the ranks of a split run (as
+    /// [`Backend::sum_over_ranks`]). Every rank must call it.
+    fn max_over_ranks(&mut self, values: &mut [f64]) {
+        let _ = values;
+    }
     /// From now on, check after every ghost refresh that every field of every ghost is its
     /// owner's (a split run's stages' write lists, `distributed::RankBackend`); nothing for a
     /// backend that holds the whole simulation.

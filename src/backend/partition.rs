@@ -55,6 +55,14 @@ impl Partition {
         }
     }
 
+    /// This rank's number; `None` for the whole simulation.
+    pub fn rank(&self) -> Option<usize> {
+        match self {
+            Partition::Whole => None,
+            Partition::Rank { comm, .. } => Some(lock(comm).rank()),
+        }
+    }
+
     /// Replaces each of `values` by its sum over ranks (added in rank order).
     pub fn sum(&mut self, values: &mut [f64]) {
         if let Partition::Rank { comm, error, .. } = self {

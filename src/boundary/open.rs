@@ -215,31 +215,82 @@ impl<const D: usize> OpenBoundary<D> {
     }
 }
 
-/// The open boundaries' update at a step's start (module doc): removes the fluid particles past
-/// a buffer's far side, sets the inflow buffers' velocities, and fills each inflow column.
-/// Kept particles keep their order; created ones are appended, boundary by boundary and column
-/// by column, with new ids above every id present, so the result depends only on `fields` and
-/// the time `time` [s] (an inflow's ramp).
+/// How the particles of [`update`]'s fields take part: all of them (a whole simulation,
+/// [`Whole`]), or one rank's share of a run split across ranks, where the fields also hold
+/// ghosts (copies of other ranks' particles) and every decision must be the same on every rank.
+pub trait Share<const D: usize> {
+    /// Whether particle `i` is this share's own (not a ghost).
+    fn counts(&self, i: usize) -> bool;
+    /// Whether a particle created at `x` [m] belongs to this share.
+    fn owns(&self, x: &Vector<D>) -> bool;
+    /// Replaces each of `values` by its largest over the shares.
+    fn max(&mut self, values: &mut [f64]);
+    /// Replaces each of `values` by its sum over the shares.
+    fn sum(&mut self, values: &mut [f64]);
+}
+
+/// Every particle, one share: nothing to combine.
+pub struct Whole;
+
+impl<const D: usize> Share<D> for Whole {
+    fn counts(&self, _: usize) -> bool {
+        true
+    }
+    fn owns(&self, _: &Vector<D>) -> bool {
+        true
+    }
+    fn max(&mut self, _: &mut [f64]) {}
+    fn sum(&mut self, _: &mut [f64]) {}
+}
+
+/// The open boundaries' update at a step's start (module doc) on a whole simulation: removes
+/// the fluid particles past a buffer's far side, sets the inflow buffers' velocities, and fills
+/// each inflow column. Kept particles keep their order; created ones are appended, boundary by
+/// boundary and column by column, with new ids above every id present, so the result depends
+/// only on `fields` and the time `time` [s] (an inflow's ramp).
 pub fn update<const D: usize>(
     fields: &mut Fields<D>,
     boundaries: &[OpenBoundary<D>],
     t: &Template,
     time: f64,
 ) -> Update {
-    let mut next_id = fields.id.iter().max().map_or(0, |&m| m + 1);
+    update_share(fields, boundaries, t, time, &mut Whole)
+}
+
+/// [`update`] on one share of a split run. Each column's rearmost particle is the nearest over
+/// every share's own particles (a largest `-d`, then the sum of the density and pressure of
+/// the shares that hold it, divided by their count); every share computes the same created
+/// particles with the same ids (above the largest id of any share) and keeps those it owns.
+/// The counts returned are over all shares.
+pub fn update_share<const D: usize>(
+    fields: &mut Fields<D>,
+    boundaries: &[OpenBoundary<D>],
+    t: &Template,
+    time: f64,
+    share: &mut dyn Share<D>,
+) -> Update {
+    let mut top = [fields.id.iter().max().map_or(-1.0, |&m| f64::from(m))];
+    share.max(&mut top);
+    let mut next_id = (top[0] + 1.0) as u32;
     let past = |x: &Vector<D>| {
         boundaries
             .iter()
             .any(|b| b.across(x) && b.inward_distance(x) < -b.depth)
     };
+    // A share removes its own particles only (a ghost goes with its owner's next halo), so
+    // that it changes its particles only when the count over the shares says so.
+    let gone = |i: usize| fields.kind[i] == FLUID && past(&fields.position[i]) && share.counts(i);
+    let mut removed = [(0..fields.len()).filter(|&i| gone(i)).count() as f64];
     let kept: Vec<u32> = (0..fields.len())
-        .filter(|&i| fields.kind[i] != FLUID || !past(&fields.position[i]))
+        .filter(|&i| !gone(i))
         .map(|i| i as u32)
         .collect();
-    let removed = (fields.len() - kept.len()) as u64;
-    if removed > 0 {
+    // Which particles are this share's own, in the order after the removal (created ones are).
+    let mut own: Vec<bool> = kept.iter().map(|&i| share.counts(i as usize)).collect();
+    if kept.len() < fields.len() {
         fields.keep(&kept);
     }
+    share.sum(&mut removed);
     let mut created = 0;
     for b in boundaries {
         // An outflow is a free exit: its buffer's particles move as the fluid's, and those past
@@ -263,34 +314,61 @@ pub fn update<const D: usize>(
                     fields.velocity[i] = b.inflow_velocity(&x, time);
                 }
                 let r = &mut rear[b.column_of(&x, &columns)];
-                if r.is_none_or(|(dr, _)| d < dr) {
+                if own[i] && r.is_none_or(|(dr, _)| d < dr) {
                     *r = Some((d, i));
                 }
             }
         }
+        // The nearest over the shares, and its density and pressure.
+        let mut nearest: Vec<f64> = rear
+            .iter()
+            .map(|r| r.map_or(f64::NEG_INFINITY, |(d, _)| -f64::from(d)))
+            .collect();
+        share.max(&mut nearest);
+        let mut source = vec![0.0; 3 * count];
         for (c, r) in rear.iter().enumerate() {
+            if let Some((d, i)) = *r
+                && -f64::from(d) == nearest[c]
+            {
+                source[3 * c] = f64::from(fields.density[i]);
+                source[3 * c + 1] = f64::from(fields.pressure[i]);
+                source[3 * c + 2] = 1.0;
+            }
+        }
+        share.sum(&mut source);
+        for (c, &near) in nearest.iter().enumerate() {
             let centre = b.column_centre(c, &columns);
             if !b.wetted(&centre) {
                 continue;
             }
-            let (mut d, source) = match *r {
-                Some((d, i)) => (d, Some(i)),
-                None => (0.5 * t.spacing, None),
+            let (mut d, density, pressure) = if near == f64::NEG_INFINITY {
+                (0.5 * t.spacing, t.rho0, 0.0)
+            } else {
+                let n = source[3 * c + 2];
+                (
+                    -near as Real,
+                    (source[3 * c] / n) as Real,
+                    (source[3 * c + 1] / n) as Real,
+                )
             };
-            let (density, pressure) =
-                source.map_or((t.rho0, 0.0), |i| (fields.density[i], fields.pressure[i]));
             while d - t.spacing >= -b.depth {
                 d -= t.spacing;
                 let mut x = centre;
                 x[b.axis] = b.min[b.axis] + d * b.inward;
-                let u = b.inflow_velocity(&x, time);
-                fields.push_created(x, u, t.mass, density, pressure, next_id, t.rho0);
+                if share.owns(&x) {
+                    let u = b.inflow_velocity(&x, time);
+                    fields.push_created(x, u, t.mass, density, pressure, next_id, t.rho0);
+                    own.push(true);
+                }
                 next_id += 1;
                 created += 1;
             }
         }
     }
-    Update { created, removed }
+    Update {
+        created,
+        removed: removed[0] as u64,
+    }
 }
 
 #[cfg(test)]

@@ -43,15 +43,12 @@ impl<const D: usize> Simulation<D> {
         let (lo, hi) = (self.config.domain_min, self.config.domain_max);
         let f = &self.fields;
         let outside = |i: usize| (0..D).any(|k| f.position[i][k] < lo[k] || f.position[i][k] > hi[k]);
-        let kept: Vec<u32> = (0..f.len())
-            .filter(|&i| f.kind[i] != FLUID || !outside(i))
-            .map(|i| i as u32)
-            .collect();
-        // Split across ranks, a ghost's removal is counted by its owner; the count is global.
+        // Split across ranks, a rank removes its own particles only (a ghost goes with its
+        // owner's next halo) and the count is over all ranks.
         let partition = self.backend.partition();
-        let mut removed = [(0..f.len())
-            .filter(|&i| f.kind[i] == FLUID && outside(i) && partition.counts(i))
-            .count() as f64];
+        let gone = |i: usize| f.kind[i] == FLUID && outside(i) && partition.counts(i);
+        let kept: Vec<u32> = (0..f.len()).filter(|&i| !gone(i)).map(|i| i as u32).collect();
+        let mut removed = [(0..f.len()).filter(|&i| gone(i)).count() as f64];
         let any = kept.len() < f.len();
         self.backend.sum_over_ranks(&mut removed);
         let removed = removed[0] as u64;
@@ -59,7 +56,9 @@ impl<const D: usize> Simulation<D> {
             self.fields.keep(&kept);
         }
         self.stats.removed_particles += removed;
-        if any {
+        // Split across ranks, every rank rebuilds when any removed (its next sort is then a
+        // collective halo rebuild on every rank).
+        if removed > 0 {
             self.reload_backend()
                 .map_err(|source| StepError::Backend { step, source })?;
         }

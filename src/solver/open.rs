@@ -6,10 +6,17 @@
 //! counted in the step's report, the run's statistics, `steps.csv` and `summary.json`
 //! (`created_particles`, `outflow_particles`). A checkpoint then holds particles the scene did not have;
 //! restoring it accepts fluid particles of ids above the scene's.
+//!
+//! Split across ranks, each rank updates its own particles; each column's rear, the largest id
+//! and the counts are reduced over the ranks, every rank computes the same created particles
+//! and keeps those its region holds (`boundary::open::update_share`), and every rank rebuilds
+//! its backend when any rank's particles changed (the next sort then rebuilds the halo).
 
 use super::{SetupError, Simulation, StepError};
-use crate::boundary::open::{OpenBoundary, Template, Update, update};
-use crate::math::Real;
+use crate::backend::Backend;
+use crate::boundary::open::{OpenBoundary, Share, Template, Update, update_share};
+use crate::distributed::Decomposition;
+use crate::math::{Real, Vector};
 use crate::physics::lattice::lattice_mass;
 use crate::smoothing::Smoothing;
 
@@ -71,20 +78,50 @@ impl<const D: usize> Simulation<D> {
         let Some(open) = &self.open else {
             return Ok(Update::default());
         };
-        let done = update(
+        let region = self.backend.decomposition().zip(self.backend.partition().rank());
+        let mut share = BackendShare {
+            backend: self.backend.as_mut(),
+            region,
+        };
+        let done = update_share(
             &mut self.fields,
             &open.boundaries,
             &open.template,
             self.clock.time,
+            &mut share,
         );
         self.stats.created_particles += done.created;
         self.stats.outflow_particles += done.removed;
         // A device holds its own copy, whose buffer velocities are now stale even where the
         // count did not change; the CPU works on `fields` and needs new buffers only for a new
-        // count.
+        // count (over all ranks: each rank's next sort is then a collective halo rebuild).
         if self.backend.holds_state() || done.created + done.removed > 0 {
             self.reload_backend().map_err(backend)?;
         }
         Ok(done)
+    }
+}
+
+/// The simulation's backend as the open boundaries' [`Share`]: its owned particles, the region
+/// its rank holds (`None`: the whole simulation) and its reductions over ranks.
+struct BackendShare<'a, const D: usize> {
+    backend: &'a mut (dyn Backend<D> + Send),
+    region: Option<(Decomposition<D>, usize)>,
+}
+
+impl<const D: usize> Share<D> for BackendShare<'_, D> {
+    fn counts(&self, i: usize) -> bool {
+        self.backend.partition().counts(i)
+    }
+    fn owns(&self, x: &Vector<D>) -> bool {
+        self.region
+            .as_ref()
+            .is_none_or(|(decomposition, rank)| decomposition.owner(x) == *rank)
+    }
+    fn max(&mut self, values: &mut [f64]) {
+        self.backend.max_over_ranks(values);
+    }
+    fn sum(&mut self, values: &mut [f64]) {
+        self.backend.sum_over_ranks(values);
     }
 }

@@ -74,9 +74,6 @@ impl<const D: usize> Simulation<D> {
         rebalance: Rebalance,
         mine: Option<std::ops::Range<usize>>,
     ) -> Result<(), SplitError> {
-        if self.open.is_some() {
-            return Err(SplitError::Unsupported("open boundaries (inflow and outflow)"));
-        }
         if self.config.periodic != PeriodicAxes::NONE {
             return Err(SplitError::Unsupported("periodic boundaries"));
         }

@@ -31,6 +31,18 @@ fn run(
     stop_after: Option<u64>,
     resume: bool,
 ) -> Result<Summary, String> {
+    run_every(scene, n, out, stop_after, resume, 5)
+}
+
+/// [`run`], checkpointing every `every` steps.
+fn run_every(
+    scene: &Scene,
+    n: usize,
+    out: &Path,
+    stop_after: Option<u64>,
+    resume: bool,
+    every: u64,
+) -> Result<Summary, String> {
     let results = LocalWorld::run(n, |rank| {
         let stop = Arc::new(AtomicUsize::new(0));
         let comm: SharedCommunicator = Arc::new(Mutex::new(Box::new(rank)));
@@ -39,9 +51,9 @@ fn run(
             force: false,
             backend: sph::backend::BackendKind::Cpu,
             threads: 1,
-            scene_name: "dam_break_2d".into(),
+            scene_name: scene.name.clone().unwrap_or_default(),
             restart: Restart {
-                every: Some(5),
+                every: Some(every),
                 resume,
                 ..Restart::default()
             },
@@ -111,4 +123,43 @@ fn a_split_run_resumes_on_another_number_of_ranks() {
     assert_eq!(resumed.particles, straight.particles);
     assert_eq!(resumed.extra["fluid_mass"], straight.extra["fluid_mass"]);
     assert_eq!(resumed.extra["ranks"], 3);
+}
+
+/// The open channel (particles created at the inflow and removed at the outflow, with ids
+/// above the scene's) interrupted on 2 ranks after 500 steps, once creation has begun, and
+/// resumed on 2: `steps.csv` (with the created and removed counts) byte for byte as the run
+/// that was not interrupted; resumed on 3: the same steps, created and removed particles and
+/// fluid mass.
+#[test]
+fn a_split_run_with_open_boundaries_resumes() {
+    let sets = ["solver.end_time=0.5".to_string()];
+    let mut scene = load_scene(Path::new("scenes/open_channel_2d.toml"), &sets).expect("scene");
+    locate_references(&mut scene, None);
+    let whole = scratch("split_open_straight");
+    let straight = run_every(&scene, 2, &whole, None, false, 200).expect("straight");
+    for n in [2, 3] {
+        let out = scratch(&format!("split_open_resumed_{n}"));
+        let stopped = run_every(&scene, 2, &out, Some(500), false, 200);
+        assert!(stopped.is_err(), "{stopped:?}");
+        let resumed = run_every(&scene, n, &out, None, true, 200).expect("resumed");
+        assert_eq!(resumed.status, "completed");
+        assert_eq!(resumed.steps, straight.steps);
+        assert_eq!(resumed.extra["fluid_mass"], straight.extra["fluid_mass"]);
+        for key in ["created_particles", "outflow_particles"] {
+            assert_eq!(resumed.extra[key], straight.extra[key], "{key}");
+        }
+        if n == 2 {
+            assert!(
+                bytes(&whole, "steps.csv") == bytes(&out, "steps.csv"),
+                "steps.csv differs"
+            );
+        }
+    }
+    assert!(
+        straight.extra["created_particles"]
+            .as_u64()
+            .is_some_and(|c| c > 0),
+        "{:?}",
+        straight.extra
+    );
 }

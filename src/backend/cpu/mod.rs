@@ -146,6 +146,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         self.partition.sum(values);
     }
 
+    fn max_over_ranks(&mut self, values: &mut [f64]) {
+        self.partition.max(values);
+    }
+
     fn set_partition(&mut self, partition: Partition) -> Result<(), BackendError> {
         self.partition = partition;
         Ok(())

@@ -40,14 +40,22 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
     }
 
     fn reload(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> Result<(), BackendError> {
-        // The host changed the particles (escapes removed): the halo's indices no longer hold;
-        // its ghost ids still name the ghosts to drop at the next rebuild.
+        // The host changed the particles (escapes removed, open boundaries' particles created
+        // and removed): the halo's indices no longer hold; its ghost ids still name the ghosts
+        // to drop at the next rebuild, and the reductions until then count the others.
+        self.inner.reload(fields, params)?;
         if let Some(halo) = self.halo.as_mut() {
             halo.anchor.clear();
             halo.send_index.clear();
             halo.recv_index.clear();
+            let owned = fields.id.iter().map(|id| !halo.ghosts.contains_key(id)).collect();
+            self.inner.set_partition(Partition::Rank {
+                owned,
+                comm: self.comm.clone(),
+                error: None,
+            })?;
         }
-        self.inner.reload(fields, params)
+        Ok(())
     }
 
     fn synchronize(&mut self) {
@@ -276,6 +284,10 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
 
     fn sum_over_ranks(&mut self, values: &mut [f64]) {
         self.inner.sum_over_ranks(values);
+    }
+
+    fn max_over_ranks(&mut self, values: &mut [f64]) {
+        self.inner.max_over_ranks(values);
     }
 
     fn verify_halo(&mut self) {
