@@ -8,6 +8,7 @@
 //! box is nearest, so a particle that leaves the domain still has one owner.
 
 use crate::math::{Real, Vector};
+use crate::periodic::Periodic;
 
 /// How the domain is cut among the ranks (a value the run carries, `--decomposition`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,10 +33,22 @@ pub struct Region<const D: usize> {
 impl<const D: usize> Region<D> {
     /// The Euclidean distance from `x` to the box [m]; 0 inside.
     pub fn distance(&self, x: &Vector<D>) -> Real {
+        self.distance_periodic(x, &Periodic::none())
+    }
+
+    /// [`Region::distance`] to the nearest of the box's periodic images: along a periodic
+    /// axis of period `L` the gap is the least over `x_k` and `x_k ± L` (`crate::periodic`'s
+    /// minimum image, so a particle near one face of the domain is near a region at the other).
+    pub fn distance_periodic(&self, x: &Vector<D>, periodic: &Periodic<D>) -> Real {
+        let gap = |k: usize, v: Real| (self.lo[k] - v).max(v - self.hi[k]).max(0.0);
         let mut sum = 0.0;
         for k in 0..D {
-            let gap = (self.lo[k] - x[k]).max(x[k] - self.hi[k]).max(0.0);
-            sum += gap * gap;
+            let mut g = gap(k, x[k]);
+            if periodic.axes.contains(k) {
+                let l = periodic.length[k];
+                g = g.min(gap(k, x[k] - l)).min(gap(k, x[k] + l));
+            }
+            sum += g * g;
         }
         sum.sqrt()
     }

@@ -58,7 +58,13 @@ pub fn gather_ghosts<C: Communicator + ?Sized, const D: usize>(
     owned: &Fields<D>,
     width: Real,
 ) -> Result<(Fields<D>, Traffic), DistributedError> {
-    let sends = halo_sends(decomposition, &owned.position, comm.rank(), width);
+    let sends = halo_sends(
+        decomposition,
+        &owned.position,
+        comm.rank(),
+        width,
+        &crate::periodic::Periodic::none(),
+    );
     let packets: Vec<Vec<u8>> = sends.iter().map(|indices| pack(owned, indices)).collect();
     let traffic = Traffic {
         sent: sends.iter().map(Vec::len).sum(),

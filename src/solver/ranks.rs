@@ -11,7 +11,6 @@ use crate::backend::{Backend, BackendError, BackendKind};
 use crate::distributed::{Decomposition, HaloTraffic, Method, RankBackend, Rebalance, Region};
 use crate::fields::Fields;
 use crate::math::Real;
-use crate::periodic::PeriodicAxes;
 use crate::solver::checkpoint::{Checkpoint, CheckpointError};
 
 /// How far [m], in units of the kernel's support, a particle may move between two sorts of a
@@ -42,7 +41,7 @@ impl<const D: usize> Simulation<D> {
     /// again as `rebalance` says. Returns the regions of the start.
     ///
     /// # Errors
-    /// [`SplitError::Unsupported`] for open boundaries, periodic axes or the CUDA backend.
+    /// [`SplitError::Unsupported`] for the CUDA backend.
     pub fn split_across_ranks(
         &mut self,
         comm: SharedCommunicator,
@@ -65,7 +64,7 @@ impl<const D: usize> Simulation<D> {
     /// keeps the particles it owned at the checkpoint, in their order there).
     ///
     /// # Errors
-    /// [`SplitError::Unsupported`] for open boundaries, periodic axes or the CUDA backend.
+    /// [`SplitError::Unsupported`] for the CUDA backend.
     pub fn split_with(
         &mut self,
         comm: SharedCommunicator,
@@ -74,9 +73,6 @@ impl<const D: usize> Simulation<D> {
         rebalance: Rebalance,
         mine: Option<std::ops::Range<usize>>,
     ) -> Result<(), SplitError> {
-        if self.config.periodic != PeriodicAxes::NONE {
-            return Err(SplitError::Unsupported("periodic boundaries"));
-        }
         if self.backend.kind() != BackendKind::Cpu {
             return Err(SplitError::Unsupported("the cuda backend"));
         }

@@ -112,3 +112,28 @@ fn a_point_outside_the_domain_belongs_to_the_nearest_region() {
         "the domain's upper corner is inside"
     );
 }
+
+/// Along a periodic axis a region's distance is to its nearest image: a point just inside the
+/// domain's upper face is near a region at its lower face, by the gap through the period; other
+/// axes and a domain without periodic axes keep the plain distance.
+#[test]
+fn the_distance_to_a_region_goes_through_the_period() {
+    use sph::periodic::{Periodic, PeriodicAxes};
+    let lower = Region::<2> {
+        lo: Vector::<2>::new(0.0, 0.0),
+        hi: Vector::<2>::new(0.5, 1.0),
+    };
+    let periodic = Periodic::<2>::new(
+        PeriodicAxes::NONE.with(0),
+        Vector::<2>::new(0.0, 0.0),
+        Vector::<2>::new(2.0, 1.0),
+    );
+    let x = Vector::<2>::new(1.9, 0.5);
+    assert!((lower.distance(&x) - 1.4).abs() < 1e-6);
+    assert!((lower.distance_periodic(&x, &periodic) - 0.1).abs() < 1e-6);
+    assert_eq!(lower.distance_periodic(&x, &Periodic::none()), lower.distance(&x));
+    // Above the region along y (not periodic) as well: both gaps count.
+    let y = Vector::<2>::new(1.9, 1.2);
+    let expected = (0.1f32 * 0.1 + 0.2 * 0.2).sqrt();
+    assert!((lower.distance_periodic(&y, &periodic) - expected).abs() < 1e-6);
+}

@@ -29,6 +29,7 @@ use crate::fields::{Field, Fields};
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
 use crate::model::params::StepParams;
+use crate::periodic::Periodic;
 use std::collections::HashMap;
 
 mod stages;
@@ -147,7 +148,7 @@ impl<const D: usize> RankBackend<D> {
 
     /// Drops the ghosts, migrates, gathers the ghosts again, sorts and indexes the halo.
     fn rebuild(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> Result<(), GridError> {
-        if let Err(e) = self.exchange_particles(fields) {
+        if let Err(e) = self.exchange_particles(fields, &params.periodic()) {
             self.fail(e);
         }
         self.inner.sort_by_cell(fields, params)?;
@@ -155,17 +156,22 @@ impl<const D: usize> RankBackend<D> {
         Ok(())
     }
 
-    fn exchange_particles(&mut self, fields: &mut Fields<D>) -> Result<(), DistributedError> {
+    fn exchange_particles(
+        &mut self,
+        fields: &mut Fields<D>,
+        periodic: &Periodic<D>,
+    ) -> Result<(), DistributedError> {
         let comm = self.comm.clone();
         let comm = lock(&comm);
         let rank = comm.rank();
         if let Some(halo) = self.halo.take() {
-            // Drift since the last rebuild, over this rank's own particles.
+            // Drift since the last rebuild, over this rank's own particles (a particle wrapped
+            // across a periodic face moved by its minimum image, not a period).
             let mut drift: f64 = 0.0;
             if halo.anchor.len() == fields.len() {
                 for (i, x) in fields.position.iter().enumerate() {
                     if !halo.ghosts.contains_key(&fields.id[i]) {
-                        drift = drift.max(f64::from((x - halo.anchor[i]).norm()));
+                        drift = drift.max(f64::from(periodic.minimum_image(x - halo.anchor[i]).norm()));
                     }
                 }
             }
@@ -216,7 +222,7 @@ impl<const D: usize> RankBackend<D> {
         }
         self.traffic.owned = fields.len() as u64;
         // Ghosts, appended after the owned particles.
-        let sends = halo_sends(&self.decomposition, &fields.position, rank, self.width);
+        let sends = halo_sends(&self.decomposition, &fields.position, rank, self.width, periodic);
         let packets: Vec<Vec<u8>> = sends.iter().map(|indices| pack(fields, indices)).collect();
         self.traffic.ghost_bytes += sent_bytes(&packets, rank) as u64;
         let send_ids: Vec<Vec<u32>> = sends
