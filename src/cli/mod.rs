@@ -137,13 +137,15 @@ enum Command {
         /// With --resume: continue although the scene file changed since the run started.
         #[arg(long, requires = "resume")]
         accept_edited_scene: bool,
-        /// Under mpirun (built with --features mpi): how the domain is cut among the ranks.
-        #[arg(long, value_enum, default_value_t = ranks::DecompositionArg::Bisection)]
-        decomposition: ranks::DecompositionArg,
+        /// Under mpirun (built with --features mpi): how the domain is cut among the ranks
+        /// (overrides the scene's `[ranks] decomposition`; default bisection).
+        #[arg(long, value_enum)]
+        decomposition: Option<ranks::DecompositionArg>,
         /// Under mpirun: cut the domain again when the ranks' particle counts differ by more
-        /// than this imbalance (max/mean - 1), or `never`.
-        #[arg(long, value_name = "LIMIT", default_value = "0.1", value_parser = ranks::parse_rebalance)]
-        rebalance: crate::distributed::Rebalance,
+        /// than this imbalance (max/mean - 1), or `never` (overrides the scene's
+        /// `[ranks] rebalance`; default 0.1).
+        #[arg(long, value_name = "LIMIT", value_parser = ranks::parse_rebalance)]
+        rebalance: Option<crate::distributed::Rebalance>,
     },
     /// Run one variant of a scene per value of the swept keys and compare them: writes sweep.csv,
     /// sweep.png (error against wall time), fronts.png (probe curves with reference data) and
@@ -367,7 +369,8 @@ where
                 force,
                 accept_edited_scene,
             };
-            let ranks = ranks::join(decomposition.into(), rebalance)?;
+            sets.extend(ranks::scene_overrides(decomposition, rebalance));
+            let ranks = ranks::join()?;
             run::run(
                 scene.as_deref(),
                 out,

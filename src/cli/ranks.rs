@@ -1,8 +1,8 @@
 //! `mpirun -np N sph run`: whether this process is one of several MPI ranks, and the split
 //! run it then takes part in (`run::Ranks`, docs/distributed.md).
 
-use crate::distributed::{Method, Rebalance};
-use crate::run::Ranks;
+use crate::backend::partition::SharedCommunicator;
+use crate::distributed::Rebalance;
 
 /// How the CLI asks to cut the domain (`--decomposition`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -11,15 +11,6 @@ pub enum DecompositionArg {
     Slabs,
     /// Recursive coordinate bisection.
     Bisection,
-}
-
-impl From<DecompositionArg> for Method {
-    fn from(arg: DecompositionArg) -> Self {
-        match arg {
-            DecompositionArg::Slabs => Method::Slabs,
-            DecompositionArg::Bisection => Method::Bisection,
-        }
-    }
 }
 
 /// `--rebalance LIMIT` or `never`.
@@ -33,6 +24,25 @@ pub fn parse_rebalance(text: &str) -> Result<Rebalance, String> {
             "expected an imbalance above which to cut the domain again (max/mean - 1, e.g. 0.1) or never, got {text}"
         )),
     }
+}
+
+/// `--decomposition` and `--rebalance` as overrides of the scene's `[ranks]` keys (so that a
+/// resumed run keeps them with the run's other overrides).
+pub fn scene_overrides(decomposition: Option<DecompositionArg>, rebalance: Option<Rebalance>) -> Vec<String> {
+    let mut sets = Vec::new();
+    if let Some(d) = decomposition {
+        let name = match d {
+            DecompositionArg::Slabs => "slabs",
+            DecompositionArg::Bisection => "bisection",
+        };
+        sets.push(format!("ranks.decomposition=\"{name}\""));
+    }
+    match rebalance {
+        Some(Rebalance::Above(limit)) => sets.push(format!("ranks.rebalance={limit:e}")),
+        Some(Rebalance::Never) => sets.push("ranks.rebalance=\"never\"".into()),
+        None => {}
+    }
+    sets
 }
 
 /// The number of ranks an MPI launcher started, from the variables it sets (Open MPI, MPICH
@@ -51,26 +61,20 @@ pub fn local_ranks() -> usize {
         .unwrap_or(1)
 }
 
-/// The split run this process takes part in, if an MPI launcher started it as one of several
-/// ranks.
+/// The ranks' transport, if an MPI launcher started this process as one of several ranks
+/// (the run cuts its domain as the scene's `[ranks]` says).
 ///
 /// # Errors
 /// When started as one of several ranks by a build without the `mpi` feature (each would run
 /// the whole scene into the same folder), or when MPI cannot start.
-pub fn join(method: Method, rebalance: Rebalance) -> anyhow::Result<Option<Ranks>> {
+pub fn join() -> anyhow::Result<Option<SharedCommunicator>> {
     let launched = launched_ranks().unwrap_or(1);
     #[cfg(feature = "mpi")]
     if launched > 1 {
         use std::sync::{Arc, Mutex};
         let world = crate::distributed::mpi_world::MpiWorld::initialize()?;
-        let comm: crate::backend::partition::SharedCommunicator = Arc::new(Mutex::new(Box::new(world)));
-        return Ok(Some(Ranks {
-            comm,
-            method,
-            rebalance,
-        }));
+        return Ok(Some(Arc::new(Mutex::new(Box::new(world)))));
     }
-    let _ = (method, rebalance);
     anyhow::ensure!(
         launched <= 1,
         "started as one of {launched} MPI ranks, but this sph was built without the mpi feature: \

@@ -45,7 +45,7 @@ pub struct CheckpointArgs {
 }
 
 /// Runs the scene at `path`, or resumes the run in `checkpoint.resume`; as one rank of a split
-/// run with `ranks` (only rank 0 reports).
+/// run over the transport `ranks` (only rank 0 reports).
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     path: Option<&Path>,
@@ -55,9 +55,11 @@ pub fn run(
     sets: &[String],
     checkpoint: CheckpointArgs,
     reference_dir: Option<&Path>,
-    ranks: Option<crate::run::Ranks>,
+    ranks: Option<crate::backend::partition::SharedCommunicator>,
 ) -> anyhow::Result<()> {
-    let root = ranks.as_ref().is_none_or(crate::run::Ranks::is_root);
+    let root = ranks
+        .as_ref()
+        .is_none_or(|comm| crate::backend::partition::lock(comm).rank() == 0);
     anyhow::ensure!(
         checkpoint.every != Some(0),
         "--checkpoint-every must be at least 1 step"
@@ -89,6 +91,13 @@ pub fn run(
     let path = path.as_path();
     let scene = super::load_located(path, &sets, reference_dir, root)
         .with_context(|| format!("loading scene {}", path.display()))?;
+    // Split across ranks, the domain is cut as the scene's `[ranks]` says (with the command
+    // line's overrides among `sets`).
+    let ranks = ranks.map(|comm| crate::run::Ranks {
+        comm,
+        method: scene.ranks.method,
+        rebalance: scene.ranks.rebalance,
+    });
     let stem = stem(path);
     // Stored absolute, so that --resume works from any folder.
     let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());

@@ -135,6 +135,27 @@ pub struct Scene {
     pub periodic: crate::periodic::PeriodicAxes,
     /// Inflow and outflow planes (`[[open_boundary]]`, `boundary::open`), in file order.
     pub open_boundaries: Vec<OpenBoundarySpec>,
+    /// How a run across ranks cuts the domain (`[ranks]`).
+    pub ranks: RankSettings,
+}
+
+/// How a run split across ranks cuts its domain (`[ranks]`, `distributed::decomposition`);
+/// a run on one rank ignores it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RankSettings {
+    /// The cut at the start and at every rebalance (default: bisection).
+    pub method: crate::distributed::Method,
+    /// When the regions are cut again (default: above an imbalance of 0.1).
+    pub rebalance: crate::distributed::Rebalance,
+}
+
+impl Default for RankSettings {
+    fn default() -> Self {
+        Self {
+            method: crate::distributed::Method::Bisection,
+            rebalance: crate::distributed::Rebalance::Above(0.1),
+        }
+    }
 }
 
 /// A validated `[[open_boundary]]` (`boundary::open`).

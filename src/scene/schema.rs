@@ -19,6 +19,10 @@ pub use floating::{ContactFile, FloatingFile, HingeFile, MooringFile};
 mod periodic;
 pub use periodic::{AxisName, PeriodicFile};
 
+#[path = "schema_ranks.rs"]
+mod ranks;
+pub use ranks::{DecompositionName, RanksFile, RebalanceFile};
+
 #[path = "schema_open.rs"]
 mod open;
 pub use open::{OpenBoundaryFile, OpenBoundaryKind};
@@ -234,6 +238,9 @@ pub struct SceneFile {
     /// Inflow and outflow planes (`[[open_boundary]]`); zero or more.
     #[serde(default)]
     pub open_boundary: Vec<OpenBoundaryFile>,
+    /// How a run across ranks cuts the domain (`[ranks]`); absent: bisection, rebalanced above
+    /// an imbalance of 0.1.
+    pub ranks: Option<RanksFile>,
 }
 
 /// An axis-aligned box `[min, max]` \[m\].

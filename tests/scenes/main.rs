@@ -9,6 +9,7 @@ mod flap;
 mod lattice;
 mod open_boundary;
 mod periodic;
+mod ranks;
 mod scene;
 mod scene_fuzz;
 mod scene_solver;

@@ -21,8 +21,8 @@ use super::schema::{
     BoxFile, Effect, MotionFile, ProbeFile, ProbeKind, SceneFile, SolidShape, SolverFile, SolverKind,
 };
 use super::{
-    Aabb, FluidBox, KeyPath, Location, Probe, ProbeReference, Problem, Scene, SceneError, Solid,
-    SolverSettings, Sway,
+    Aabb, FluidBox, KeyPath, Location, Probe, ProbeReference, Problem, RankSettings, Scene, SceneError,
+    Solid, SolverSettings, Sway,
 };
 use crate::boundary::motion::Motion;
 
@@ -33,6 +33,8 @@ mod memory;
 mod motion;
 mod open;
 mod periodic;
+mod ranks;
+use ranks::check_ranks;
 mod probes;
 mod sea;
 mod solids;
@@ -492,6 +494,11 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
         None => Some(crate::periodic::PeriodicAxes::NONE),
     };
 
+    let ranks = file
+        .ranks
+        .as_ref()
+        .map_or(Some(RankSettings::default()), |r| check_ranks(&mut c, r));
+
     let mut open_boundaries = Vec::new();
     let mut open_ok = true;
     for (i, b) in file.open_boundary.iter().enumerate() {
@@ -537,6 +544,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
             damping_zone: damping_zone?,
             periodic: periodic?,
             open_boundaries,
+            ranks: ranks?,
         })
     })();
     match resolved {
