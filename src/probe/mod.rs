@@ -25,6 +25,7 @@
 
 pub mod compare;
 pub mod interpolate;
+pub mod reach;
 pub mod signal;
 pub mod waves;
 

@@ -8,8 +8,9 @@
 //! - Frames are parallel VTK: each rank writes its own particles as a piece
 //!   (`frames/frame_NNNNN_rK.vtu`), and rank 0 writes the `.pvtu` header once every piece is
 //!   on disk (`output::pvtu`).
-//! - Probes and the free surface read every particle: when they are due, the owned particles
-//!   of every rank are gathered on rank 0, which records them.
+//! - When the probes are due, the owned particles each probe reads (`probe::reach`: those
+//!   within its kernel's reach, a front's furthest) are gathered on rank 0, which records them;
+//!   the free surface reads every particle, and all are gathered for it.
 //! - Every decision that ends or shapes the loop (a frame, a probe sample, a signal) is taken
 //!   by rank 0 and shared, so no rank waits in a collective the others skipped.
 
@@ -89,10 +90,20 @@ impl Ranks {
 
     /// Every rank's `owned` particles on rank 0, in rank order (`None` on the other ranks).
     pub fn gather<const D: usize>(&self, owned: &Fields<D>) -> Result<Option<Fields<D>>, Error> {
-        let comm = lock(&self.comm);
         let everyone: Vec<u32> = (0..owned.len() as u32).collect();
+        self.gather_some(owned, &everyone)
+    }
+
+    /// The particles `indices` (increasing) of every rank's `owned` on rank 0, in rank order
+    /// (`None` on the other ranks).
+    pub fn gather_some<const D: usize>(
+        &self,
+        owned: &Fields<D>,
+        indices: &[u32],
+    ) -> Result<Option<Fields<D>>, Error> {
+        let comm = lock(&self.comm);
         let mut outgoing = vec![Vec::new(); comm.size()];
-        outgoing[0] = pack(owned, &everyone);
+        outgoing[0] = pack(owned, indices);
         let received = comm.exchange(outgoing).map_err(failed)?;
         if comm.rank() != 0 {
             return Ok(None);

@@ -66,8 +66,8 @@ pub(super) fn record_step<const D: usize>(
 }
 
 /// The probes at `time` [s] after a step of `dt` [s] (`now`: a sample is due whatever the
-/// interval). Split across ranks, rank 0 decides whether they read particles; if so every
-/// rank's are gathered there, and rank 0 records.
+/// interval). Split across ranks, rank 0 decides whether they read particles; if so the
+/// particles they read (`probe::reach`) of every rank are gathered there, and rank 0 records.
 pub(super) fn record_probes<const D: usize>(
     sim: &mut Simulation<D>,
     options: &RunOptions,
@@ -90,11 +90,11 @@ pub(super) fn record_probes<const D: usize>(
                 None
             } else {
                 let owned = sim.owned_fields()?;
-                let all = ranks.gather(&owned)?;
+                let read = ranks.gather_some(&owned, &probes.particles_read(&owned))?;
                 if !ranks.is_root() {
                     return Ok(());
                 }
-                all
+                read
             }
         }
     };

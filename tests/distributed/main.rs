@@ -14,6 +14,7 @@ mod balance;
 mod decomposition;
 mod exchange;
 mod particles;
+mod probe_reach;
 mod split_checkpoint;
 mod split_output;
 mod split_run;
