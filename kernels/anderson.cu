@@ -34,13 +34,14 @@ SPH_KERNEL(anderson_difference)(u32 n, u32 slot, const float* __restrict__ press
 /// n/64 threads, each summing its items in registers and adding once per slot; the host zeroes
 /// `out`.
 SPH_KERNEL(anderson_dots)(u32 n, u32 count, const float* a, u32 a_offset, const float* slots,
-                          double* __restrict__ out) {
+                          const u32* __restrict__ owned, double* __restrict__ out) {
     const u32 stride = gridDim.x * blockDim.x;
     const u32 first = blockIdx.x * blockDim.x + threadIdx.x;
     if (first >= n) return;
     double sum[ANDERSON_WINDOW];
     for (u32 l = 0; l < ANDERSON_WINDOW; ++l) sum[l] = 0.0;
     for (u32 i = first; i < n; i += stride) {
+        if (!owned[i]) continue;  // a ghost: its owner adds it
         const double a_i = (double)a[a_offset + i];
         for (u32 l = 0; l < count && l < ANDERSON_WINDOW; ++l) {
             sum[l] += a_i * (double)slots[(size_t)l * n + i];

@@ -30,9 +30,11 @@ __device__ __forceinline__ void correction_error_body(u32 n, float rho0,
                                                       const float* __restrict__ density,
                                                       const float* __restrict__ pressure,
                                                       const u32* __restrict__ kind,
+                                                      const u32* __restrict__ owned,
                                                       int* __restrict__ out) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n || kind[i] != SPH_FLUID) return;
+    // A ghost of a split run is counted by its owner (`backend::partition`).
+    if (i >= n || kind[i] != SPH_FLUID || !owned[i]) return;
     const double e = correction_density_error(density[i], MULTIPHASE ? rest[i] : rho0);
     const double compression = e > 0.0 ? e : 0.0;  // f64::max(e, 0): NaN gives 0
     // `correction::residual`: NaN when e or the pressure is (x != x), never read as converged.
@@ -47,15 +49,16 @@ __device__ __forceinline__ void correction_error_body(u32 n, float rho0,
 
 SPH_KERNEL(correction_error)(u32 n, float rho0, const float* __restrict__ density,
                              const float* __restrict__ pressure, const u32* __restrict__ kind,
-                             int* __restrict__ out) {
-    correction_error_body<false>(n, rho0, nullptr, density, pressure, kind, out);
+                             const u32* __restrict__ owned, int* __restrict__ out) {
+    correction_error_body<false>(n, rho0, nullptr, density, pressure, kind, owned, out);
 }
 
 SPH_KERNEL(correction_error_multiphase)(u32 n, const float* __restrict__ rest,
                                         const float* __restrict__ density,
                                         const float* __restrict__ pressure,
-                                        const u32* __restrict__ kind, int* __restrict__ out) {
-    correction_error_body<true>(n, 0.0f, rest, density, pressure, kind, out);
+                                        const u32* __restrict__ kind, const u32* __restrict__ owned,
+                                        int* __restrict__ out) {
+    correction_error_body<true>(n, 0.0f, rest, density, pressure, kind, owned, out);
 }
 
 /// Eq. (19) inside the correction, fluid only: `delta_p = pressure_increment(rho, rho0, p + m, k) + m`
@@ -158,8 +161,8 @@ __device__ __forceinline__ void correction_displacement_body(
     u32 n, const StepParams& p, const GridGeometry& g, const u32* __restrict__ cell_start,
     const u32* __restrict__ cell_key, const float* __restrict__ pos, const float* __restrict__ mass,
     const float* __restrict__ density, const float* __restrict__ delta_p,
-    const u32* __restrict__ kind, float tau2, float* __restrict__ displacement,
-    int* __restrict__ largest) {
+    const u32* __restrict__ kind, const u32* __restrict__ owned, float tau2,
+    float* __restrict__ displacement, int* __restrict__ largest) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     if (kind[i] != SPH_FLUID) {
@@ -189,6 +192,7 @@ __device__ __forceinline__ void correction_displacement_body(
     });
     const vec_t dx = vscale(a, tau2);  // eq. (23)
     vstore(displacement, i, dx);
+    if (!owned[i]) return;  // a ghost: its owner's displacement counts
     const int b = max_bits(sqrtf(vdot(dx, dx)));
     if (b > *largest) atomicMax(largest, b);  // read first: see correction_error
 }
@@ -197,11 +201,12 @@ __device__ __forceinline__ void correction_displacement_body(
     SPH_KERNEL(name)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,      \
                      const u32* __restrict__ cell_key, const float* __restrict__ pos,              \
                      const float* __restrict__ mass, const float* __restrict__ density,            \
-                     const float* __restrict__ delta_p, const u32* __restrict__ kind, float tau2,  \
+                     const float* __restrict__ delta_p, const u32* __restrict__ kind,              \
+                     const u32* __restrict__ owned, float tau2,                                    \
                      float* __restrict__ displacement, int* __restrict__ largest) {                \
         correction_displacement_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass,         \
-                                                 density, delta_p, kind, tau2, displacement,       \
-                                                 largest);                                         \
+                                                 density, delta_p, kind, owned, tau2,              \
+                                                 displacement, largest);                           \
     }
 
 SPH_CORRECTION_DISPLACEMENT_ENTRY(correction_displacement, false)

@@ -14,10 +14,12 @@
 /// `out[7 s]` counts one, `out[7 s + 1 + k]` adds the fluid's momentum change `m du_k`
 /// [kg m/s] and `out[7 s + 4 + k]` its angular momentum about the origin `x × m du`
 /// [kg m²/s] at the pushed position (`keep_out::push_moment`; the host zeroes `out`, 7 doubles
-/// per solid). Twin of `KeepOutBox::push_out`.
+/// per solid); a ghost of a split run (`owned[i]` 0) is pushed but not counted. Twin of
+/// `KeepOutBox::push_out`.
 SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float margin,
                      const u32* __restrict__ kind, const float* __restrict__ mass,
-                     const float* __restrict__ from, u32 has_from, float* __restrict__ pos,
+                     const float* __restrict__ from, u32 has_from, const u32* __restrict__ owned,
+                     float* __restrict__ pos,
                      float* __restrict__ vel, double* __restrict__ out) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] != SPH_FLUID) return;
@@ -89,6 +91,8 @@ SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float marg
             x.c[axis] = lo[axis] - margin;
             if (relative > 0.0f) u.c[axis] = wall[axis];
         }
+        moved = true;
+        if (!owned[i]) continue;  // a ghost is pushed as its owner is, which counts the push
         double* slot = out + 7 * (size_t)wall[D];
         const double dp = (double)mass[i] * ((double)u.c[axis] - (double)before);
         double r[3] = {0.0, 0.0, 0.0};
@@ -100,7 +104,6 @@ SPH_KERNEL(keep_out)(u32 n, u32 boxes, const float* __restrict__ box, float marg
         atomicAdd(slot + 4, r[1] * p[2] - r[2] * p[1]);
         atomicAdd(slot + 5, r[2] * p[0] - r[0] * p[2]);
         atomicAdd(slot + 6, r[0] * p[1] - r[1] * p[0]);
-        moved = true;
     }
     if (moved) {
         vstore(pos, i, x);

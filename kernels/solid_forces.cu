@@ -33,6 +33,7 @@ __device__ __forceinline__ void solid_forces_body(u32 n, const StepParams& p, co
                                                   const float* __restrict__ pressure,
                                                   const u32* __restrict__ kind,
                                                   const float* __restrict__ wall_vel,
+                                                  const u32* __restrict__ owned,
                                                   double* __restrict__ out) {
     // Grid-stride loop: the backend launches about n/8 threads, each summing its solid particles
     // per solid in registers and adding to the slots only when the solid changes and at the end
@@ -47,7 +48,8 @@ __device__ __forceinline__ void solid_forces_body(u32 n, const StepParams& p, co
     double moment[3] = {0.0, 0.0, 0.0};
     bool touched = false;
     for (u32 i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += stride) {
-        if (kind[i] == SPH_FLUID) continue;
+        // A ghost of a split run: its owner adds its load (`backend::partition`).
+        if (kind[i] == SPH_FLUID || !owned[i]) continue;
         const vec_t x_s = vload(pos, i);
         c.u_i = vload(vel, i);
         c.viscous_u_i = vload(wall_vel, i);

@@ -21,6 +21,7 @@ __device__ __forceinline__ void state_extremes_body(u32 n, const StepParams& p,
                                                     const float* __restrict__ pressure,
                                                     const u32* __restrict__ kind,
                                                     const float* __restrict__ rest,
+                                                    const u32* __restrict__ owned,
                                                     Extremes* __restrict__ out) {
     // Grid-stride loop with per-thread accumulators: one set of atomics per thread, not per
     // particle (the backend launches about n/64 threads; the shim one per particle).
@@ -40,7 +41,8 @@ __device__ __forceinline__ void state_extremes_body(u32 n, const StepParams& p,
         if (!(finite_vec(x) && finite_vec(u) && finite_vec(a) && finite_float(rho_raw) &&
               finite_float(pressure[i])))
             non_finite = non_finite < i ? non_finite : i;
-        if (kind[i] != SPH_FLUID) continue;
+        // A ghost of a split run is counted by its owner (`backend::partition`).
+        if (kind[i] != SPH_FLUID || !owned[i]) continue;
         count += 1;
         const int bs = max_bits(sqrtf(vdot(u, u))), ba = max_bits(sqrtf(vdot(a, a)));
         speed = speed > bs ? speed : bs;
@@ -77,8 +79,9 @@ __device__ __forceinline__ void state_extremes_body(u32 n, const StepParams& p,
 SPH_KERNEL(state_extremes)(u32 n, StepParams p, const float* __restrict__ pos,
                            const float* __restrict__ vel, const float* __restrict__ acc,
                            const float* __restrict__ density, const float* __restrict__ pressure,
-                           const u32* __restrict__ kind, Extremes* __restrict__ out) {
-    state_extremes_body(n, p, pos, vel, acc, density, pressure, kind, nullptr, out);
+                           const u32* __restrict__ kind, const u32* __restrict__ owned,
+                           Extremes* __restrict__ out) {
+    state_extremes_body(n, p, pos, vel, acc, density, pressure, kind, nullptr, owned, out);
 }
 
 /// The same against each particle's own rest density (the `multiphase` effect).
@@ -87,6 +90,6 @@ SPH_KERNEL(state_extremes_multiphase)(u32 n, StepParams p, const float* __restri
                                       const float* __restrict__ density,
                                       const float* __restrict__ pressure,
                                       const u32* __restrict__ kind, const float* __restrict__ rest,
-                                      Extremes* __restrict__ out) {
-    state_extremes_body(n, p, pos, vel, acc, density, pressure, kind, rest, out);
+                                      const u32* __restrict__ owned, Extremes* __restrict__ out) {
+    state_extremes_body(n, p, pos, vel, acc, density, pressure, kind, rest, owned, out);
 }

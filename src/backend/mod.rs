@@ -10,7 +10,7 @@ pub use crate::model::{ForceTerms, SurfaceTensionModel, WallModel};
 
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
-use crate::fields::Fields;
+use crate::fields::{Field, Fields};
 use crate::grid::GridError;
 use crate::model::pair_terms::PairTerms;
 use crate::physics::damping_zone::DampingZone;
@@ -98,6 +98,31 @@ pub struct StateExtremes {
     pub escaped: Option<usize>,
 }
 
+impl StateExtremes {
+    /// The extremes from their parts, as both backends combine them over the ranks of a split
+    /// run: `maxima` the largest fluid speed [m/s], acceleration [m/s²], `|ρ − ρ0|/ρ0`,
+    /// compression and deficit (a NaN reads 0, as `f64::max`), `sums` the fluid count and the
+    /// sums of `|ρ − ρ0|/ρ0` and of the compression; `escaped` as the field says, and no
+    /// non-finite particle named.
+    pub fn from_parts(maxima: [f64; 5], sums: [f64; 3], escaped: Option<usize>) -> Self {
+        let [max_speed, max_acceleration, max_abs, max_comp, max_deficit] = maxima;
+        let [count, abs_sum, comp_sum] = sums;
+        let mean = |s: f64| if count > 0.0 { s / count } else { 0.0 };
+        StateExtremes {
+            max_speed: max_speed.max(0.0),
+            max_acceleration: max_acceleration.max(0.0),
+            max_abs_density_error: max_abs.max(0.0),
+            mean_abs_density_error: mean(abs_sum),
+            max_compression: max_comp.max(0.0),
+            mean_compression: mean(comp_sum),
+            max_surface_deficit: max_deficit.max(0.0),
+            mean_surface_deficit: mean(abs_sum - comp_sum),
+            non_finite: None,
+            escaped,
+        }
+    }
+}
+
 /// The stages a backend runs. Each method is one `Stage` of the plan.
 pub trait Backend<const D: usize> {
     /// Short name for reports (`"cpu"`, `"cuda"`).
@@ -120,6 +145,27 @@ pub trait Backend<const D: usize> {
     /// device keeps as its own scratch (they come back empty). Nothing to do for a backend
     /// that works on `fields` itself.
     fn download(&mut self, _fields: &mut Fields<D>) -> Result<(), BackendError> {
+        Ok(())
+    }
+    /// Copies the fields `which` from the backend's state into `fields`, the step-start copies
+    /// included, in the backend's current order: how a split run stages a device rank's
+    /// particles through the host (`distributed::RankBackend`). Nothing to do for a backend
+    /// that works on `fields` itself.
+    ///
+    /// # Errors
+    /// [`BackendError::Device`] when a copy fails.
+    fn download_some(&mut self, fields: &mut Fields<D>, which: &[Field]) -> Result<(), BackendError> {
+        let _ = (fields, which);
+        Ok(())
+    }
+    /// Writes the fields `which` of `fields` (the backend's particles in its current order)
+    /// over the backend's state: a split run's ghost refresh on a device rank, after the host
+    /// replaced the ghosts' rows. Nothing to do for a backend that works on `fields` itself.
+    ///
+    /// # Errors
+    /// [`BackendError::Device`] when the particle count differs or a copy fails.
+    fn upload_some(&mut self, fields: &Fields<D>, which: &[Field]) -> Result<(), BackendError> {
+        let _ = (fields, which);
         Ok(())
     }
     /// Starts again from `fields`, which the host changed (`Simulation::reload_backend`: a
@@ -343,7 +389,7 @@ pub trait Backend<const D: usize> {
         drop(partition);
         Err(BackendError::Unavailable {
             backend: self.name(),
-            reason: "a run across ranks needs the cpu backend on each rank".into(),
+            reason: "this backend cannot run one rank's share of a split run".into(),
         })
     }
 }

@@ -61,6 +61,20 @@ pub fn local_ranks() -> usize {
         .unwrap_or(1)
 }
 
+/// This process's rank among the ranks on its machine (0 when the launcher does not say):
+/// which GPU it takes with `--backend cuda`.
+pub fn local_rank() -> usize {
+    [
+        "OMPI_COMM_WORLD_LOCAL_RANK",
+        "MPI_LOCALRANKID",
+        "SLURM_LOCALID",
+        "PMI_LOCAL_RANK",
+    ]
+    .iter()
+    .find_map(|v| std::env::var(v).ok()?.parse().ok())
+    .unwrap_or(0)
+}
+
 /// The ranks' transport, if an MPI launcher started this process as one of several ranks
 /// (the run cuts its domain as the scene's `[ranks]` says).
 ///

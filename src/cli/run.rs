@@ -97,6 +97,7 @@ pub fn run(
         comm,
         method: scene.ranks.method,
         rebalance: scene.ranks.rebalance,
+        device: super::ranks::local_rank(),
     });
     let stem = stem(path);
     // Stored absolute, so that --resume works from any folder.

@@ -360,7 +360,8 @@ fn start<const D: usize>(
         (Some(folder), None) => Some(Writers::create::<D>(folder, with_forces, scene)?),
         (None, _) => None,
     };
-    sim.use_backend(options.backend)?;
+    let device = options.ranks.as_ref().map_or(0, |r| r.device);
+    sim.use_backend_on(options.backend, device)?;
     if let Some(ranks) = &options.ranks {
         let pieces = resumed.as_ref().and_then(|r| r.ranks.as_ref());
         split_checkpoint::split(sim, ranks, pieces)?;

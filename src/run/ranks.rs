@@ -30,6 +30,9 @@ pub struct Ranks {
     pub method: Method,
     /// When it is cut again.
     pub rebalance: Rebalance,
+    /// This rank's GPU for `--backend cuda` (its rank among the ranks on its machine; counted
+    /// modulo the GPUs it sees, `Simulation::use_backend_on`).
+    pub device: usize,
 }
 
 impl std::fmt::Debug for Ranks {

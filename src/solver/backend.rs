@@ -41,9 +41,19 @@ impl<const D: usize> Simulation<D> {
     /// [`BackendError`] when the backend cannot run here (no `--features cuda`, no driver, no
     /// NVRTC, no GPU) or the upload fails.
     pub fn use_backend(&mut self, kind: BackendKind) -> Result<(), BackendError> {
+        self.use_backend_on(kind, 0)
+    }
+
+    /// [`Simulation::use_backend`] on GPU `device` (counted modulo the GPUs this process sees;
+    /// a split run's rank takes its local rank, so the ranks of one machine spread over its
+    /// GPUs). The CPU backend ignores it.
+    ///
+    /// # Errors
+    /// As [`Simulation::use_backend`].
+    pub fn use_backend_on(&mut self, kind: BackendKind, device: usize) -> Result<(), BackendError> {
         self.use_backend_from(|fields, params| match kind {
             BackendKind::Cpu => Ok(Box::new(CpuBackend::new())),
-            BackendKind::Cuda => crate::backend::cuda::create(fields, params),
+            BackendKind::Cuda => crate::backend::cuda::create(fields, params, device),
         })
     }
 

@@ -5,9 +5,9 @@
 //! rests on a reduction over all ranks.
 
 use super::Simulation;
+use crate::backend::BackendError;
 use crate::backend::cpu::CpuBackend;
 use crate::backend::partition::SharedCommunicator;
-use crate::backend::{Backend, BackendError, BackendKind};
 use crate::distributed::{Decomposition, HaloTraffic, Method, RankBackend, Rebalance, Region};
 use crate::fields::Fields;
 use crate::math::Real;
@@ -37,11 +37,12 @@ impl<const D: usize> Simulation<D> {
     /// Makes this simulation (the whole scene, built the same way on every rank) rank
     /// `comm.rank()`'s share: the domain box is cut among the ranks by `method` at particle-count
     /// quantiles (`distributed::decomposition`), the particles of other regions are dropped,
-    /// and the stages run on a [`RankBackend`] around the CPU backend, which cuts the regions
-    /// again as `rebalance` says. Returns the regions of the start.
+    /// and the stages run on a [`RankBackend`] around the backend in use (the CPU, or this
+    /// rank's GPU, staged through the host), which cuts the regions again as `rebalance` says.
+    /// Returns the regions of the start.
     ///
     /// # Errors
-    /// [`SplitError::Unsupported`] for the CUDA backend.
+    /// [`SplitError::Backend`] when the backend cannot take the rank's particles.
     pub fn split_across_ranks(
         &mut self,
         comm: SharedCommunicator,
@@ -64,7 +65,7 @@ impl<const D: usize> Simulation<D> {
     /// keeps the particles it owned at the checkpoint, in their order there).
     ///
     /// # Errors
-    /// [`SplitError::Unsupported`] for the CUDA backend.
+    /// [`SplitError::Backend`] when the backend cannot take the rank's particles.
     pub fn split_with(
         &mut self,
         comm: SharedCommunicator,
@@ -73,9 +74,6 @@ impl<const D: usize> Simulation<D> {
         rebalance: Rebalance,
         mine: Option<std::ops::Range<usize>>,
     ) -> Result<(), SplitError> {
-        if self.backend.kind() != BackendKind::Cpu {
-            return Err(SplitError::Unsupported("the cuda backend"));
-        }
         self.sync_fields()?;
         let rank = crate::backend::partition::lock(&comm).rank();
         let kept: Vec<u32> = match mine {
@@ -87,8 +85,10 @@ impl<const D: usize> Simulation<D> {
         self.fields.keep(&kept);
         let reach = self.config.h as Real;
         let margin = (HALO_MARGIN * self.config.h) as Real;
-        self.use_backend_from(move |fields, _| {
-            let inner: Box<dyn Backend<D> + Send> = Box::new(CpuBackend::new());
+        // The backend in use (and its device) runs the rank's stages, from the rank's particles.
+        let mut inner = std::mem::replace(&mut self.backend, Box::new(CpuBackend::new()));
+        self.use_backend_from(move |fields, params| {
+            inner.reload(fields, params)?;
             let backend = RankBackend::new(
                 inner,
                 comm,

@@ -16,5 +16,6 @@ mod exchange;
 mod particles;
 mod probe_reach;
 mod split_checkpoint;
+mod split_cuda;
 mod split_output;
 mod split_run;

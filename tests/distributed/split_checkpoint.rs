@@ -62,6 +62,7 @@ fn run_every(
                 comm,
                 method: Method::Bisection,
                 rebalance: Rebalance::Above(0.1),
+                device: 0,
             }),
         };
         run_scene(scene, &options, &mut |p| {

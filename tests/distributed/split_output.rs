@@ -62,6 +62,7 @@ fn a_split_run_writes_the_files_of_a_whole_one() {
             comm,
             method: Method::Bisection,
             rebalance: Rebalance::Above(0.1),
+            device: 0,
         };
         run_scene(&scene, &options(&split_dir, Some(ranks)), &mut |_| {}).map_err(|e| e.to_string())
     });

@@ -43,15 +43,50 @@ pub struct Split {
     pub rebalance: Rebalance,
 }
 
+/// Where every rank's stages run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum On {
+    /// The CPU backend.
+    Cpu,
+    /// The CUDA backend on the host shim (`backend::cuda::shim`).
+    #[cfg(feature = "cuda")]
+    Shim,
+    /// The CUDA backend on the first GPU.
+    #[cfg(feature = "cuda")]
+    Gpu,
+}
+
 /// Runs `scene` (of dimension `D`) with `sets` to `end` [s] whole or split, and returns each
 /// rank's outcome (one for a whole run). Split runs check every ghost refresh (`verify_halo`).
 pub fn run<const D: usize>(scene: &str, sets: &[String], split: Option<Split>, end: f64) -> Vec<Outcome> {
+    run_on::<D>(scene, sets, split, end, On::Cpu)
+}
+
+/// [`run`] with every rank's stages on the backend `on`.
+pub fn run_on<const D: usize>(
+    scene: &str,
+    sets: &[String],
+    split: Option<Split>,
+    end: f64,
+    on: On,
+) -> Vec<Outcome> {
     let mut sets = sets.to_vec();
     sets.push(format!("solver.end_time={end}"));
     let scene = load_scene(Path::new(scene), &sets).expect("shipped scene");
     let body = |comm: Option<SharedCommunicator>| -> Outcome {
         let mut sim = simulation_from_scene::<D>(&scene).expect("builds");
         let initial = sim.fields.len();
+        match on {
+            On::Cpu => {}
+            #[cfg(feature = "cuda")]
+            On::Shim => sim
+                .use_backend_from(sph::backend::cuda::shim::Shim::backend)
+                .expect("the shim starts"),
+            #[cfg(feature = "cuda")]
+            On::Gpu => sim
+                .use_backend(sph::backend::BackendKind::Cuda)
+                .expect("the GPU starts"),
+        }
         if let (Some(comm), Some(split)) = (&comm, split) {
             sim.split_across_ranks(comm.clone(), split.method, split.rebalance)
                 .expect("splits");

@@ -72,7 +72,7 @@ impl Under {
             Under::Shim => sph::backend::cuda::shim::Shim::backend(fields, params).expect("the shim starts"),
             #[cfg(not(feature = "cuda"))]
             Under::Shim => unreachable!("backends() lists the shim only with the cuda feature"),
-            Under::Gpu => sph::backend::cuda::create(fields, params).expect("the GPU backend starts"),
+            Under::Gpu => sph::backend::cuda::create(fields, params, 0).expect("the GPU backend starts"),
         }
     }
 

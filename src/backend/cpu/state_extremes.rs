@@ -43,9 +43,8 @@ impl<const D: usize> CpuBackend<D> {
         });
         self.partition.max(&mut maxima);
         self.partition.sum(&mut sums);
-        let [max_speed, max_acceleration, max_abs, max_comp, max_deficit] = maxima;
-        let [count, abs_sum, comp_sum] = sums;
         let fluid = |i: usize| f.kind[i] == FLUID && self.partition.counts(i);
+        let [max_speed, max_acceleration, max_abs, ..] = maxima;
         let non_finite = if (max_speed + max_acceleration + max_abs).is_finite() {
             None
         } else {
@@ -56,18 +55,9 @@ impl<const D: usize> CpuBackend<D> {
         let escaped = (0..n)
             .into_par_iter()
             .find_first(|&i| fluid(i) && outside(&f.position[i]));
-        let mean = |s: f64| if count > 0.0 { s / count } else { 0.0 };
         StateExtremes {
-            max_speed: max_speed.max(0.0),
-            max_acceleration: max_acceleration.max(0.0),
-            max_abs_density_error: max_abs.max(0.0),
-            mean_abs_density_error: mean(abs_sum),
-            max_compression: max_comp.max(0.0),
-            mean_compression: mean(comp_sum),
-            max_surface_deficit: max_deficit.max(0.0),
-            mean_surface_deficit: mean(abs_sum - comp_sum),
             non_finite,
-            escaped,
+            ..StateExtremes::from_parts(maxima, sums, escaped)
         }
     }
 }

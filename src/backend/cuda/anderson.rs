@@ -80,7 +80,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         self.anderson_buffers.is_some()
     }
 
-    /// `out[l] = Σ_i a_i Δf_l,i` for the first `count` slots, in f64 (`anderson_dots`; the CPU
+    /// `out[l] = Σ_i a_i Δf_l,i` for the first `count` slots (over ranks), in f64 (`anderson_dots`; the CPU
     /// sums in a fixed order with `math::sum_in_order`, the atomics in any). `None` after a
     /// failure.
     fn anderson_dots(&mut self, with: DotsWith, count: usize) -> Option<[f64; WINDOW]> {
@@ -97,12 +97,14 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         launch!(
             self,
             "reducing the window's dot products",
-            anderson_dots(n, count32, a, offset, &b.df, &mut b.dots)
+            anderson_dots(n, count32, a, offset, &b.df, &self.owned, &mut b.dots)
         );
         let out = self.dev.download(&b.dots);
         let out = record(&mut self.error, "copying the dot products", out)?;
         let mut dots = [0.0; WINDOW];
         dots.copy_from_slice(&out[..WINDOW]);
+        // Over the ranks of a split run (each counts its own particles).
+        self.partition.sum(&mut dots);
         Some(dots)
     }
 

@@ -11,9 +11,10 @@ const NO_SWEEP: Sweep = Sweep {
 
 impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
     /// Sizes the `corrected` solver's buffers (`delta_p`, `displacement`, the `*_solve_start`
-    /// copies) to the particle count at its first stage; later calls find them sized. Particles
-    /// are never added, so `n` is fixed.
-    fn ensure_correction_buffers(&mut self) {
+    /// copies) to the particle count at its first stage; later calls find them sized. A reload
+    /// (new particle count, a split run's halo rebuild within a correction) makes them small
+    /// again, so the stages that write them first call this too.
+    pub(super) fn ensure_correction_buffers(&mut self) {
         if self.delta_p.len() >= self.n || self.error.is_some() {
             return;
         }
@@ -68,6 +69,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 density,
                 &self.delta_p,
                 &self.f.kind,
+                &self.owned,
                 tau2,
                 &mut self.displacement,
                 &mut self.reduce_i32
@@ -80,6 +82,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
     /// into `displacement`, and the one scale that keeps the largest within `max_step` [m].
     /// `None` without a grid or after a failure.
     fn correction_displacements(&mut self, params: &StepParams<D>, tau: f32, max_step: f32) -> Option<Sweep> {
+        self.ensure_correction_buffers();
         self.grid.as_ref()?;
         if self.error.is_some() {
             return None;
@@ -89,7 +92,12 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         self.launch_displacements(params, tau, false)?;
         let out = self.dev.download(&self.reduce_i32);
         let out = record(&mut self.error, "copying the largest displacement", out)?;
-        Some(sweep(out[0], max_step))
+        // One scale on every rank of a split run (only a finite cap scales), as on the CPU.
+        let mut largest = [max_from_bits(out[0])];
+        if max_step.is_finite() {
+            self.partition.max(&mut largest);
+        }
+        Some(sweep(largest[0], max_step))
     }
 
     pub(super) fn launch_correction_error(&mut self, params: &StepParams<D>) -> CorrectionError {
@@ -118,6 +126,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                     &self.f.density,
                     &self.f.pressure,
                     &self.f.kind,
+                    &self.owned,
                     &mut self.reduce_i32
                 )
             );
@@ -131,17 +140,21 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                     &self.f.density,
                     &self.f.pressure,
                     &self.f.kind,
+                    &self.owned,
                     &mut self.reduce_i32
                 )
             );
         }
         let out = self.dev.download(&self.reduce_i32);
-        match record(&mut self.error, "copying the residual", out) {
-            Some(v) => CorrectionError {
-                compression: max_from_bits(v[0]),
-                residual: max_from_bits_or_nan(v[1]),
-            },
-            None => failed,
+        let Some(v) = record(&mut self.error, "copying the residual", out) else {
+            return failed;
+        };
+        // Over the ranks of a split run: one residual for all (a NaN anywhere stays NaN).
+        let mut maxima = [max_from_bits(v[0]), max_from_bits_or_nan(v[1])];
+        self.partition.max(&mut maxima);
+        CorrectionError {
+            compression: maxima[0],
+            residual: maxima[1],
         }
     }
 
@@ -151,6 +164,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
     }
 
     pub(super) fn launch_correction_pressure(&mut self, params: &StepParams<D>, k: f32) {
+        self.ensure_correction_buffers();
         let Some(g) = self.grid.as_ref() else { return };
         let n = self.n as u32;
         let beta = crate::physics::correction::MOMENTUM;

@@ -14,6 +14,7 @@ use super::compile::{arch_for, compile_all};
 use super::extremes::{DeviceExtremes, max_from_bits, max_from_bits_or_nan, sweep};
 use super::grid::GridGeometry;
 use super::launch::{Buffer, DeviceFault, Gpu, KERNEL_NAMES, Launch, Memory};
+use crate::backend::partition::Partition;
 use crate::backend::{
     Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, SolidLoad, StateExtremes, Sweep,
     WallModel,
@@ -21,7 +22,7 @@ use crate::backend::{
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::boundary::rigid::motion_floats;
-use crate::fields::Fields;
+use crate::fields::{Field, Fields};
 use crate::grid::GridError;
 use crate::math::{Real, Vector};
 use crate::model::pair_terms::PairTerms;
@@ -148,6 +149,12 @@ pub struct CudaBackend<const D: usize, K: Launch<D> = Gpu> {
     /// The step-start density of SSP-RK3 with that effect, allocated by the first
     /// `store_density_start`; the backend's scratch, as `position_start`.
     density_start: Option<K::Buf<f32>>,
+    /// The whole simulation or one rank's share (`backend::partition`): which particles the
+    /// reductions count, and how they combine with the other ranks'.
+    partition: Partition,
+    /// The partition's mask on the device, in the current order: 1 for a particle the
+    /// reductions count, 0 for a ghost (all ones for the whole simulation).
+    owned: K::Buf<u32>,
     error: Option<BackendError>,
 }
 
@@ -186,14 +193,18 @@ fn device_error(during: &str, e: impl Into<DeviceFault>) -> BackendError {
 }
 
 impl<const D: usize> CudaBackend<D, Gpu> {
-    /// Compiles the kernels for the first GPU and uploads `fields`; `params` gives the domain of
-    /// the dense grid. Call `cuda::probe` first (cudarc panics when a library is missing).
+    /// Compiles the kernels for GPU `device` (modulo the GPUs this process sees) and uploads
+    /// `fields`; `params` gives the domain of the dense grid. Call `cuda::probe` first (cudarc
+    /// panics when a library is missing).
     ///
     /// # Errors
     /// [`BackendError::Unavailable`] when NVRTC rejects a kernel, [`BackendError::Device`] when
     /// the context, an allocation or the upload fails.
-    pub fn new(fields: &Fields<D>, params: &StepParams<D>) -> Result<Self, BackendError> {
-        let ctx = CudaContext::new(0).map_err(|e| device_error("opening GPU 0", e))?;
+    pub fn new(fields: &Fields<D>, params: &StepParams<D>, device: usize) -> Result<Self, BackendError> {
+        let count = CudaContext::device_count().map_err(|e| device_error("counting the GPUs", e))?;
+        let ordinal = device % (count.max(1) as usize);
+        let ctx =
+            CudaContext::new(ordinal).map_err(|e| device_error(&format!("opening GPU {ordinal}"), e))?;
         let (major, minor) = ctx
             .compute_capability()
             .map_err(|e| device_error("reading the compute capability", e))?;
@@ -244,8 +255,18 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             position: upload(&dev, floats(&fields.position))?,
             velocity: upload(&dev, floats(&fields.velocity))?,
             acceleration: upload(&dev, floats(&fields.acceleration))?,
-            position_start: vec_zeros(&dev)?,
-            velocity_start: vec_zeros(&dev)?,
+            // The step-start copies where the host holds them (a split run stages a rank's
+            // particles through the host, `distributed::RankBackend`), zeros otherwise.
+            position_start: if n > 0 && fields.position_start.len() == n {
+                upload(&dev, floats(&fields.position_start))?
+            } else {
+                vec_zeros(&dev)?
+            },
+            velocity_start: if n > 0 && fields.velocity_start.len() == n {
+                upload(&dev, floats(&fields.velocity_start))?
+            } else {
+                vec_zeros(&dev)?
+            },
             density: upload(&dev, &fields.density)?,
             pressure: upload(&dev, &fields.pressure)?,
             mass: upload(&dev, &fields.mass)?,
@@ -303,9 +324,20 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             keep_out_host: Vec::new(),
             keep_out_boxes: dev.alloc_zeros::<f32>(1).map_err(|e| up("allocating", e))?,
             keep_out_out: dev.alloc_zeros::<f64>(4).map_err(|e| up("allocating", e))?,
+            // Recomputed after every sort before use (the sort does not gather it).
             normal: None,
-            density_rate: None,
-            density_start: None,
+            density_rate: if n > 0 && fields.density_rate.len() == n {
+                Some(upload(&dev, &fields.density_rate)?)
+            } else {
+                None
+            },
+            density_start: if n > 0 && fields.density_start.len() == n {
+                Some(upload(&dev, &fields.density_start)?)
+            } else {
+                None
+            },
+            partition: Partition::Whole,
+            owned: upload_u32(&dev, &vec![1; n.max(1)])?,
             error: None,
             dev,
         };
@@ -351,6 +383,8 @@ mod move_solids;
 mod solid_forces;
 #[path = "sort_by_cell.rs"]
 mod sort_by_cell;
+#[path = "staging.rs"]
+mod staging;
 #[path = "state_extremes.rs"]
 mod state_extremes;
 #[path = "surface_tension.rs"]
@@ -370,9 +404,15 @@ impl<const D: usize, K: Launch<D> + Clone> Backend<D> for CudaBackend<D, K> {
     }
 
     fn reload(&mut self, fields: &Fields<D>, params: &StepParams<D>) -> Result<(), BackendError> {
-        // The device and its compiled kernels stay; every buffer is made again.
+        // The device and its compiled kernels stay; every buffer is made again. A rank's share
+        // stays one (its owned particles are set again after the next sort), and a failure
+        // not yet reported stays reported.
+        let partition = std::mem::take(&mut self.partition);
+        let error = self.error.take();
         *self = Self::on_device(self.dev.clone(), fields, params)?;
-        Ok(())
+        self.partition = partition;
+        self.error = error;
+        self.upload_owned()
     }
 
     fn heap_bytes(&self) -> usize {
@@ -397,7 +437,34 @@ impl<const D: usize, K: Launch<D> + Clone> Backend<D> for CudaBackend<D, K> {
     }
 
     fn take_error(&mut self) -> Option<BackendError> {
-        self.error.take()
+        self.error
+            .take()
+            .or_else(|| self.partition.take_error().map(BackendError::Ranks))
+    }
+
+    fn download_some(&mut self, fields: &mut Fields<D>, which: &[Field]) -> Result<(), BackendError> {
+        self.download_chosen(fields, which)
+    }
+
+    fn upload_some(&mut self, fields: &Fields<D>, which: &[Field]) -> Result<(), BackendError> {
+        self.upload_chosen(fields, which)
+    }
+
+    fn partition(&self) -> &Partition {
+        &self.partition
+    }
+
+    fn sum_over_ranks(&mut self, values: &mut [f64]) {
+        self.partition.sum(values);
+    }
+
+    fn max_over_ranks(&mut self, values: &mut [f64]) {
+        self.partition.max(values);
+    }
+
+    fn set_partition(&mut self, partition: Partition) -> Result<(), BackendError> {
+        self.partition = partition;
+        self.upload_owned()
     }
 
     fn mix_velocity_pressure(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, k: f32) {

@@ -124,6 +124,38 @@ impl DeviceExtremes {
         }
     }
 
+    /// One rank's share of the extremes before they combine over ranks
+    /// (`StateExtremes::from_parts`): the maxima as the CPU keeps them (a NaN speed,
+    /// acceleration or density error stays NaN) and the fluid count and error sums.
+    pub fn rank_parts(&self, rho0: f32) -> ([f64; 5], [f64; 3]) {
+        let raw = |bits: i32| f64::from(f32::from_bits(bits as u32));
+        (
+            [
+                raw(self.max_speed),
+                raw(self.max_acceleration),
+                self.raw_max_abs_density_error(rho0),
+                self.max_compression(rho0),
+                self.max_surface_deficit(rho0),
+            ],
+            [
+                f64::from(self.fluid_count),
+                self.abs_error_sum,
+                self.compression_sum,
+            ],
+        )
+    }
+
+    /// The smallest index of a fluid particle outside the domain, if any.
+    pub fn escaped_index(&self) -> Option<usize> {
+        (self.escaped != NO_PARTICLE).then_some(self.escaped as usize)
+    }
+
+    /// The smallest index of a particle with a non-finite field, if any (without the condition
+    /// of [`DeviceExtremes::first_non_finite`]).
+    pub fn non_finite_index(&self) -> Option<usize> {
+        (self.non_finite != NO_PARTICLE).then_some(self.non_finite as usize)
+    }
+
     /// The first particle with a non-finite field, reported under the CPU's condition: only when
     /// the largest fluid speed, acceleration or density error is itself not finite (a NaN
     /// elsewhere, such as a solid's pressure alone, is left to show up there first).
@@ -155,10 +187,10 @@ pub fn max_from_bits_or_nan(bits: i32) -> f64 {
 }
 
 /// `CpuBackend::correct_positions`' choice of one scale for all displacements from the largest
-/// `|Δx|` (bits from `correction_displacement`): `max_step / largest` when that exceeds
-/// `max_step` [m], else 1. Launch `apply_displacement` with `sweep.scale as f32` (exact).
-pub fn sweep(largest_bits: i32, max_step: f32) -> Sweep {
-    let largest = max_from_bits(largest_bits);
+/// `|Δx|` [m] (from the bits of `correction_displacement`, [`max_from_bits`], and over the ranks
+/// of a split run): `max_step / largest` when that exceeds `max_step` [m], else 1. Launch
+/// `apply_displacement` with `sweep.scale as f32` (exact).
+pub fn sweep(largest: f64, max_step: f32) -> Sweep {
     let scale = if largest > f64::from(max_step) {
         (f64::from(max_step) / largest) as Real
     } else {

@@ -54,7 +54,9 @@ pub fn probe() -> Result<(), BackendError> {
     }
 }
 
-/// A CUDA backend holding a device copy of `fields`, with kernels compiled for dimension `D`.
+/// A CUDA backend holding a device copy of `fields`, with kernels compiled for dimension `D`,
+/// on GPU `device` modulo the number of GPUs this process sees (`CUDA_VISIBLE_DEVICES`
+/// narrows them).
 ///
 /// # Errors
 /// [`BackendError::Unavailable`] as [`probe`], or when NVRTC rejects a kernel;
@@ -63,9 +65,10 @@ pub fn probe() -> Result<(), BackendError> {
 pub fn create<const D: usize>(
     fields: &Fields<D>,
     params: &StepParams<D>,
+    device: usize,
 ) -> Result<Box<dyn Backend<D> + Send>, BackendError> {
     probe()?;
-    Ok(Box::new(CudaBackend::new(fields, params)?))
+    Ok(Box::new(CudaBackend::new(fields, params, device)?))
 }
 
 /// Without `--features cuda` the backend cannot be created.
@@ -76,6 +79,7 @@ pub fn create<const D: usize>(
 pub fn create<const D: usize>(
     _fields: &crate::fields::Fields<D>,
     _params: &super::params::StepParams<D>,
+    _device: usize,
 ) -> Result<Box<dyn super::Backend<D> + Send>, BackendError> {
     probe()?;
     unreachable!("probe fails without the cuda feature")

@@ -105,13 +105,17 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.mass,
                 &self.f.position_start,
                 has_from,
+                &self.owned,
                 &mut self.f.position,
                 &mut self.f.velocity,
                 &mut self.keep_out_out
             )
         );
         let out = self.dev.download(&self.keep_out_out);
-        if let Some(v) = record(&mut self.error, "copying the guard's sums", out) {
+        if let Some(mut v) = record(&mut self.error, "copying the guard's sums", out) {
+            // Over the ranks of a split run (each counts its own pushes), as on the CPU.
+            v.truncate(KEEP_OUT_SLOT * slots);
+            self.partition.sum(&mut v);
             let at = |s: usize| s * KEEP_OUT_SLOT;
             report.pushes = (0..slots).map(|s| v[at(s)] as u64).sum();
             for (s, slot) in report.impulse.iter_mut().enumerate() {

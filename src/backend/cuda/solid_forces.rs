@@ -14,6 +14,9 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         if self.error.is_some() || solids == 0 {
             return zero;
         }
+        if source == SolidForceSource::Correction {
+            self.ensure_correction_buffers(); // the increments it reads hold `n` floats
+        }
         let Some(g) = self.grid.as_ref() else { return zero };
         if self.solid_out.len() < 6 * solids {
             let r = self.dev.alloc_zeros::<f64>(6 * solids);
@@ -51,6 +54,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 pressure,
                 &self.f.kind,
                 self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity),
+                &self.owned,
                 &mut self.solid_out,
             )
         };
@@ -58,13 +62,12 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             return zero;
         }
         let out = self.dev.download(&self.solid_out);
-        match record(&mut self.error, "copying the solid forces", out) {
-            Some(v) => v
-                .chunks_exact(6)
-                .take(solids)
-                .map(|c| std::array::from_fn(|k| c[k]))
-                .collect(),
-            None => zero,
-        }
+        let Some(mut v) = record(&mut self.error, "copying the solid forces", out) else {
+            return zero;
+        };
+        // Each load summed over the ranks of a split run, as on the CPU.
+        v.truncate(6 * solids);
+        self.partition.sum(&mut v);
+        v.chunks_exact(6).map(|c| std::array::from_fn(|k| c[k])).collect()
     }
 }

@@ -52,6 +52,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                     &self.f.pressure,
                     &self.f.kind,
                     rest,
+                    &self.owned,
                     &mut self.extremes
                 )
             );
@@ -68,6 +69,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                     &self.f.density,
                     &self.f.pressure,
                     &self.f.kind,
+                    &self.owned,
                     &mut self.extremes
                 )
             );
@@ -76,9 +78,23 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
         let Some(out) = record(&mut self.error, "copying the extremes", out) else {
             return fallback;
         };
-        let mut e = out[0].finish(params.rho0);
-        if let Some(i) = out[0].first_non_finite() {
-            e.non_finite = Some((i, self.non_finite_quantity(i)));
+        if matches!(self.partition, Partition::Whole) {
+            let mut e = out[0].finish(params.rho0);
+            if let Some(i) = out[0].first_non_finite() {
+                e.non_finite = Some((i, self.non_finite_quantity(i)));
+            }
+            return e;
+        }
+        // One rank's share: its maxima and sums combined over ranks as `CpuBackend` does (a
+        // NaN anywhere stays NaN), and a non-finite quantity named where this rank holds one.
+        let (mut maxima, mut sums) = out[0].rank_parts(params.rho0);
+        self.partition.max(&mut maxima);
+        self.partition.sum(&mut sums);
+        let mut e = StateExtremes::from_parts(maxima, sums, out[0].escaped_index());
+        if !(maxima[0] + maxima[1] + maxima[2]).is_finite() {
+            if let Some(i) = out[0].non_finite_index() {
+                e.non_finite = Some((i, self.non_finite_quantity(i)));
+            }
         }
         e
     }

@@ -13,6 +13,11 @@
 //!   next refresh. A value computed on a ghost and read by a neighbour before a refresh (the
 //!   correction's pressure increments of the walls) is exact because the halo is two supports
 //!   wide: a ghost within one support of the region has all its neighbours here.
+//! - A backend whose state lives on a device (CUDA) is staged through the host: a rebuild
+//!   downloads every field, exchanges, reloads the device and sorts there; a refresh downloads
+//!   the written fields, exchanges and writes them back in place (`Backend::download_some`,
+//!   `Backend::upload_some`). Its reductions skip ghosts on the device (the owned mask of
+//!   `backend::partition`).
 //! - Between rebuilds particles may move at most the margin given to [`RankBackend::new`]; a rebuild that finds
 //!   a particle moved further reports [`super::DistributedError::HaloOutrun`] rather than sums
 //!   that may have missed a neighbour.
@@ -147,13 +152,39 @@ impl<const D: usize> RankBackend<D> {
     }
 
     /// Drops the ghosts, migrates, gathers the ghosts again, sorts and indexes the halo.
+    ///
+    /// A backend that holds the state on a device (`Backend::holds_state`) is staged through
+    /// the host: every field downloaded (the step-start copies too: a correction may sort
+    /// within a stage), exchanged here, reloaded, sorted there, and the new order's ids and
+    /// positions downloaded for the halo's index.
     fn rebuild(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> Result<(), GridError> {
+        let staged = self.inner.holds_state();
+        if staged {
+            let r = self.inner.download_some(fields, &Field::ALL);
+            self.keep(r);
+        }
         if let Err(e) = self.exchange_particles(fields, &params.periodic()) {
             self.fail(e);
         }
+        if staged {
+            let r = self.inner.reload(fields, params);
+            self.keep(r);
+        }
         self.inner.sort_by_cell(fields, params)?;
+        if staged {
+            let r = self.inner.download_some(fields, &[Field::Id, Field::Position]);
+            self.keep(r);
+        }
         self.index(fields);
         Ok(())
+    }
+
+    /// Keeps the first failure of a backend call (the stages return none; the step reports it
+    /// at its end).
+    fn keep(&mut self, result: Result<(), BackendError>) {
+        if let Err(e) = result {
+            self.error.get_or_insert(e);
+        }
     }
 
     fn exchange_particles(
@@ -300,12 +331,27 @@ impl<const D: usize> RankBackend<D> {
     /// Sends the owners' current values of the fields a stage wrote since the last exchange to
     /// their ghosts, before `stage` reads them.
     fn refresh(&mut self, fields: &mut Fields<D>, stage: &'static str) {
+        if self.dirty == 0 || self.halo.is_none() {
+            return; // nothing written, or before the first sort (no ghosts)
+        }
+        // A device's state comes to the host first: the written fields, or all of them for the
+        // check below.
+        let staged = self.inner.holds_state();
+        if staged {
+            let which = if self.verify {
+                Field::ALL.to_vec()
+            } else {
+                fields_in(self.dirty)
+            };
+            let r = self.inner.download_some(fields, &which);
+            self.keep(r);
+        }
         let mask = self.dirty & field_mask(fields);
         if mask == 0 {
             return;
         }
         let Some(halo) = self.halo.as_ref() else {
-            return; // before the first sort there are no ghosts
+            return;
         };
         let exchange = |fields: &mut Fields<D>, mask: u32| -> Result<u64, DistributedError> {
             let comm = lock(&self.comm);
@@ -348,6 +394,11 @@ impl<const D: usize> RankBackend<D> {
             Ok(bytes) => {
                 self.traffic.refreshes += 1;
                 self.traffic.refresh_bytes += bytes;
+                if staged {
+                    // The ghosts' new rows go back to the device.
+                    let r = self.inner.upload_some(fields, &fields_in(mask));
+                    self.keep(r);
+                }
             }
             Err(e) => self.fail(e),
         }
@@ -390,4 +441,14 @@ impl<const D: usize> RankBackend<D> {
             self.dirty |= 1 << k;
         }
     }
+}
+
+/// The fields of `mask` (bit `k`: `Field::ALL[k]`).
+fn fields_in(mask: u32) -> Vec<Field> {
+    Field::ALL
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| mask & (1 << k) != 0)
+        .map(|(_, f)| *f)
+        .collect()
 }
