@@ -114,7 +114,8 @@ SPH_KERNEL(correction_pressure_wall)(u32 n, StepParams p, GridGeometry g,
                                      const u32* __restrict__ cell_key, const float* __restrict__ pos,
                                      const float* __restrict__ density,
                                      const float* __restrict__ pressure,
-                                     const u32* __restrict__ kind, float* delta_p) {
+                                     const u32* __restrict__ kind, const u32* __restrict__ id,
+                                     float* delta_p) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] == SPH_FLUID) return;
     const Smoothing s = smoothing(p.h);
@@ -126,7 +127,7 @@ SPH_KERNEL(correction_pressure_wall)(u32 n, StepParams p, GridGeometry g,
         vec_t d = pair_delta(g, x_w, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < s.h2) || kind[j] != SPH_FLUID) continue;
-        d = pair_offset(d, &r2, i, j, s.h);
+        d = pair_offset(d, &r2, id[i], id[j], s.h);
         const float w = w_poly6(s, r2);
         weight += w;
         pressure_sum += delta_p[j] * w;
@@ -161,7 +162,8 @@ __device__ __forceinline__ void correction_displacement_body(
     u32 n, const StepParams& p, const GridGeometry& g, const u32* __restrict__ cell_start,
     const u32* __restrict__ cell_key, const float* __restrict__ pos, const float* __restrict__ mass,
     const float* __restrict__ density, const float* __restrict__ delta_p,
-    const u32* __restrict__ kind, const u32* __restrict__ owned, float tau2,
+    const u32* __restrict__ kind, const u32* __restrict__ id, const u32* __restrict__ owned,
+    float tau2,
     float* __restrict__ displacement, int* __restrict__ largest) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
@@ -181,7 +183,7 @@ __device__ __forceinline__ void correction_displacement_body(
         vec_t d = pair_delta(g, x_i, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < s.h2)) continue;
-        d = pair_offset(d, &r2, i, j, s.h);
+        d = pair_offset(d, &r2, id[i], id[j], s.h);
         const vec_t grad = vscale(grad_w_spiky(s, d, sqrtf(r2)), p.pressure_gradient_scale);
         if (MULTIPHASE) {
             const float q_j = multiphase_pressure_term(delta_p[j], mass[j], density[j]);
@@ -202,10 +204,11 @@ __device__ __forceinline__ void correction_displacement_body(
                      const u32* __restrict__ cell_key, const float* __restrict__ pos,              \
                      const float* __restrict__ mass, const float* __restrict__ density,            \
                      const float* __restrict__ delta_p, const u32* __restrict__ kind,              \
+                     const u32* __restrict__ id,                                                   \
                      const u32* __restrict__ owned, float tau2,                                    \
                      float* __restrict__ displacement, int* __restrict__ largest) {                \
         correction_displacement_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass,         \
-                                                 density, delta_p, kind, owned, tau2,              \
+                                                 density, delta_p, kind, id, owned, tau2,              \
                                                  displacement, largest);                           \
     }
 

@@ -14,7 +14,7 @@ __device__ __forceinline__ void density_body(u32 n, const StepParams& p, const G
                                              const u32* __restrict__ cell_key,
                                              const float* __restrict__ pos,
                                              const float* __restrict__ mass,
-                                             const u32* __restrict__ kind,
+                                             const u32* __restrict__ kind, const u32* __restrict__ id,
                                              float* __restrict__ density) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] != SPH_FLUID) return;
@@ -25,7 +25,7 @@ __device__ __forceinline__ void density_body(u32 n, const StepParams& p, const G
         vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
-            d = pair_offset(d, &r2, i, j, s.h);
+            d = pair_offset(d, &r2, id[i], id[j], s.h);
             if (MULTIPHASE)
                 sum += w_density(s, p, r2);
             else
@@ -38,9 +38,9 @@ __device__ __forceinline__ void density_body(u32 n, const StepParams& p, const G
 #define SPH_DENSITY_ENTRY(name, MULTIPHASE)                                                        \
     SPH_KERNEL(name)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,      \
                      const u32* __restrict__ cell_key, const float* __restrict__ pos,              \
-                     const float* __restrict__ mass, const u32* __restrict__ kind,                 \
+                     const float* __restrict__ mass, const u32* __restrict__ kind, const u32* __restrict__ id,                 \
                      float* __restrict__ density) {                                                \
-        density_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass, kind, density);         \
+        density_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass, kind, id, density);         \
     }
 
 SPH_DENSITY_ENTRY(density, false)
@@ -57,7 +57,7 @@ template <bool MULTIPHASE>
 __device__ __forceinline__ void predicted_density_body(
     u32 n, const StepParams& p, const GridGeometry& g, const u32* __restrict__ cell_start,
     const u32* __restrict__ cell_key, const float* __restrict__ pos, const float* __restrict__ vel,
-    const float* __restrict__ mass, const float* __restrict__ rest, const u32* __restrict__ kind,
+    const float* __restrict__ mass, const float* __restrict__ rest, const u32* __restrict__ kind, const u32* __restrict__ id,
     const float* __restrict__ density_start, float tau, float* __restrict__ density) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] != SPH_FLUID) return;
@@ -69,7 +69,7 @@ __device__ __forceinline__ void predicted_density_body(
         vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (r2 < s.h2 && j != i) {
-            d = pair_offset(d, &r2, i, j, s.h);
+            d = pair_offset(d, &r2, id[i], id[j], s.h);
             const vec_t grad = grad_w_density(s, p, d, sqrtf(r2));
             const float m = MULTIPHASE ? mass[i] : mass[j];
             rate += m * vdot(vsub(ui, vload(vel, j)), grad);
@@ -82,10 +82,10 @@ __device__ __forceinline__ void predicted_density_body(
 SPH_KERNEL(predicted_density)(u32 n, StepParams p, GridGeometry g,
                               const u32* __restrict__ cell_start, const u32* __restrict__ cell_key,
                               const float* __restrict__ pos, const float* __restrict__ vel,
-                              const float* __restrict__ mass, const u32* __restrict__ kind,
+                              const float* __restrict__ mass, const u32* __restrict__ kind, const u32* __restrict__ id,
                               const float* __restrict__ density_start, float tau,
                               float* __restrict__ density) {
-    predicted_density_body<false>(n, p, g, cell_start, cell_key, pos, vel, mass, nullptr, kind,
+    predicted_density_body<false>(n, p, g, cell_start, cell_key, pos, vel, mass, nullptr, kind, id,
                                   density_start, tau, density);
 }
 
@@ -96,9 +96,9 @@ SPH_KERNEL(predicted_density_multiphase)(u32 n, StepParams p, GridGeometry g,
                                          const float* __restrict__ vel,
                                          const float* __restrict__ mass,
                                          const float* __restrict__ rest,
-                                         const u32* __restrict__ kind,
+                                         const u32* __restrict__ kind, const u32* __restrict__ id,
                                          const float* __restrict__ density_start, float tau,
                                          float* __restrict__ density) {
-    predicted_density_body<true>(n, p, g, cell_start, cell_key, pos, vel, mass, rest, kind,
+    predicted_density_body<true>(n, p, g, cell_start, cell_key, pos, vel, mass, rest, kind, id,
                                  density_start, tau, density);
 }

@@ -11,7 +11,7 @@ SPH_KERNEL(density_rate)(u32 n, StepParams p, GridGeometry g, const u32* __restr
                          const u32* __restrict__ cell_key, const float* __restrict__ pos,
                          const float* __restrict__ vel, const float* __restrict__ wall_vel,
                          const float* __restrict__ mass, const float* __restrict__ density,
-                         const u32* __restrict__ kind, float* __restrict__ rate) {
+                         const u32* __restrict__ kind, const u32* __restrict__ id, float* __restrict__ rate) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     if (kind[i] != SPH_FLUID) {
@@ -31,7 +31,7 @@ SPH_KERNEL(density_rate)(u32 n, StepParams p, GridGeometry g, const u32* __restr
         vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < s.h2)) continue;
-        d = pair_offset(d, &r2, i, j, s.h);
+        d = pair_offset(d, &r2, id[i], id[j], s.h);
         const float r = sqrtf(r2);
         const bool fluid = kind[j] == SPH_FLUID;
         const vec_t uj = fluid ? vload(vel, j) : vload(wall_vel, j);

@@ -22,7 +22,7 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
                                             const float* __restrict__ mass,
                                             const float* __restrict__ density,
                                             const float* __restrict__ pressure,
-                                            const u32* __restrict__ kind,
+                                            const u32* __restrict__ kind, const u32* __restrict__ id,
                                             const float* __restrict__ wall_vel,
                                             float* __restrict__ acc) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
@@ -48,7 +48,7 @@ __device__ __forceinline__ void forces_body(u32 n, const StepParams& p, const Gr
         vec_t d = pair_delta(g, x_i, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < c.s.h2)) continue;
-        c.x_ij = pair_offset(d, &r2, i, j, c.s.h);
+        c.x_ij = pair_offset(d, &r2, id[i], id[j], c.s.h);
         c.r2 = r2;
         c.r = sqrtf(r2);
         c.m_j = mass[j];

@@ -31,7 +31,7 @@ __device__ __forceinline__ void solid_forces_body(u32 n, const StepParams& p, co
                                                   const float* __restrict__ mass,
                                                   const float* __restrict__ density,
                                                   const float* __restrict__ pressure,
-                                                  const u32* __restrict__ kind,
+                                                  const u32* __restrict__ kind, const u32* __restrict__ id,
                                                   const float* __restrict__ wall_vel,
                                                   const u32* __restrict__ owned,
                                                   double* __restrict__ out) {
@@ -63,7 +63,7 @@ __device__ __forceinline__ void solid_forces_body(u32 n, const StepParams& p, co
             vec_t d = pair_delta(g, x_s, pos, j);
             float r2 = vdot(d, d);
             if (!(r2 < c.s.h2)) continue;
-            c.x_ij = pair_offset(d, &r2, i, j, c.s.h);
+            c.x_ij = pair_offset(d, &r2, id[i], id[j], c.s.h);
             c.r2 = r2;
             c.r = sqrtf(r2);
             c.grad_w = vscale(grad_w_spiky(c.s, c.x_ij, c.r), p.pressure_gradient_scale);

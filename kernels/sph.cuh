@@ -269,15 +269,16 @@ __device__ __forceinline__ Smoothing smoothing(float h) {
 /// `smoothing::COINCIDENT_FRACTION`: pairs closer than this fraction of h are coincident.
 #define SPH_COINCIDENT_FRACTION 1.0e-6f
 
-/// Twin of `smoothing::pair_offset`: the offset x_i - x_j [m] a pair loop uses for particles i, j
-/// (indices in the current order) at `d`, with `*r2` = |d|^2 updated. A pair i != j closer than
-/// SPH_COINCIDENT_FRACTION h gets the offset of that length along axis (i + j) mod D with the sign
-/// of i - j: antisymmetric, so coincident particles push each other apart (note 4).
-__device__ __forceinline__ vec_t pair_offset(vec_t d, float* r2, u32 i, u32 j, float h) {
+/// Twin of `smoothing::pair_offset`: the offset x_i - x_j [m] a pair loop uses for particles of
+/// ids id_i, id_j (`Fields::id`, so the same in any order and on any rank) at `d`, with `*r2` =
+/// |d|^2 updated. A pair id_i != id_j closer than SPH_COINCIDENT_FRACTION h gets the offset of
+/// that length along axis (id_i + id_j) mod D with the sign of id_i - id_j: antisymmetric, so
+/// coincident particles push each other apart (note 4).
+__device__ __forceinline__ vec_t pair_offset(vec_t d, float* r2, u32 id_i, u32 id_j, float h) {
     const float e = SPH_COINCIDENT_FRACTION * h;
-    if (i == j || *r2 >= e * e) return d;
+    if (id_i == id_j || *r2 >= e * e) return d;
     vec_t o = vzero();
-    o.c[(unsigned)(((unsigned long long)i + (unsigned long long)j) % D)] = i > j ? e : -e;
+    o.c[(unsigned)(((unsigned long long)id_i + (unsigned long long)id_j) % D)] = id_i > id_j ? e : -e;
     *r2 = e * e;
     return o;
 }

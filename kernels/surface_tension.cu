@@ -31,7 +31,7 @@ SPH_KERNEL(surface_normals)(u32 n, StepParams p, GridGeometry g, const u32* __re
                             const u32* __restrict__ cell_key, const float* __restrict__ pos,
                             const float* __restrict__ mass, const float* __restrict__ density,
                             const float* __restrict__ rest_density,
-                            const u32* __restrict__ kind, float* __restrict__ normal) {
+                            const u32* __restrict__ kind, const u32* __restrict__ id, float* __restrict__ normal) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     vec_t sum = vzero();
@@ -44,7 +44,7 @@ SPH_KERNEL(surface_normals)(u32 n, StepParams p, GridGeometry g, const u32* __re
             vec_t d = pair_delta(g, xi, pos, j);
             float r2 = vdot(d, d);
             if (!(r2 < s.h2)) continue;
-            d = pair_offset(d, &r2, i, j, s.h);
+            d = pair_offset(d, &r2, id[i], id[j], s.h);
             const float rho_j = rest_volume ? rest_of(p, rest_density, j) : density[j];
             sum = vadd(sum, vscale(grad_w_poly6(s, d), mass[j] / rho_j));
         });
@@ -82,7 +82,8 @@ __device__ __forceinline__ void surface_stress(u32 i, const StepParams& p, const
                                                const u32* cell_start, const u32* cell_key,
                                                const float* pos, const float* mass,
                                                const float* rest_density,
-                                               const u32* kind, const float* normal, float* acc) {
+                                               const u32* kind, const u32* id, const float* normal,
+                                               float* acc) {
     const Smoothing s = smoothing(p.h);
     const float w_dx = w_poly6(s, p.spacing * p.spacing);
     const vec_t xi = vload(pos, i);
@@ -98,7 +99,7 @@ __device__ __forceinline__ void surface_stress(u32 i, const StepParams& p, const
         vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < s.h2)) continue;
-        d = pair_offset(d, &r2, i, j, s.h);
+        d = pair_offset(d, &r2, id[i], id[j], s.h);
         const vec_t grad = vscale(grad_w_spiky(s, d, sqrtf(r2)), p.pressure_gradient_scale);
         const float tensile = tensile_factor(w_poly6(s, r2), w_dx);
         const vec_t t = vadd(stress_along(p.surface_tension_sigma, p.h, n_i, grad),
@@ -116,12 +117,12 @@ SPH_KERNEL(surface_tension)(u32 n, StepParams p, GridGeometry g, const u32* __re
                             const u32* __restrict__ cell_key, const float* __restrict__ pos,
                             const float* __restrict__ mass, const float* __restrict__ density,
                             const float* __restrict__ rest_density,
-                            const u32* __restrict__ kind, const float* __restrict__ normal,
+                            const u32* __restrict__ kind, const u32* __restrict__ id, const float* __restrict__ normal,
                             float* __restrict__ acc) {
     u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n || kind[i] != SPH_FLUID) return;
     if (p.surface_tension_model == SPH_SURFACE_STRESS) {
-        surface_stress(i, p, g, cell_start, cell_key, pos, mass, rest_density, kind, normal,
+        surface_stress(i, p, g, cell_start, cell_key, pos, mass, rest_density, kind, id, normal,
                        acc);
         return;
     }
@@ -135,7 +136,7 @@ SPH_KERNEL(surface_tension)(u32 n, StepParams p, GridGeometry g, const u32* __re
         vec_t d = pair_delta(g, xi, pos, j);
         float r2 = vdot(d, d);
         if (!(r2 < h * h)) continue;
-        d = pair_offset(d, &r2, i, j, h);
+        d = pair_offset(d, &r2, id[i], id[j], h);
         const float r = sqrtf(r2);
         const float k_ij = 2.0f * p.rho0 / (rho_i + density[j]);
         const vec_t cohesion = vscale(d, mass[j] * cohesion_kernel(r, h) / r);

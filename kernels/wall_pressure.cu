@@ -23,7 +23,7 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
                                                    const u32* __restrict__ cell_key,
                                                    const float* __restrict__ pos,
                                                    const float* __restrict__ mass,
-                                                   const u32* __restrict__ kind,
+                                                   const u32* __restrict__ kind, const u32* __restrict__ id,
                                                    const float* __restrict__ motion,
                                                    int extrapolated_or_summed, float* pressure,
                                                    float* density) {
@@ -39,7 +39,7 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
         vec_t d = pair_delta(g, xw, pos, j);
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
-            d = pair_offset(d, &r2, w, j, s.h);
+            d = pair_offset(d, &r2, id[w], id[j], s.h);
             float wj = w_poly6(s, r2);
             // Eq. (18)'s own kernel for the summed density (poly6, or the corrected solver's spiky).
             const float wd = w_density(s, p, r2);
@@ -72,10 +72,10 @@ __device__ __forceinline__ void wall_pressure_body(u32 n, const StepParams& p, c
 #define SPH_WALL_PRESSURE_ENTRY(name, MULTIPHASE)                                                  \
     SPH_KERNEL(name)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,      \
                      const u32* __restrict__ cell_key, const float* __restrict__ pos,              \
-                     const float* __restrict__ mass, const u32* __restrict__ kind,                 \
+                     const float* __restrict__ mass, const u32* __restrict__ kind, const u32* __restrict__ id,                 \
                      const float* __restrict__ motion, int extrapolated_or_summed,                 \
                      float* pressure, float* density) {                                            \
-        wall_pressure_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass, kind, motion,     \
+        wall_pressure_body<MULTIPHASE>(n, p, g, cell_start, cell_key, pos, mass, kind, id, motion,     \
                                        extrapolated_or_summed, pressure, density);                 \
     }
 

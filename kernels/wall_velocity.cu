@@ -9,7 +9,7 @@
 /// [A12] eqs. (22)-(23): wall_vel[w] = 2 u_w - sum_f u_f W_wf / sum_f W_wf [m/s].
 SPH_KERNEL(wall_velocity)(u32 n, StepParams p, GridGeometry g, const u32* __restrict__ cell_start,
                           const u32* __restrict__ cell_key, const float* __restrict__ pos,
-                          const float* __restrict__ vel, const u32* __restrict__ kind,
+                          const float* __restrict__ vel, const u32* __restrict__ kind, const u32* __restrict__ id,
                           float* __restrict__ wall_vel) {
     u32 w = blockIdx.x * blockDim.x + threadIdx.x;
     if (w >= n || kind[w] == SPH_FLUID) return;
@@ -23,7 +23,7 @@ SPH_KERNEL(wall_velocity)(u32 n, StepParams p, GridGeometry g, const u32* __rest
         vec_t d = pair_delta(g, xw, pos, j);
         float r2 = vdot(d, d);
         if (r2 < s.h2) {
-            d = pair_offset(d, &r2, w, j, s.h);
+            d = pair_offset(d, &r2, id[w], id[j], s.h);
             const float wj = w_poly6(s, r2);
             const vec_t u = vload(vel, j);
             weight += wj;

@@ -126,7 +126,8 @@ fn neighbours_per_particle<const D: usize>(sim: &Simulation<D>) -> f64 {
         return f64::NAN;
     };
     let position: Vec<_> = perm.iter().map(|&p| f.position[p as usize]).collect();
-    grid.link();
+    let id: Vec<u32> = perm.iter().map(|&p| f.id[p as usize]).collect();
+    grid.link(&id);
     use rayon::prelude::*;
     // Every particle up to 200,000; beyond, an even sample of 200,000 (the mean converges long
     // before, and counting 1e8 particles would take longer than the benchmark).

@@ -81,6 +81,9 @@ pub struct Grid<const D: usize> {
     pairs: Vec<(u64, u32)>,
     /// Permutation of the last sort: new index → old index.
     perm: Vec<u32>,
+    /// Every particle's id (`Fields::id`) in sorted order, given to [`Grid::link`]: the
+    /// coincident pairs' tie-break (`smoothing::pair_offset`).
+    id: Vec<u32>,
     /// The periodic axes of the last sort.
     periodic: Periodic<D>,
     /// Cells along each axis: the padded bounding box, or the `n` cells of a periodic axis.
@@ -115,6 +118,7 @@ impl<const D: usize> Default for Grid<D> {
             cell_of: Vec::new(),
             pairs: Vec::new(),
             perm: Vec::new(),
+            id: Vec::new(),
             periodic: Periodic::none(),
             extent: [0; D],
             inv_cell: [1.0; D],
@@ -143,6 +147,7 @@ impl<const D: usize> Grid<D> {
             + self.cell_of.capacity() * 4
             + self.pairs.capacity() * 16
             + self.perm.capacity() * 4
+            + self.id.capacity() * 4
     }
 
     /// Stage `sort_by_cell`, first half: hashes `position` to cells of size `cell_size` [m] and
@@ -253,9 +258,16 @@ impl<const D: usize> Grid<D> {
     }
 
     /// Stage `sort_by_cell`, second half: builds the cell ranges and each cell's neighbour rows
-    /// from the sorted keys. Call after the fields have been permuted.
-    pub fn link(&mut self) {
+    /// from the sorted keys, and keeps the particles' ids `id` (sorted order, one per particle;
+    /// the tie-break of coincident pairs). Call after the fields have been permuted.
+    ///
+    /// # Panics
+    /// When `id` does not hold one id per sorted particle.
+    pub fn link(&mut self, id: &[u32]) {
         let n = self.keys.len();
+        assert_eq!(id.len(), n, "Grid::link needs one id per sorted particle");
+        self.id.clear();
+        self.id.extend_from_slice(id);
         self.cell_keys.clear();
         self.cell_start.clear();
         self.cell_of.clear();
@@ -356,11 +368,17 @@ impl<const D: usize> Grid<D> {
         &self.periodic
     }
 
+    /// The particles' ids in sorted order, as given to [`Grid::link`].
+    pub fn ids(&self) -> &[u32] {
+        &self.id
+    }
+
     /// Calls `f(j, x_i − x_j, |x_i − x_j|²)` for every particle `j` (including `i` itself) with
     /// `|x_i − x_j| < h`, where `h` is the cell size (`x_i − x_j` the minimum image along
     /// periodic axes). `position` must be in sorted order. A pair
     /// `j ≠ i` closer than `COINCIDENT_FRACTION·h` gets the offset of
-    /// [`crate::smoothing::pair_offset`] (a fixed antisymmetric direction, note 4).
+    /// [`crate::smoothing::pair_offset`] (a fixed antisymmetric direction from the ids given to
+    /// [`Grid::link`], note 4).
     #[inline]
     pub fn for_each_neighbour<F>(&self, position: &[Vector<D>], i: usize, mut f: F)
     where
@@ -374,7 +392,7 @@ impl<const D: usize> Grid<D> {
                 let r2 = d.norm_squared();
                 if r2 < h2 {
                     let j = range.start + j;
-                    let (d, r2) = pair_offset(d, r2, i, j, self.cell_size);
+                    let (d, r2) = pair_offset(d, r2, self.id[i], self.id[j], self.cell_size);
                     f(j, d, r2);
                 }
             }

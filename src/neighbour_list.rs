@@ -28,6 +28,8 @@ pub struct NeighbourList {
     start: Vec<usize>,
     /// Neighbour indices (sorted order), each particle's in the grid's visiting order.
     index: Vec<u32>,
+    /// The grid's particle ids (the coincident pairs' tie-break, `smoothing::pair_offset`).
+    id: Vec<u32>,
 }
 
 impl NeighbourList {
@@ -41,6 +43,8 @@ impl NeighbourList {
     ) {
         let n = position.len();
         self.cell_size = grid.cell_size();
+        self.id.clear();
+        self.id.extend_from_slice(grid.ids());
         let p = grid.periodic();
         self.periodic = (
             p.axes,
@@ -102,7 +106,9 @@ impl NeighbourList {
 
     /// Bytes held by the list's arrays.
     pub fn heap_bytes(&self) -> usize {
-        self.start.capacity() * std::mem::size_of::<usize>() + self.index.capacity() * 4
+        self.start.capacity() * std::mem::size_of::<usize>()
+            + self.index.capacity() * 4
+            + self.id.capacity() * 4
     }
 
     /// Calls `f(j, x_i − x_j, |x_i − x_j|²)` for every listed neighbour of `i`, in the order
@@ -122,7 +128,7 @@ impl NeighbourList {
         for &j in &self.index[self.start[i]..self.start[i + 1]] {
             let j = j as usize;
             let d = periodic.minimum_image(xi - position[j]);
-            let (d, r2) = pair_offset(d, d.norm_squared(), i, j, self.cell_size);
+            let (d, r2) = pair_offset(d, d.norm_squared(), self.id[i], self.id[j], self.cell_size);
             f(j, d, r2);
         }
     }

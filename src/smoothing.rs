@@ -41,24 +41,32 @@ pub const R_MIN_FRACTION: Real = 1.0e-3;
 pub const COINCIDENT_FRACTION: Real = 1.0e-6;
 
 /// The offset `x_i − x_j` [m] and its squared length [m²] that a pair loop uses for particles
-/// `i ≠ j` (indices in the current particle order) at `d = x_i − x_j`, `r2 = |d|²`: `(d, r2)`
-/// itself, or, when `r2 < (ε h)²` with `ε =` [`COINCIDENT_FRACTION`], the offset of length `ε h`
-/// along axis `(i + j) mod D` with the sign of `i − j`.
+/// of ids `id_i ≠ id_j` (`Fields::id`) at `d = x_i − x_j`, `r2 = |d|²`: `(d, r2)` itself, or,
+/// when `r2 < (ε h)²` with `ε =` [`COINCIDENT_FRACTION`], the offset of length `ε h` along axis
+/// `(id_i + id_j) mod D` with the sign of `id_i − id_j`. A particle with itself (`id_i = id_j`)
+/// is left alone.
 ///
 /// Why: coincident particles have no direction, so the spiky gradient gives them no pressure
 /// force, and two particles at the same spot feel the same forces from everyone else: they would
 /// never separate and the corrected solver could not bring their density to `ρ0`. The rule is
 /// antisymmetric under `i ↔ j` (same axis, opposite sign), so every pair force stays
-/// antisymmetric and momentum is conserved; it is deterministic, and the CUDA kernels use its twin
-/// `pair_offset` (`kernels/sph.cuh`) with their own particle order.
+/// antisymmetric and momentum is conserved. From ids, not indices, so a pair takes the same
+/// direction in any particle order: on both backends (the CUDA kernels use its twin
+/// `pair_offset`, `kernels/sph.cuh`) and on any number of ranks (a ghost carries its owner's id).
 #[inline(always)]
-pub fn pair_offset<const D: usize>(d: Vector<D>, r2: Real, i: usize, j: usize, h: Real) -> (Vector<D>, Real) {
+pub fn pair_offset<const D: usize>(
+    d: Vector<D>,
+    r2: Real,
+    id_i: u32,
+    id_j: u32,
+    h: Real,
+) -> (Vector<D>, Real) {
     let e = COINCIDENT_FRACTION * h;
-    if i == j || r2 >= e * e {
+    if id_i == id_j || r2 >= e * e {
         return (d, r2);
     }
     let mut offset = Vector::<D>::zeros();
-    offset[(i + j) % D] = if i > j { e } else { -e };
+    offset[((u64::from(id_i) + u64::from(id_j)) % D as u64) as usize] = if id_i > id_j { e } else { -e };
     (offset, e * e)
 }
 

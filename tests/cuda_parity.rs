@@ -407,3 +407,25 @@ fn open_channel_matches_the_cpu() {
         );
     }
 }
+
+/// Coincident particles (`scenes/hard/coincident_2d.toml` and `_3d`: pairs started on the same
+/// spot): both backends part each pair along the direction `pair_offset` takes from the two
+/// particles' ids, so they take the same path whatever order each sorts its particles in, with
+/// both solvers.
+#[test]
+fn coincident_starts_match_the_cpu() {
+    for device in devices() {
+        for file in ["coincident_2d.toml", "coincident_3d.toml"] {
+            for solver in ["wcsph", "corrected"] {
+                let steps = if solver == "corrected" { 5 } else { STEPS };
+                check(
+                    device,
+                    &format!("{ROOT}/scenes/hard/{file}"),
+                    &[format!("solver.kind={solver}")],
+                    steps,
+                    FORCE,
+                );
+            }
+        }
+    }
+}

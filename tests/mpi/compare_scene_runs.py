@@ -1,16 +1,14 @@
 """Checks that a short run of a scene under mpirun ends as the run on one rank does.
 
-Usage: compare_scene_runs.py WHOLE_DIR SPLIT_DIR RANKS NAME [--coincident]
+Usage: compare_scene_runs.py WHOLE_DIR SPLIT_DIR RANKS NAME
 
 - summary.json: both completed, the split one on RANKS ranks, the same steps, particles and
   fluid particles, fluid mass within 1e-9 of itself (summed over ranks in another order), and
   the same particles created and removed;
 - steps.csv: the same rows' count, and the largest compression of each step within 1e-4
-  (the `corrected` solver's tolerance δ; `wcsph` agrees to rounding). With `--coincident` (a
-  scene with particles placed on top of each other) only the first step's: such a pair is
-  pushed apart along an axis chosen from the two particles' indices in the current order
-  (`smoothing::pair_offset`), which differs between one rank and N, so from the second step on
-  the two runs take different, equally valid, paths;
+  (the `corrected` solver's tolerance δ; `wcsph` agrees to rounding), also where particles
+  start on top of each other (`smoothing::pair_offset` parts such a pair along a direction
+  taken from the two particles' ids, the same on any number of ranks);
 - the last frame: a .pvtu of RANKS pieces that VTK reads as one dataset holding as many
   particles as the one-rank frame, each once.
 """
@@ -43,7 +41,6 @@ def last_frame_ids(run):
 
 def main():
     whole, split, ranks, name = Path(sys.argv[1]), Path(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
-    coincident = sys.argv[5:] == ["--coincident"]
     a = json.loads((whole / "summary.json").read_text())
     b = json.loads((split / "summary.json").read_text())
     assert a["status"] == b["status"] == "completed", (name, a["status"], b["status"])
@@ -57,14 +54,14 @@ def main():
     sa, sb = rows(whole / "steps.csv"), rows(split / "steps.csv")
     assert sa[0] == sb[0] and len(sa) == len(sb), (name, len(sa), len(sb))
     k = sa[0].index("max_compression")
-    compared = list(zip(sa[1:], sb[1:]))[: 1 if coincident else None]
+    compared = list(zip(sa[1:], sb[1:]))
     worst = max(abs(float(x[k]) - float(y[k])) for x, y in compared)
     assert worst <= 1e-4, (name, "max_compression", worst)
     frame_a, _, ids_a = last_frame_ids(whole)
     frame_b, pieces, ids_b = last_frame_ids(split)
     assert frame_b.endswith(".pvtu") and pieces == ranks, (name, frame_b, pieces)
     assert len(ids_b) == len(ids_a) and len(set(ids_b)) == len(ids_b), (name, len(ids_a), len(ids_b))
-    print(f"{name} on {ranks} ranks: {b['steps']} steps, {len(ids_b)} particles in {pieces} pieces, compression within {worst:.1e}" + (" (first step only: coincident particles)" if coincident else ""))
+    print(f"{name} on {ranks} ranks: {b['steps']} steps, {len(ids_b)} particles in {pieces} pieces, compression within {worst:.1e}")
 
 
 if __name__ == "__main__":

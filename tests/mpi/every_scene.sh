@@ -13,12 +13,9 @@ scenes=("$@")
 [ ${#scenes[@]} -gt 0 ] || scenes=(scenes/*.toml scenes/hard/*.toml)
 for scene in "${scenes[@]}"; do
   name=$(basename "$(dirname "$scene")")_$(basename "$scene" .toml)
-  # Coincident particles separate along directions taken from each rank's particle order.
-  flag=()
-  grep -q '^coincident *=' "$scene" && flag=(--coincident)
   if "$SPH" run "$scene" --end-time "$END" --out "$OUT/$name-1" >/dev/null 2>"$OUT/$name-1.err" \
     && timeout 600 $MPIRUN -np "$N" "$SPH" run "$scene" --end-time "$END" --out "$OUT/$name-$N" >/dev/null 2>"$OUT/$name-$N.err" \
-    && "$PYTHON" tests/mpi/compare_scene_runs.py "$OUT/$name-1" "$OUT/$name-$N" "$N" "$name" "${flag[@]}"; then
+    && "$PYTHON" tests/mpi/compare_scene_runs.py "$OUT/$name-1" "$OUT/$name-$N" "$N" "$name"; then
     :
   else
     failed+=("$name")

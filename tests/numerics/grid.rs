@@ -31,7 +31,8 @@ fn assert_neighbours_match<const D: usize>(
         seen[p] = true;
     }
     let positions: Vec<Vector<D>> = perm.iter().map(|&p| cloud[p as usize]).collect();
-    grid.link();
+    // Each particle's id is its index in the cloud.
+    grid.link(&perm);
     assert_eq!(grid.cell_size(), h);
     assert!(
         grid.cell_count() <= n,
@@ -43,7 +44,7 @@ fn assert_neighbours_match<const D: usize>(
         grid.for_each_neighbour(&positions, i, |j, d, r2| {
             // Coincident pairs get `pair_offset`'s fixed direction (note 4).
             let raw = positions[i] - positions[j];
-            let expected = sph::smoothing::pair_offset(raw, raw.norm_squared(), i, j, h);
+            let expected = sph::smoothing::pair_offset(raw, raw.norm_squared(), perm[i], perm[j], h);
             assert_eq!(d, expected.0, "offset passed for pair ({i}, {j})");
             assert_eq!(r2, d.norm_squared(), "r² passed for pair ({i}, {j})");
             visited.push(j);
@@ -514,7 +515,7 @@ fn fields_permute_by_the_grid_sort_keeps_particles_whole() {
     let mut grid = Grid::<3>::default();
     let perm = grid.sort(&f.position, 0.1).expect("finite").to_vec();
     f.permute(&perm, &mut PermuteScratch::default());
-    grid.link();
+    grid.link(&f.id);
     assert_moved_together(&f, &original, &perm);
     for i in 0..n {
         let mut visited = Vec::new();

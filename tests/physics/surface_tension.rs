@@ -136,7 +136,7 @@ fn core_pressure(sim: &Simulation<2>, radius: f64) -> (f64, f64, f64) {
             let d = f.position[i] - f.position[j];
             let r2 = d.norm_squared();
             if r2 < p.h * p.h {
-                let (d, r2) = pair_offset(d, r2, i, j, p.h);
+                let (d, r2) = pair_offset(d, r2, f.id[i], f.id[j], p.h);
                 visit(j, d, r2);
             }
         }

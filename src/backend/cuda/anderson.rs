@@ -259,6 +259,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.density_solve_start,
                 &self.pressure_solve_start,
                 &self.f.kind,
+                &self.f.id,
                 &mut self.delta_p
             )
         );

@@ -69,6 +69,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 density,
                 &self.delta_p,
                 &self.f.kind,
+                &self.f.id,
                 &self.owned,
                 tau2,
                 &mut self.displacement,
@@ -220,6 +221,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.density,
                 &self.f.pressure,
                 &self.f.kind,
+                &self.f.id,
                 &mut self.delta_p
             )
         );

@@ -21,6 +21,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.position,
                 &self.f.mass,
                 &self.f.kind,
+                &self.f.id,
                 &mut self.f.density
             )
         );
@@ -75,6 +76,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                     &self.f.mass,
                     rest,
                     &self.f.kind,
+                    &self.f.id,
                     &self.density_solve_start,
                     tau,
                     &mut self.f.density
@@ -95,6 +97,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.velocity,
                 &self.f.mass,
                 &self.f.kind,
+                &self.f.id,
                 &self.density_solve_start,
                 tau,
                 &mut self.f.density

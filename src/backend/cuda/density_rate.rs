@@ -31,6 +31,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.mass,
                 &self.f.density,
                 &self.f.kind,
+                &self.f.id,
                 out,
             )
         };

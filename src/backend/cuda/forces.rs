@@ -23,6 +23,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.density,
                 &self.f.pressure,
                 &self.f.kind,
+                &self.f.id,
                 // Without no-slip walls a solid carries its own velocity in (17).
                 self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity),
                 &mut self.f.acceleration

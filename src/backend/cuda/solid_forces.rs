@@ -53,6 +53,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.density,
                 pressure,
                 &self.f.kind,
+                &self.f.id,
                 self.f.wall_velocity.as_ref().unwrap_or(&self.f.velocity),
                 &self.owned,
                 &mut self.solid_out,

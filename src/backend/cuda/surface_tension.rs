@@ -42,6 +42,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.density,
                 rest,
                 &self.f.kind,
+                &self.f.id,
                 normal
             )
         );
@@ -77,6 +78,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.density,
                 rest,
                 &self.f.kind,
+                &self.f.id,
                 normal,
                 &mut self.f.acceleration
             )

@@ -48,6 +48,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.position,
                 &self.f.mass,
                 &self.f.kind,
+                &self.f.id,
                 &self.wall_motion,
                 summed,
                 &mut self.f.pressure,
@@ -79,6 +80,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 &self.f.position,
                 &self.f.velocity,
                 &self.f.kind,
+                &self.f.id,
                 out,
             )
         };
