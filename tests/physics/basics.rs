@@ -55,6 +55,19 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
 /// 0.9 %, 2.9 % and 6.3 % high: the excess is the corrected solver's own pressure next to a
 /// wall at depth (the velocity solve adds under 1 %), where the correction holds the fluid off
 /// the wall particles.
+///
+/// Across the tank (`sph run scenes/hydrostatic_2d.toml --set solver.kind=corrected` with
+/// pressure probes at `sampling_rate = 1`, mean over 4–5 s; AMD EPYC 2-core, commit 0bb45f1),
+/// 0.4 m deep: +6.4 % on the wall's face, +5.5 % and +4.6 % a half and one spacing into the
+/// fluid, then +2.4 %, +5.7 %, +0.9 %, +2.4 % and +2.3 % at x = 0.025, 0.05, 0.1, 0.25 and
+/// 0.5 m; 0.25 m deep a flat +1.9 to +3.0 %. `wcsph` reads −2.7 % to +2.9 % at the same points.
+/// The bias is the particles' rest arrangement: the spiky gradient's moment over the particles
+/// as they rest (`Σ_j V_j y_ij² |W'|/r` with `V_j = m_j/ρ_j`, 0.3–0.45 m deep) is 0.848 for
+/// `corrected` and 0.850 for `wcsph`, 3.1 % and 2.8 % below the square lattice's `κ` = 0.874 that
+/// the pressure force divides by (`physics::lattice::lattice_gradient_moment`), and the fitted
+/// vertical pressure gradients are 3.1 % and 3.9 % steeper than `ρ0 g` to match. A gradient
+/// normalised on the particles as they are (Bonet & Lok 1999) would remove the bias; the
+/// pattern near the wall comes on top.
 #[test]
 #[ignore = "fails: corrected's pressure on the wall's face reads 3.7 % (0.25 m deep) and 6.9 % (0.4 m deep) above rho0 g (H - z)"]
 fn corrected_hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
