@@ -65,9 +65,13 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
 /// as they rest (`Σ_j V_j y_ij² |W'|/r` with `V_j = m_j/ρ_j`, 0.3–0.45 m deep) is 0.848 for
 /// `corrected` and 0.850 for `wcsph`, 3.1 % and 2.8 % below the square lattice's `κ` = 0.874 that
 /// the pressure force divides by (`physics::lattice::lattice_gradient_moment`), and the fitted
-/// vertical pressure gradients are 3.1 % and 3.9 % steeper than `ρ0 g` to match. A gradient
-/// normalised on the particles as they are (Bonet & Lok 1999) would remove the bias; the
-/// pattern near the wall comes on top.
+/// vertical pressure gradients are 3.1 % and 3.9 % steeper than `ρ0 g` to match. Run with the
+/// pressure gradient divided by `κ/1.03` instead (a one-off build), `corrected` reads within
+/// −2.1 % to +0.9 % at every one of those points, the wall's face included; `wcsph` then reads
+/// −4.5 % to −0.3 %: its top row carries no pressure (summed density short of neighbours,
+/// clamped at zero), which the steeper gradient had hidden. A `κ` measured on the particles as
+/// they stand (over those with full support), not on the square lattice, is the fix this
+/// points to; it changes every scene's pressure force by about 3 % and is not made yet.
 #[test]
 #[ignore = "fails: corrected's pressure on the wall's face reads 3.7 % (0.25 m deep) and 6.9 % (0.4 m deep) above rho0 g (H - z)"]
 fn corrected_hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
