@@ -169,17 +169,7 @@ pub fn run_file(
             None => serde_json::to_string(&summary).map_err(|e| to_py(e.into())),
         },
         Err(e) => {
-            let context = if matches!(e, sph::Error::Folder(_)) {
-                format!("running scene {} (the folder was left as it was)", path.display())
-            } else if out.exists() {
-                format!(
-                    "running scene {} (results so far in {})",
-                    path.display(),
-                    out.display()
-                )
-            } else {
-                format!("running scene {} (nothing written)", path.display())
-            };
+            let context = sph::run::failure_context(&path, &out, &e);
             Err(ended(py, e, kept, context))
         }
     }

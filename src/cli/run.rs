@@ -175,20 +175,13 @@ pub fn run(
         })
     });
     bar.finish_and_clear();
-    let refused = matches!(&summary, Err(crate::Error::Folder(_)));
-    let summary = summary.with_context(|| {
-        if refused {
-            format!("running scene {} (the folder was left as it was)", path.display())
-        } else if out.exists() {
-            format!(
-                "running scene {} (results so far in {})",
-                path.display(),
-                out.display()
-            )
-        } else {
-            format!("running scene {} (nothing written)", path.display())
+    let summary = match summary {
+        Ok(summary) => summary,
+        Err(e) => {
+            let context = crate::run::failure_context(path, &out, &e);
+            return Err(anyhow::Error::new(e).context(context));
         }
-    })?;
+    };
     if !root {
         return Ok(());
     }

@@ -24,7 +24,7 @@ use crate::probe::ProbeLog;
 use crate::scene::{Scene, SceneError};
 use crate::solver::Simulation;
 use crate::solver::checkpoint::{Checkpoint, CheckpointError};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -152,6 +152,23 @@ pub struct Progress {
     pub unconverged_stages: u64,
     /// Fluid particles removed so far for having left the domain.
     pub removed_particles: u64,
+}
+
+/// What a failed run of the scene at `path` into `out` left, for the error's context: the
+/// folder untouched (`error` is [`crate::Error::Folder`]: refused before anything was
+/// written), results so far, or nothing written. The CLI and the Python module say the same.
+pub fn failure_context(path: &Path, out: &Path, error: &Error) -> String {
+    if matches!(error, Error::Folder(_)) {
+        format!("running scene {} (the folder was left as it was)", path.display())
+    } else if out.exists() {
+        format!(
+            "running scene {} (results so far in {})",
+            path.display(),
+            out.display()
+        )
+    } else {
+        format!("running scene {} (nothing written)", path.display())
+    }
 }
 
 /// Runs `scene` to its end time. Returns the summary (also written to `summary.json`).
