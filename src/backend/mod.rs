@@ -355,15 +355,24 @@ pub trait Backend<const D: usize> {
     fn partition(&self) -> &Partition {
         &partition::WHOLE
     }
+    /// The partition itself, where this backend keeps one ([`Backend::set_partition`]), for
+    /// the reductions over ranks; `None` for a backend that always holds the whole simulation.
+    fn partition_mut(&mut self) -> Option<&mut Partition> {
+        None
+    }
     /// Replaces each of `values` by its sum over the ranks of a split run (`backend::partition`;
     /// unchanged for a backend that holds the whole simulation). Every rank must call it.
     fn sum_over_ranks(&mut self, values: &mut [f64]) {
-        let _ = values;
+        if let Some(partition) = self.partition_mut() {
+            partition.sum(values);
+        }
     }
     /// Replaces each of `values` by its largest over the ranks of a split run (as
     /// [`Backend::sum_over_ranks`]). Every rank must call it.
     fn max_over_ranks(&mut self, values: &mut [f64]) {
-        let _ = values;
+        if let Some(partition) = self.partition_mut() {
+            partition.max(values);
+        }
     }
     /// From now on, check after every ghost refresh that every field of every ghost is its
     /// owner's (a split run's stages' write lists, `distributed::RankBackend`); nothing for a

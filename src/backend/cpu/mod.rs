@@ -142,12 +142,8 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         &self.partition
     }
 
-    fn sum_over_ranks(&mut self, values: &mut [f64]) {
-        self.partition.sum(values);
-    }
-
-    fn max_over_ranks(&mut self, values: &mut [f64]) {
-        self.partition.max(values);
+    fn partition_mut(&mut self) -> Option<&mut Partition> {
+        Some(&mut self.partition)
     }
 
     fn set_partition(&mut self, partition: Partition) -> Result<(), BackendError> {

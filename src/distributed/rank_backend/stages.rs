@@ -282,12 +282,8 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         self.inner.partition()
     }
 
-    fn sum_over_ranks(&mut self, values: &mut [f64]) {
-        self.inner.sum_over_ranks(values);
-    }
-
-    fn max_over_ranks(&mut self, values: &mut [f64]) {
-        self.inner.max_over_ranks(values);
+    fn partition_mut(&mut self) -> Option<&mut Partition> {
+        self.inner.partition_mut()
     }
 
     fn verify_halo(&mut self) {
