@@ -14,6 +14,7 @@ use crate::fields::{Field, Fields};
 use crate::grid::GridError;
 use crate::model::pair_terms::PairTerms;
 use crate::physics::damping_zone::DampingZone;
+pub use crate::physics::gradient_moment::MomentSums;
 use params::StepParams;
 use partition::Partition;
 
@@ -247,6 +248,9 @@ pub trait Backend<const D: usize> {
     /// neighbour carries its `Fields::wall_velocity` in (17) when that field is allocated (its
     /// own velocity otherwise), and (17) is scaled by `params.viscosity_scale`.
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms);
+    /// The first moment of the spiky gradient over the owned fluid particles with full support
+    /// (`physics::gradient_moment`), summed over the ranks of a split run.
+    fn gradient_moment(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> MomentSums;
     /// [AAT13] eq. (3): the surface normal `n_i = h Σ_j (m_j/ρ_j) ∇W(x_ij)` of fluid particles
     /// over fluid neighbours (`physics::surface_tension`), into `Fields::normal` (allocated here
     /// on first use: only scenes with the `surface_tension` effect run this stage); zero for

@@ -44,6 +44,31 @@ pub enum DensityEquation {
     ContinuityFourtakas2019,
 }
 
+/// The first moment `κ` of the spiky gradient the pressure force (16) divides by
+/// (`StepParams::pressure_gradient_scale = 1/κ`, `physics::gradient_moment`); scene
+/// `solver.gradient_moment`, in `snake_case`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GradientMoment {
+    /// The initial square lattice's (`physics::lattice::lattice_gradient_moment`), fixed for the
+    /// run: the `wcsph` default, whose pressure comes from the density (19).
+    Lattice,
+    /// Measured on the particles at every integrator stage (`Stage::GradientMoment`): the
+    /// `corrected` default, whose pressure is the one that holds the particles where they are,
+    /// so its scale is the gradient operator's as the particles stand.
+    Measured,
+}
+
+impl GradientMoment {
+    /// The name used in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            GradientMoment::Lattice => "lattice",
+            GradientMoment::Measured => "measured",
+        }
+    }
+}
+
 /// How the pressure of solid particles is set (`Stage::WallPressure`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WallModel {

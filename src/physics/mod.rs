@@ -12,6 +12,7 @@ pub mod damping_zone;
 pub mod density;
 pub mod density_diffusion;
 pub mod eos;
+pub mod gradient_moment;
 pub mod gravity;
 pub mod jonswap;
 pub mod lattice;

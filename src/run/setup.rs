@@ -114,6 +114,7 @@ pub fn sim_config<const D: usize>(scene: &Scene) -> SimConfig<D> {
         correction: correction(scene),
         on_escape: scene.solver.on_escape,
         damping_zone: scene.damping_zone.as_ref().map(|z| z.zone()),
+        gradient_moment: scene.solver.gradient_moment,
     }
 }
 

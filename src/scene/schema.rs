@@ -421,6 +421,10 @@ pub struct SolverFile {
     /// `corrected` only: relaxation factor omega of the position correction, in (0, 1];
     /// default 0.5.
     pub relaxation: Option<f64>,
+    /// The first moment of the spiky gradient the pressure force divides by: `lattice` (the
+    /// initial lattice's, fixed) or `measured` (on the particles, every integrator stage);
+    /// default `measured` for `corrected`, `lattice` for `wcsph` (`model::GradientMoment`).
+    pub gradient_moment: Option<crate::model::GradientMoment>,
     /// Fixed time step \[s\] > 0; absent means adaptive.
     pub dt: Option<f64>,
     /// CFL number in (0, 1]; default 0.2.

@@ -5,7 +5,7 @@ use super::escape;
 use super::plan::PlanInputs;
 use crate::math::Vector;
 use crate::model::pair_terms::PairTermSettings;
-use crate::model::{DensityEquation, SurfaceTensionModel};
+use crate::model::{DensityEquation, GradientMoment, SurfaceTensionModel};
 use crate::physics::damping_zone::DampingZone;
 
 /// The time integrator (scene `solver.integrator`, in `snake_case`).
@@ -156,6 +156,9 @@ pub struct SimConfig<const D: usize> {
     /// The damping zone (`physics::damping_zone`): the plan's `damping_zone` stage relaxes the
     /// fluid's velocity there; `None`: no zone, no stage.
     pub damping_zone: Option<DampingZone<D>>,
+    /// The first moment `κ` the pressure force (16) divides by: the lattice's, or measured on
+    /// the particles every integrator stage (`physics::gradient_moment`).
+    pub gradient_moment: GradientMoment,
 }
 
 impl<const D: usize> SimConfig<D> {
@@ -178,6 +181,7 @@ impl<const D: usize> SimConfig<D> {
             },
             damping_zone: self.damping_zone.is_some(),
             periodic: self.periodic,
+            gradient_moment: self.gradient_moment,
         }
     }
 }

@@ -6,7 +6,7 @@ use super::Integrator;
 use super::stage::{SolidsAt, Stage, SubStage};
 use crate::fields::Field;
 use crate::model::pair_terms::{PairTerm, PairTerms};
-use crate::model::{DensityEquation, ForceTerms, SurfaceTensionModel, WallModel};
+use crate::model::{DensityEquation, ForceTerms, GradientMoment, SurfaceTensionModel, WallModel};
 use crate::periodic::PeriodicAxes;
 
 /// What the plan depends on.
@@ -33,6 +33,9 @@ pub struct PlanInputs {
     pub damping_zone: bool,
     /// The periodic axes (`crate::periodic`); none: no wrap stage.
     pub periodic: PeriodicAxes,
+    /// The pressure gradient's moment: the lattice's, or measured every integrator stage
+    /// (`Stage::GradientMoment`).
+    pub gradient_moment: GradientMoment,
 }
 
 /// The stages of one integrator stage, in order (PAPER.md sections 1 and 2).
@@ -88,6 +91,11 @@ pub fn plan(inputs: PlanInputs) -> Vec<Stage> {
         if no_slip && !continuity {
             plan.push(Stage::WallVelocity);
         }
+    }
+    if inputs.gradient_moment == GradientMoment::Measured {
+        // On the stage's positions and densities, walls' included, before the first pressure
+        // force of the stage (the correction of the stage uses it too).
+        plan.push(Stage::GradientMoment);
     }
     plan.push(Stage::Forces(ForceTerms {
         pair: inputs.pair_terms,
@@ -167,6 +175,38 @@ mod tests {
             density: DensityEquation::Summation,
             damping_zone: false,
             periodic: PeriodicAxes::NONE,
+            gradient_moment: GradientMoment::Lattice,
+        }
+    }
+
+    #[test]
+    fn a_measured_gradient_moment_runs_after_the_walls_and_before_the_forces() {
+        for corrected in [false, true] {
+            let p = plan(PlanInputs {
+                solids: true,
+                corrected,
+                gradient_moment: GradientMoment::Measured,
+                ..inputs()
+            });
+            let at = |want: fn(&Stage) -> bool| p.iter().position(want).expect("planned");
+            let moment = at(|s| *s == Stage::GradientMoment);
+            assert!(
+                at(|s| matches!(s, Stage::WallPressure(_))) < moment,
+                "walls' density first"
+            );
+            assert!(
+                moment < at(|s| matches!(s, Stage::Forces(_))),
+                "before the pressure force"
+            );
+            let lattice = plan(PlanInputs {
+                solids: true,
+                corrected,
+                ..inputs()
+            });
+            assert!(
+                !lattice.contains(&Stage::GradientMoment),
+                "the lattice's kappa: no stage"
+            );
         }
     }
 

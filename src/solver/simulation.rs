@@ -62,8 +62,13 @@ pub struct Simulation<const D: usize> {
     /// `backend::SolidLoad`).
     pub(super) solid_moment: Vec<[f64; 3]>,
     pub(super) fluid_count: usize,
-    /// `K` of the correction's step scale [m²] (`physics::lattice::correction_stiffness`).
+    /// `K` of the correction's step scale [m²] (`physics::lattice::correction_stiffness`), for
+    /// the `κ` the pressure force divides by now.
     pub(super) correction_stiffness: f64,
+    /// `K/κ` [m²]: `K` is proportional to the `κ` of the pressure gradient it moves particles
+    /// along, so a measured `κ` (`Stage::GradientMoment`) sets `K = κ K/κ` and the sweeps'
+    /// displacements stay those of the lattice's `κ`; only the pressure that makes them scales.
+    pub(super) stiffness_per_kappa: f64,
     /// The grid matches the positions (no move since the last sort beyond `RESORT_DRIFT`).
     pub(super) grid_fresh: bool,
     /// The density field matches the positions.
@@ -214,6 +219,7 @@ impl<const D: usize> Simulation<D> {
             solid_moment: vec![[0.0; 3]; solids.len()],
             fluid_count: fluid_position.len(),
             correction_stiffness: stiffness,
+            stiffness_per_kappa: stiffness / kappa,
             grid_fresh: false,
             density_fresh: false,
             settled: false,

@@ -55,6 +55,11 @@ pub enum Stage {
     /// Boundary: the no-slip velocity solid particles carry in the viscous force (17) ([A12]
     /// eqs. 22–23, `boundary::wall_velocity`). Only in scenes with viscosity and solids.
     WallVelocity,
+    /// The first moment `κ` of the spiky gradient measured on the particles as they stand
+    /// ([BL99] eq. 43's scalar part, `physics::gradient_moment`): the pressure force and the
+    /// correction of this integrator stage divide by it. Only with
+    /// `GradientMoment::Measured` (the `corrected` default).
+    GradientMoment,
     /// Eqs. (15)–(17), (6): fluid acceleration, with the terms the scene asks for.
     Forces(ForceTerms),
     /// [AAT13] eq. (3): surface normals of fluid particles (with rest volumes for the surface
@@ -102,6 +107,7 @@ impl Stage {
             Stage::EquationOfState => "equation_of_state",
             Stage::WallPressure(_) => "wall_pressure",
             Stage::WallVelocity => "wall_velocity",
+            Stage::GradientMoment => "gradient_moment",
             Stage::Forces(_) => "forces",
             Stage::SurfaceNormals(_) => "surface_normals",
             Stage::SurfaceTension(_) => "surface_tension",
@@ -126,6 +132,7 @@ impl Stage {
             Stage::EquationOfState => "(19)",
             Stage::WallPressure(_) => "[A12] (27)",
             Stage::WallVelocity => "[A12] (22)-(23)",
+            Stage::GradientMoment => "(16), [BL99] (43)",
             Stage::Forces(terms) => {
                 let mut parts = vec!["(16)"];
                 parts.extend(terms.pair.iter().map(PairTerm::equation));
@@ -170,6 +177,9 @@ impl Stage {
             Stage::WallPressure(WallModel::Extrapolated) => "solid pressure extrapolated from the fluid",
             Stage::WallVelocity => {
                 "no-slip walls: solid velocity in (17) is 2 u_wall minus the fluid's Shepard average"
+            }
+            Stage::GradientMoment => {
+                "kappa = mean over fluid with Shepard sum >= 0.95 of -(1/D) sum (m/rho) x_ij . grad W; the pressure force divides by it"
             }
             Stage::Forces(terms) => {
                 let mut parts = vec!["pressure force"];
@@ -225,6 +235,7 @@ impl Stage {
             Stage::EquationOfState => &[Density, Kind],
             Stage::WallPressure(_) => &[Position, Density, Pressure, Mass, Kind],
             Stage::WallVelocity => &[Position, Velocity, Kind],
+            Stage::GradientMoment => &[Position, Density, Mass, Kind],
             Stage::Forces(terms) if terms.pair != PairTerms::NONE || terms.rotating_frame => {
                 &[Position, Velocity, Density, Pressure, Mass, Kind]
             }
@@ -305,7 +316,7 @@ impl Stage {
             Stage::Forces(_) => &[Acceleration],
             Stage::SurfaceNormals(_) => &[Normal],
             Stage::SurfaceTension(_) => &[Acceleration],
-            Stage::SolidForces(_) | Stage::TimeStep => &[],
+            Stage::GradientMoment | Stage::SolidForces(_) | Stage::TimeStep => &[],
             Stage::Integrate => &[Position, Velocity],
             Stage::RkStage => &[Position, Velocity, PositionStart, VelocityStart],
             Stage::Correction => &[Position, Velocity, Density, Pressure, ActingPressure],

@@ -88,7 +88,7 @@ impl<const D: usize> Simulation<D> {
             }
         };
         for (k, &(a, b, tau_frac, t_frac)) in integrator.stages().iter().enumerate() {
-            let params = self.params_at(time + t_frac * report.dt);
+            let mut params = self.params_at(time + t_frac * report.dt);
             for s in 0..self.plan.len() {
                 let stage = self.plan[s];
                 let started = self.stage_seconds.is_some().then(std::time::Instant::now);
@@ -123,6 +123,15 @@ impl<const D: usize> Simulation<D> {
                         bk.wall_pressure(f, &params, model, &self.solid_kinematics); // [A12] eq. (27)
                     }
                     Stage::WallVelocity => bk.wall_velocity(f, &params), // [A12] eqs. (22)-(23)
+                    Stage::GradientMoment => {
+                        // physics::gradient_moment: the rest of the stage divides by it; without
+                        // a fully supported particle the last one holds.
+                        if let Some(kappa) = bk.gradient_moment(f, &params).kappa() {
+                            self.pressure_gradient_scale = (1.0 / kappa) as crate::math::Real;
+                            params.pressure_gradient_scale = self.pressure_gradient_scale;
+                            self.correction_stiffness = self.stiffness_per_kappa * kappa;
+                        }
+                    }
                     Stage::Forces(terms) => bk.forces(f, &params, terms), // eqs. (15)-(17), (6)
                     // The plan's model is the one the backends evaluate.
                     Stage::SurfaceNormals(model) => {

@@ -236,6 +236,7 @@ fn config<const D: usize>(
         }),
         on_escape: Default::default(),
         damping_zone: None,
+        gradient_moment: sph::model::GradientMoment::Measured,
     }
 }
 

@@ -49,31 +49,15 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
 /// `corrected` solver, held to the same figures: its sensors read the pressure that acted in
 /// the last stage (`probe::PressureReading::Acting`), which at rest must be the hydrostatic one.
 ///
-/// Measured (mean over 4–5 s, Xeon 2-core): the floor load, the gauge and the velocity probe
-/// pass; the sensors in the middle of the tank read 1.3–2.6 % high, those on the wall's face
-/// 1.8 % (z = 0.4 m), 3.7 % (0.25 m) and 6.9 % (0.1 m) high. The carried pressure reads the wall
-/// 0.9 %, 2.9 % and 6.3 % high: the excess is the corrected solver's own pressure next to a
-/// wall at depth (the velocity solve adds under 1 %), where the correction holds the fluid off
-/// the wall particles.
-///
-/// Across the tank (`sph run scenes/hydrostatic_2d.toml --set solver.kind=corrected` with
-/// pressure probes at `sampling_rate = 1`, mean over 4–5 s; AMD EPYC 2-core, commit 0bb45f1),
-/// 0.4 m deep: +6.4 % on the wall's face, +5.5 % and +4.6 % a half and one spacing into the
-/// fluid, then +2.4 %, +5.7 %, +0.9 %, +2.4 % and +2.3 % at x = 0.025, 0.05, 0.1, 0.25 and
-/// 0.5 m; 0.25 m deep a flat +1.9 to +3.0 %. `wcsph` reads −2.7 % to +2.9 % at the same points.
-/// The bias is the particles' rest arrangement: the spiky gradient's moment over the particles
-/// as they rest (`Σ_j V_j y_ij² |W'|/r` with `V_j = m_j/ρ_j`, 0.3–0.45 m deep) is 0.848 for
-/// `corrected` and 0.850 for `wcsph`, 3.1 % and 2.8 % below the square lattice's `κ` = 0.874 that
-/// the pressure force divides by (`physics::lattice::lattice_gradient_moment`), and the fitted
-/// vertical pressure gradients are 3.1 % and 3.9 % steeper than `ρ0 g` to match. Run with the
-/// pressure gradient divided by `κ/1.03` instead (a one-off build), `corrected` reads within
-/// −2.1 % to +0.9 % at every one of those points, the wall's face included; `wcsph` then reads
-/// −4.5 % to −0.3 %: its top row carries no pressure (summed density short of neighbours,
-/// clamped at zero), which the steeper gradient had hidden. A `κ` measured on the particles as
-/// they stand (over those with full support), not on the square lattice, is the fix this
-/// points to; it changes every scene's pressure force by about 3 % and is not made yet.
+/// Why it holds: the pressure force divides by the spiky gradient's moment `κ` measured on the
+/// particles as they stand (`solver.gradient_moment = "measured"`, the `corrected` default,
+/// `physics::gradient_moment`). The resting particles do not keep the square lattice: their
+/// moment is about 3 % below the lattice's 0.874, and with the lattice's `κ` the sensors read
+/// 1.8–6.9 % high on the wall's face and 1.3–2.6 % high in the middle (a pressure gradient 3 %
+/// steeper than `ρ0 g` holds the water up). Measured with the measured `κ` (mean over 4–5 s,
+/// AMD EPYC 2-core; `cargo test --release --test physics corrected_hydrostatic -- --nocapture`):
+/// wall +0.3 %, +1.8 %, +0.2 % and middle +1.2 %, +0.3 %, −2.9 % at depths 0.4, 0.25, 0.1 m.
 #[test]
-#[ignore = "fails: corrected's pressure on the wall's face reads 3.7 % (0.25 m deep) and 6.9 % (0.4 m deep) above rho0 g (H - z)"]
 fn corrected_hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
     hydrostatic_tank("corrected");
 }
@@ -315,6 +299,7 @@ fn free_fluid_conserves_momentum_in_2d_and_3d() {
             correction: None,
             on_escape: Default::default(),
             damping_zone: None,
+            gradient_moment: sph::model::GradientMoment::Lattice,
         };
         let mut sim = Simulation::new(config, &x, &u, &[]).expect("builds");
         let p0 = sim.fluid_momentum();

@@ -273,12 +273,15 @@ fn far_wall_impact_converges_without_spikes_wcsph_density_diffusion() {
 /// over the last stage (`probe::PressureReading::Acting`: the carried pressure reads 0 through
 /// the impact).
 ///
-/// Measured: peaks 534 Pa (a/25) and 627 Pa (a/50), 14.8 % apart, first reading at 0.576 s and
-/// 0.554 s; steps read up to 2.42 (a/25) and 2.24 (a/50) times the mean over their neighbours.
+/// Measured (AMD EPYC 2-core, `cargo test --release --test physics far_wall_impact_converges_without_spikes_corrected
+/// -- --ignored --nocapture`): peaks 560 Pa (a/25) and 647 Pa (a/50), 13 % apart, first reading
+/// at 0.583 s and 0.546 s; steps read up to 2.32 (a/25) and 2.18 (a/50) times the mean over
+/// their neighbours. (With the lattice's `κ` instead of the measured one, `solver.gradient_moment
+/// = "lattice"`: 534 and 627 Pa, spikes 2.42 and 2.24.)
 /// The artificial viscosity between fluid and wall particles takes most of the impact
 /// (docs/method.md, "Impact pressure": 2,436 and 2,162 Pa at α = 0.01).
 #[test]
-#[ignore = "fails: peaks 534 and 627 Pa agree, but steps read 2.42 (a/25) and 2.24 (a/50) times their mean"]
+#[ignore = "fails: peaks 560 and 647 Pa agree, but steps read 2.32 (a/25) and 2.18 (a/50) times their mean"]
 fn far_wall_impact_converges_without_spikes_corrected() {
     let (coarse, fine) = far_wall_impacts(&["solver.kind=corrected"]);
     eprintln!("corrected: a/25 {coarse:?}, a/50 {fine:?}");

@@ -173,6 +173,7 @@ fn a_lone_particle_moves_in_a_straight_line_in_the_inertial_frame() {
             correction: None,
             on_escape: Default::default(),
             damping_zone: None,
+            gradient_moment: sph::model::GradientMoment::Lattice,
         };
         let (x0, u0, w) = (Vector3::from(x0), Vector3::from(u0), Vector3::from(omega));
         let mut sim = Simulation::new(config, &[to_d(x0)], &[to_d(u0)], &[]).expect("builds");

@@ -2,6 +2,7 @@
 //! position-correction settings) and for `[[probe]]` tables: defaults, one problem per bad
 //! value naming its key and line, `--set` overrides, and reference-path resolution.
 
+use sph::model::GradientMoment;
 use sph::solver::escape::EscapePolicy;
 use std::path::{Path, PathBuf};
 
@@ -65,6 +66,7 @@ fn wcsph_defaults() {
             strict: false,
             relaxation: 0.5,
             on_escape: EscapePolicy::Remove,
+            gradient_moment: SolverSettings::default_gradient_moment(SolverKind::Wcsph),
         }
     );
     assert_eq!(s.cfl, 0.2);
@@ -85,6 +87,7 @@ fn corrected_defaults() {
             strict: false,
             relaxation: 0.5,
             on_escape: EscapePolicy::Remove,
+            gradient_moment: SolverSettings::default_gradient_moment(SolverKind::Corrected),
         }
     );
     assert_eq!(s.solver, SolverSettings::defaults(SolverKind::Corrected));
@@ -107,6 +110,7 @@ fn corrected_with_every_key_and_probes() {
             strict: true,
             relaxation: 0.8,
             on_escape: EscapePolicy::Remove,
+            gradient_moment: SolverSettings::default_gradient_moment(SolverKind::Corrected),
         }
     );
     assert_eq!(s.probes.len(), 2);
@@ -512,7 +516,31 @@ fn overrides_set_the_new_solver_keys() {
             strict: true,
             relaxation: 0.25,
             on_escape: EscapePolicy::Remove,
+            gradient_moment: SolverSettings::default_gradient_moment(SolverKind::Corrected),
         }
+    );
+    // The gradient moment: measured for corrected, the lattice's for wcsph, either on request.
+    assert_eq!(s.solver.gradient_moment, GradientMoment::Measured);
+    assert_eq!(
+        parse_set(&WCSPH, &[]).unwrap().solver.gradient_moment,
+        GradientMoment::Lattice
+    );
+    for (kind, moment, want) in [
+        ("corrected", "lattice", GradientMoment::Lattice),
+        ("wcsph", "measured", GradientMoment::Measured),
+    ] {
+        let set = [
+            format!("solver.kind={kind}"),
+            format!("solver.gradient_moment={moment}"),
+        ];
+        let set: Vec<&str> = set.iter().map(String::as_str).collect();
+        assert_eq!(parse_set(&WCSPH, &set).unwrap().solver.gradient_moment, want);
+    }
+    let ps = problems(parse_set(&WCSPH, &["solver.gradient_moment=exact"]));
+    assert_eq!(ps.len(), 1, "{ps:#?}");
+    assert!(
+        ps[0].reason.contains("lattice") && ps[0].reason.contains("measured"),
+        "an unknown gradient moment names the accepted ones: {ps:#?}"
     );
     let s = parse_set(&WCSPH, &["solver.integrator=rk3"]).unwrap();
     assert_eq!(s.solver.integrator, Integrator::Rk3);

@@ -24,6 +24,7 @@ mod damping_zone;
 mod density;
 mod density_rate;
 mod forces;
+mod gradient_moment;
 mod integrate;
 mod open_boundary;
 mod rigid_motion;

@@ -19,6 +19,7 @@ use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector};
 use crate::neighbour_list::{NeighbourList, Neighbours};
 use crate::physics::damping_zone::DampingZone;
+use crate::physics::gradient_moment::MomentSums;
 use anderson::AndersonBuffers;
 
 mod anderson;
@@ -27,6 +28,7 @@ mod damping_zone;
 mod density;
 mod density_rate;
 mod forces;
+mod gradient_moment;
 mod integrate;
 mod move_solids;
 mod solid_forces;
@@ -216,6 +218,10 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
         CpuBackend::forces(self, fields, params, terms)
+    }
+
+    fn gradient_moment(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> MomentSums {
+        CpuBackend::gradient_moment(self, fields, params)
     }
 
     fn surface_normals(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {

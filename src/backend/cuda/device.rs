@@ -16,8 +16,8 @@ use super::grid::GridGeometry;
 use super::launch::{Buffer, DeviceFault, Gpu, KERNEL_NAMES, Launch, Memory};
 use crate::backend::partition::Partition;
 use crate::backend::{
-    Backend, BackendError, CorrectionError, ForceTerms, SolidForceSource, SolidLoad, StateExtremes, Sweep,
-    WallModel,
+    Backend, BackendError, CorrectionError, ForceTerms, MomentSums, SolidForceSource, SolidLoad,
+    StateExtremes, Sweep, WallModel,
 };
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
 use crate::boundary::motion::{SolidKinematics, SolidReference};
@@ -123,6 +123,8 @@ pub struct CudaBackend<const D: usize, K: Launch<D> = Gpu> {
     reduce_i32: K::Buf<i32>,
     extremes: K::Buf<DeviceExtremes>,
     solid_out: K::Buf<f64>,
+    /// The gradient moment's sums, 2 doubles (`gradient_moment`).
+    moment_out: K::Buf<f64>,
     /// The guard's boxes as last uploaded (`kernels/keep_out.cu` layout) and on the device.
     keep_out_host: Vec<f32>,
     keep_out_boxes: K::Buf<f32>,
@@ -274,6 +276,7 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
                 .upload(&[DeviceExtremes::initial()])
                 .map_err(|e| up("allocating", e))?,
             solid_out: dev.alloc_zeros::<f64>(3).map_err(|e| up("allocating", e))?,
+            moment_out: dev.alloc_zeros::<f64>(2).map_err(|e| up("allocating", e))?,
             keep_out_host: Vec::new(),
             keep_out_boxes: dev.alloc_zeros::<f32>(1).map_err(|e| up("allocating", e))?,
             keep_out_out: dev.alloc_zeros::<f64>(4).map_err(|e| up("allocating", e))?,
@@ -328,6 +331,8 @@ mod download;
 mod forces;
 #[path = "gpu_start.rs"]
 mod gpu_start;
+#[path = "gradient_moment.rs"]
+mod gradient_moment;
 #[path = "heap.rs"]
 mod heap;
 #[path = "integrate.rs"]
@@ -502,6 +507,10 @@ impl<const D: usize, K: Launch<D> + Clone> Backend<D> for CudaBackend<D, K> {
 
     fn forces(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {
         self.launch_forces(params, terms)
+    }
+
+    fn gradient_moment(&mut self, _fields: &mut Fields<D>, params: &StepParams<D>) -> MomentSums {
+        self.launch_gradient_moment(params)
     }
 
     fn solid_forces(

@@ -4,7 +4,7 @@
 use super::{Decomposition, HaloTraffic, RankBackend};
 use crate::backend::partition::Partition;
 use crate::backend::{
-    Backend, BackendError, BackendKind, CorrectionError, ForceTerms, SolidForceSource, SolidLoad,
+    Backend, BackendError, BackendKind, CorrectionError, ForceTerms, MomentSums, SolidForceSource, SolidLoad,
     StateExtremes, Sweep, WallModel,
 };
 use crate::boundary::keep_out::{KeepOutBox, KeepOutReport};
@@ -136,6 +136,12 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         self.summing(fields, "wall_velocity", &[Field::WallVelocity], |b, f| {
             b.wall_velocity(f, params)
         });
+    }
+
+    fn gradient_moment(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) -> MomentSums {
+        self.summing(fields, "gradient_moment", &[], |b, f| {
+            b.gradient_moment(f, params)
+        })
     }
 
     fn forces(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, terms: ForceTerms) {

@@ -77,6 +77,9 @@ pub(super) fn check_solver(c: &mut Checker, sp: &KeyPath, sv: &SolverFile) -> Op
     if let Some(strict) = sv.strict {
         settings.strict = strict;
     }
+    if let Some(moment) = sv.gradient_moment {
+        settings.gradient_moment = moment;
+    }
     if let Some(policy) = sv.on_escape {
         settings.on_escape = policy;
     }
