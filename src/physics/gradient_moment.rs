@@ -22,6 +22,15 @@ use crate::smoothing::Smoothing;
 /// fluid's interior reads 0.99–1.02 as it moves.
 pub const FULL_SUPPORT: f64 = 0.95;
 
+/// The step `κ` is rounded to, 2⁻¹⁶ (1.5e-5, about 2e-5 of `κ`). Why: the per-particle sums
+/// are f32 and add in another order on another backend or rank count, so the mean differs in its
+/// last digits; unrounded, that difference scales the pressure of every particle at once, and
+/// the `corrected` solver's sweep count amplifies it (measured on `scenes/dam_break_wall_2d.toml`,
+/// CPU against the CUDA backend on the host shim: positions 2.0e-3 dx apart after the first
+/// step, against 4.8e-5 with a fixed `κ`). The mean moves by about 1e-5 a stage as the fluid
+/// moves, so the rounding costs nothing the measurement could resolve.
+pub const KAPPA_QUANTUM: f64 = 1.0 / 65536.0;
+
 /// Neighbour `j`'s share of particle `i`'s sums, `[V_j W(x_ij), −V_j x_ij · ∇W(x_ij) / D]`
 /// (dimensionless), with `d = x_i − x_j` [m], `r2 = |d|²` [m²] and `volume = m_j/ρ_j` [m^D]
 /// (2D: per unit depth). `j = i` adds `V_i W(0)` to the Shepard sum and nothing to the moment.
@@ -59,10 +68,12 @@ impl MomentSums {
         }
     }
 
-    /// The mean `κ`, or `None` when no particle had full support (a film one particle thick,
-    /// a spray): the step then keeps the last `κ` (the lattice's before the first measurement).
+    /// The mean `κ` rounded to a multiple of [`KAPPA_QUANTUM`], or `None` when no particle had
+    /// full support (a film one particle thick, a spray): the step then keeps the last `κ` (the
+    /// lattice's before the first measurement).
     pub fn kappa(&self) -> Option<f64> {
-        (self.count > 0.0 && self.moment > 0.0).then(|| self.moment / self.count)
+        (self.count > 0.0 && self.moment > 0.0)
+            .then(|| (self.moment / self.count / KAPPA_QUANTUM).round() * KAPPA_QUANTUM)
     }
 }
 

@@ -4,7 +4,7 @@
 use crate::setup::{backends, in_id_order, neighbours, scene};
 use sph::fields::{FLUID, Fields};
 use sph::model::params::StepParams;
-use sph::physics::gradient_moment::{FULL_SUPPORT, moment_terms};
+use sph::physics::gradient_moment::{FULL_SUPPORT, KAPPA_QUANTUM, moment_terms};
 
 /// Each fluid particle's Shepard sum and moment `κ_i` (id order), in f64 from the f32 terms.
 fn reference<const D: usize>(f: &Fields<D>, p: &StepParams<D>) -> Vec<(f64, f64)> {
@@ -61,11 +61,22 @@ fn check<const D: usize>(seed: u64) {
             full.len() as f64,
             "{under:?} {D}D: particles with full support"
         );
-        let kappa = sums.kappa().expect("some particles have full support");
+        let mean = sums.moment / sums.count;
         // f32 neighbour sums in another order than the reference: 1e-5 of each κ_i.
         assert!(
-            (kappa - want).abs() <= 1e-5 * want,
-            "{under:?} {D}D: kappa {kappa} against {want}"
+            (mean - want).abs() <= 1e-5 * want,
+            "{under:?} {D}D: mean moment {mean} against {want}"
+        );
+        // The κ the step uses: the mean on the grid of `KAPPA_QUANTUM`.
+        let kappa = sums.kappa().expect("some particles have full support");
+        assert!(
+            (kappa - mean).abs() <= 0.5 * KAPPA_QUANTUM,
+            "{under:?} {D}D: kappa {kappa}"
+        );
+        assert_eq!(
+            (kappa / KAPPA_QUANTUM).fract(),
+            0.0,
+            "{under:?} {D}D: kappa {kappa}"
         );
         eprintln!(
             "{under:?} {D}D gradient moment {kappa:.6} over {} particles",
