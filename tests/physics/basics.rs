@@ -56,7 +56,8 @@ fn hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
 /// 1.8–6.9 % high on the wall's face and 1.3–2.6 % high in the middle (a pressure gradient 3 %
 /// steeper than `ρ0 g` holds the water up). Measured with the measured `κ` (mean over 4–5 s,
 /// AMD EPYC 2-core; `cargo test --release --test physics corrected_hydrostatic -- --nocapture`):
-/// wall +0.3 %, +1.8 %, +0.2 % and middle +1.2 %, +0.3 %, −2.9 % at depths 0.4, 0.25, 0.1 m.
+/// wall −0.9 %, −1.0 %, −3.4 % and middle −0.2 %, −1.7 %, −1.9 % at depths 0.4, 0.25, 0.1 m
+/// (commit e7461e7; the means move by 1–2 % with any change to the particles' paths).
 #[test]
 fn corrected_hydrostatic_tank_settles_to_rho_g_h_and_stays_at_rest() {
     hydrostatic_tank("corrected");
