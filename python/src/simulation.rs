@@ -25,7 +25,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use sph::backend::BackendKind;
 use sph::probe::{ProbeLog, column_name};
-use sph::run::AnySimulation;
+use sph::run::{AnySimulation, StepRow};
 use sph::scene::Scene;
 use sph::solver::Simulation;
 use std::any::Any;
@@ -39,22 +39,6 @@ macro_rules! each_dim {
             AnySimulation::D3($s) => $body,
         }
     };
-}
-
-/// One row of `steps.csv` (`sph::run::STEP_COLUMNS`).
-#[derive(Clone, Debug)]
-struct StepRow {
-    step: u64,
-    time: f64,
-    dt: f64,
-    limit: String,
-    max_speed: f64,
-    max_compression: f64,
-    max_surface_deficit: f64,
-    correction_iterations: u64,
-    removed: u64,
-    created: u64,
-    outflow: u64,
 }
 
 /// The simulation and its records.
@@ -223,23 +207,7 @@ fn step<const D: usize>(
     for (k, force) in sim.solid_forces().iter().enumerate() {
         forces.push((clock.time, k, *force));
     }
-    let e = &report.extremes;
-    Ok(StepRow {
-        step: clock.step,
-        time: clock.time,
-        dt: report.dt,
-        limit: serde_json::to_value(report.limit)
-            .ok()
-            .and_then(|v| v.as_str().map(String::from))
-            .unwrap_or_default(),
-        max_speed: e.max_speed,
-        max_compression: e.max_compression,
-        max_surface_deficit: e.max_surface_deficit,
-        correction_iterations: sim.stats().correction.iterations - iterations_before,
-        removed: report.removed,
-        created: report.created,
-        outflow: report.outflow,
-    })
+    Ok(StepRow::of(sim, &report, iterations_before))
 }
 
 /// Where each field's host memory is, read under the borrow and used after it.

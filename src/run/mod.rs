@@ -36,12 +36,14 @@ mod record;
 mod report;
 mod setup;
 mod split_checkpoint;
+mod step_row;
 mod writers;
 
 pub use folder::{RunFolder, RunFolderError, RunIdentity};
 pub use ranks::Ranks;
 use record::{record_probes, record_step, write_frame};
 pub use setup::{correction, integrator, plan_inputs, sim_config, simulation_from_scene};
+pub use step_row::StepRow;
 use writers::Writers;
 pub use writers::{CHECKPOINT_FILE, STEP_COLUMNS};
 
@@ -472,11 +474,8 @@ fn steps<const D: usize>(
             Ok(report) => report,
             Err(e) => return Ok(Ending::Failed(e.into())),
         };
-        let name = serde_json::to_value(report.limit)
-            .ok()
-            .and_then(|v| v.as_str().map(String::from))
-            .unwrap_or_default();
-        record_step(sim, scene, options, state, &report, name, iterations_before)?;
+        let row = StepRow::of(sim, &report, iterations_before);
+        record_step(sim, scene, options, state, &report, &row)?;
         let clock = sim.clock();
         let last = clock.time >= end;
         let mut signal = options.stop.as_ref().map_or(0, |s| s.load(Ordering::SeqCst));

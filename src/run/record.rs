@@ -1,42 +1,27 @@
 //! What a run records after each step: the `steps.csv` row, the probes, the forces on solids
 //! and, at a frame time, the frame (one file, or one piece per rank of a split run).
 
-use super::{Loop, Ranks, RunOptions, writers};
+use super::{Loop, Ranks, RunOptions, StepRow, writers};
 use crate::error::Error;
-use crate::output::CsvValue;
 use crate::scene::Scene;
 use crate::solver::{Simulation, StepReport};
 
-/// The outputs of the step just taken (its `steps.csv` row, the probes, the forces on solids
-/// and, at a frame time, a frame) and the loop's tallies of it; `name` is its step limit.
+/// The outputs of the step just taken (its `steps.csv` row `row`, the probes, the forces on solids
+/// and, at a frame time, a frame) and the loop's tallies of it.
 pub(super) fn record_step<const D: usize>(
     sim: &mut Simulation<D>,
     scene: &Scene,
     options: &RunOptions,
     state: &mut Loop,
     report: &StepReport,
-    name: String,
-    iterations_before: u64,
+    row: &StepRow,
 ) -> Result<(), Error> {
     let end = scene.end_time;
     let clock = sim.clock();
     if let Some(w) = state.writers.as_mut() {
-        let e = &report.extremes;
-        w.steps.push_row(&[
-            CsvValue::Int(clock.step as i64),
-            CsvValue::Float(clock.time),
-            CsvValue::Float(report.dt),
-            CsvValue::Text(&name),
-            CsvValue::Float(e.max_speed),
-            CsvValue::Float(e.max_compression),
-            CsvValue::Float(e.max_surface_deficit),
-            CsvValue::Int((sim.stats().correction.iterations - iterations_before) as i64),
-            CsvValue::Int(report.removed as i64),
-            CsvValue::Int(report.created as i64),
-            CsvValue::Int(report.outflow as i64),
-        ])?;
+        w.steps.push_row(&row.values())?;
     }
-    *state.limits.entry(name).or_default() += 1;
+    *state.limits.entry(row.limit.clone()).or_default() += 1;
     state.max_speed = state.max_speed.max(report.extremes.max_speed);
     let last = clock.time >= end;
     let frame_time = clock.time >= state.next_frame - 1e-12 * end || last;
