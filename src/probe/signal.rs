@@ -17,7 +17,13 @@
 //! - a pressure: the peak (the largest value in the range) and its time, and the rise time
 //!   from [`RISE_FROM`] to [`RISE_TO`] of that peak (each curve its own peak; the first
 //!   crossings before the peak; [`rise_time`]). A range around one impact gives that impact's
-//!   peak and rise.
+//!   peak and rise; and the pressure impulse, the integral of the pressure over the range
+//!   where both curves have points ([`impulse_in`]). An impact's peak depends on what sets its
+//!   duration (compressibility, air, the time step of an incompressible solver, the sensor's
+//!   bandwidth), and repeated experiments scatter widely in it (Lobovský et al., J. Fluids
+//!   Struct. 48 (2014) 407); the impulse is set by the
+//!   momentum the wall takes (Cooker & Peregrine, J. Fluid Mech. 297 (1995) 193) and is the
+//!   measure of an impact that converges (docs/method.md, "The far-wall sensor run to run").
 //!
 //! The reference's measures come from its first series (the first the scene names, else the
 //! first in the file), sorted by time; the RMS error uses the points of every series compared.
@@ -60,6 +66,9 @@ pub struct SignalPeak {
     /// Rise times from [`RISE_FROM`] to [`RISE_TO`] of the peak `(simulated, reference)`; each
     /// `None` when that curve starts above `RISE_FROM` of its peak.
     pub rise: (Option<f64>, Option<f64>),
+    /// The pressure impulses `(simulated, reference)` over the range where both curves have
+    /// points ([`impulse_in`]); `None` when that span is empty.
+    pub impulse: Option<(f64, f64)>,
 }
 
 /// The RMS difference of `simulated` (sorted by time) from the `reference` points whose time
@@ -101,6 +110,34 @@ pub fn rise_time(points: &[(f64, f64)], start: f64, peak: (f64, f64)) -> Option<
     Some(to - from)
 }
 
+/// The integral of `points` (sorted by time, linearly interpolated) from `a` to `b`; `None`
+/// unless the points span `[a, b]`, `a < b`, with finite values.
+pub fn impulse_in(points: &[(f64, f64)], a: f64, b: f64) -> Option<f64> {
+    if a >= b {
+        return None;
+    }
+    let (start, end) = (
+        crate::validation::interpolate(points, a)?,
+        crate::validation::interpolate(points, b)?,
+    );
+    // The corners inside (a, b), between the interpolated ends.
+    let mut curve = vec![(a, start)];
+    curve.extend(points.iter().copied().filter(|&(t, _)| t > a && t < b));
+    curve.push((b, end));
+    let sum: f64 = curve
+        .windows(2)
+        .map(|w| (w[1].0 - w[0].0) * (w[0].1 + w[1].1) / 2.0)
+        .sum();
+    sum.is_finite().then_some(sum)
+}
+
+/// The span of `range` where both curves (sorted by time) have points.
+fn common_span(one: &[(f64, f64)], other: &[(f64, f64)], range: (f64, f64)) -> Option<(f64, f64)> {
+    let a = range.0.max(one.first()?.0).max(other.first()?.0);
+    let b = range.1.min(one.last()?.0).min(other.last()?.0);
+    (a < b).then_some((a, b))
+}
+
 /// The measures of `simulated` against the reference, both sorted by time: `first` is the
 /// reference's first series, `all` every compared point.
 pub fn signal_measures(
@@ -131,6 +168,8 @@ pub fn signal_measures(
                     rise_time(simulated, range.0, sim),
                     rise_time(first, range.0, reference),
                 ),
+                impulse: common_span(simulated, first, range)
+                    .and_then(|(a, b)| Some((impulse_in(simulated, a, b)?, impulse_in(first, a, b)?))),
             })
         })
         .flatten();
@@ -218,8 +257,9 @@ pub(super) fn compare_signal(
 /// A comparison's entry in `summary.json`'s `probe_errors` (docs/output.md): `units`
 /// (`"normalised"` or `"SI"`), `rms_error` and `points`; a level's `arrival_time` and
 /// `reference_arrival_time`; a pressure's `peak`, `peak_time`, `reference_peak`,
-/// `reference_peak_time`, `peak_error` (relative), `peak_time_error`, `rise_time` and
-/// `reference_rise_time`. Times and values are in the compared units.
+/// `reference_peak_time`, `peak_error` (relative), `peak_time_error`, `rise_time`,
+/// `reference_rise_time`, `impulse`, `reference_impulse` and `impulse_error` (relative). Times
+/// and values are in the compared units.
 pub fn summary_json(c: &ProbeComparison) -> serde_json::Value {
     let mut out = serde_json::Map::new();
     out.insert(
@@ -248,6 +288,11 @@ pub fn summary_json(c: &ProbeComparison) -> serde_json::Value {
         });
         if let serde_json::Value::Object(map) = json {
             out.extend(map);
+        }
+        if let Some((sim, reference)) = p.impulse {
+            out.insert("impulse".into(), sim.into());
+            out.insert("reference_impulse".into(), reference.into());
+            out.insert("impulse_error".into(), ((sim - reference) / reference).into());
         }
     }
     out.into()
@@ -287,6 +332,14 @@ pub fn summary_lines(name: &str, e: &serde_json::Value) -> Vec<String> {
             100.0 * num("peak_error"),
             num("rise_time"),
             num("reference_rise_time")
+        ));
+    }
+    if e.get("impulse").is_some() {
+        lines.push(format!(
+            "probe {name}: impulse {:.4}, reference {:.4} ({:+.1} %)",
+            num("impulse"),
+            num("reference_impulse"),
+            100.0 * num("impulse_error")
         ));
     }
     lines

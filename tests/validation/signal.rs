@@ -7,7 +7,7 @@
 use crate::common::tolerance::{F64_FEW_OPERATIONS, F64_SUM};
 use sph::fields::Fields;
 use sph::probe::interpolate::face_average;
-use sph::probe::signal::{ARRIVAL_FRACTION, RISE_FROM, RISE_TO, rms_error, signal_measures};
+use sph::probe::signal::{ARRIVAL_FRACTION, RISE_FROM, RISE_TO, impulse_in, rms_error, signal_measures};
 use sph::probe::{ProbeLog, compare_samples, window_mean};
 use sph::scene::{Averaging, ProbeKind, Sensor, parse_scene};
 
@@ -66,6 +66,32 @@ fn pressure_peak_and_rise_are_recovered_from_a_synthetic_impact() {
     assert!((ref_rise.expect("rises") - want).abs() < F64_SUM, "{ref_rise:?}");
     assert!((sim_rise.expect("rises") - want).abs() < F64_SUM, "{sim_rise:?}");
     assert!(m.arrival.is_none(), "an arrival is a level's measure");
+    // The impulses over 2.0-4.5, both curves spanning it: the reference's rise (0.7 · 0.2 / 2),
+    // fall ((0.7 + 0.55) / 2 · 0.3) and plateau (0.55 · 1.5); the simulation's the same shifted
+    // by 0.05 (its plateau 0.05 shorter) and 1.1 times higher.
+    let (sim_impulse, ref_impulse) = peak.impulse.expect("both curves span the range");
+    let corners = 0.07 + 0.1875;
+    assert!(
+        (ref_impulse - (corners + 0.55 * 1.5)).abs() < F64_SUM,
+        "{ref_impulse}"
+    );
+    assert!(
+        (sim_impulse - 1.1 * (corners + 0.55 * 1.45)).abs() < F64_SUM,
+        "{sim_impulse}"
+    );
+}
+
+/// The impulse integrates the linear interpolation between samples, ends interpolated, and is
+/// undefined where the points do not span the interval.
+#[test]
+fn impulse_integrates_the_interpolated_curve_over_its_span() {
+    let ramp = [(0.0, 0.0), (1.0, 2.0), (3.0, 2.0)];
+    // From 0.5 (value 1) to 2: the ramp's half (1 + 2)/2 · 0.5 and the flat 2 · 1.
+    let got = impulse_in(&ramp, 0.5, 2.0).expect("spanned");
+    assert!((got - 2.75).abs() < F64_FEW_OPERATIONS, "{got}");
+    assert_eq!(impulse_in(&ramp, -0.5, 2.0), None, "starts before the points");
+    assert_eq!(impulse_in(&ramp, 1.0, 3.5), None, "ends after them");
+    assert_eq!(impulse_in(&ramp, 2.0, 2.0), None, "empty interval");
 }
 
 #[test]
