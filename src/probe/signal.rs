@@ -21,9 +21,8 @@
 //!   where both curves have points ([`impulse_in`]). An impact's peak depends on what sets its
 //!   duration (compressibility, air, the time step of an incompressible solver, the sensor's
 //!   bandwidth), and repeated experiments scatter widely in it (Lobovský et al., J. Fluids
-//!   Struct. 48 (2014) 407); the impulse is set by the
-//!   momentum the wall takes (Cooker & Peregrine, J. Fluid Mech. 297 (1995) 193) and is the
-//!   measure of an impact that converges (docs/method.md, "The far-wall sensor run to run").
+//!   Struct. 48 (2014) 407); the impulse is set by the momentum the wall takes (Cooker &
+//!   Peregrine, J. Fluid Mech. 297 (1995) 193) and is the measure of an impact that converges (docs/method.md, "The far-wall sensor run to run").
 //!
 //! The reference's measures come from its first series (the first the scene names, else the
 //! first in the file), sorted by time; the RMS error uses the points of every series compared.

@@ -475,7 +475,7 @@ fn steps<const D: usize>(
             Err(e) => return Ok(Ending::Failed(e.into())),
         };
         let row = StepRow::of(sim, &report, iterations_before);
-        record_step(sim, scene, options, state, &report, &row)?;
+        record_step(sim, scene, options, state, &row)?;
         let clock = sim.clock();
         let last = clock.time >= end;
         let mut signal = options.stop.as_ref().map_or(0, |s| s.load(Ordering::SeqCst));

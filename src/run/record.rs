@@ -4,16 +4,15 @@
 use super::{Loop, Ranks, RunOptions, StepRow, writers};
 use crate::error::Error;
 use crate::scene::Scene;
-use crate::solver::{Simulation, StepReport};
+use crate::solver::Simulation;
 
-/// The outputs of the step just taken (its `steps.csv` row `row`, the probes, the forces on solids
-/// and, at a frame time, a frame) and the loop's tallies of it.
+/// The outputs of the step just taken (its `steps.csv` row `row`, the probes, the forces on
+/// solids and, at a frame time, a frame) and the loop's tallies of it.
 pub(super) fn record_step<const D: usize>(
     sim: &mut Simulation<D>,
     scene: &Scene,
     options: &RunOptions,
     state: &mut Loop,
-    report: &StepReport,
     row: &StepRow,
 ) -> Result<(), Error> {
     let end = scene.end_time;
@@ -22,10 +21,10 @@ pub(super) fn record_step<const D: usize>(
         w.steps.push_row(&row.values())?;
     }
     *state.limits.entry(row.limit.clone()).or_default() += 1;
-    state.max_speed = state.max_speed.max(report.extremes.max_speed);
+    state.max_speed = state.max_speed.max(row.max_speed);
     let last = clock.time >= end;
     let frame_time = clock.time >= state.next_frame - 1e-12 * end || last;
-    record_probes(sim, options, state, clock.time, report.dt, last)?;
+    record_probes(sim, options, state, clock.time, row.dt, last)?;
     if let Some(w) = state.writers.as_mut() {
         if let Some(log) = w.forces.as_mut() {
             for (name, force) in sim.solid_names().iter().zip(sim.solid_forces()) {

@@ -14,7 +14,7 @@ pub struct StepRow {
     pub time: f64,
     /// The step [s].
     pub dt: f64,
-    /// The criterion that limited it (`TimeStepLimit`'s serialized name).
+    /// The criterion that limited it (`TimeStepLimit::name`).
     pub limit: String,
     /// Largest fluid speed at the start of the step [m/s].
     pub max_speed: f64,
@@ -42,10 +42,7 @@ impl StepRow {
             step: clock.step,
             time: clock.time,
             dt: report.dt,
-            limit: serde_json::to_value(report.limit)
-                .ok()
-                .and_then(|v| v.as_str().map(String::from))
-                .unwrap_or_default(),
+            limit: report.limit.name().to_string(),
             max_speed: e.max_speed,
             max_compression: e.max_compression,
             max_surface_deficit: e.max_surface_deficit,
