@@ -20,11 +20,30 @@ pub const REDUCTION_CHUNK: usize = 4096;
 ///
 /// Chunks of [`REDUCTION_CHUNK`] items are summed sequentially, in parallel across chunks,
 /// and the chunk sums are added in chunk order: the result is the same for any thread count.
+/// With fewer chunks than worker threads (a few thousand items) the terms are evaluated in
+/// parallel first and then added in the same order, so a sum over a neighbour loop does not
+/// run on one thread; the result is the same bit for bit.
 pub fn sum_in_order<const N: usize, F>(len: usize, term: F) -> [f64; N]
 where
     F: Fn(usize) -> [f64; N] + Sync,
 {
     let chunks = len.div_ceil(REDUCTION_CHUNK);
+    if chunks < rayon::current_num_threads() && len > 1 {
+        let terms: Vec<[f64; N]> = (0..len).into_par_iter().map(&term).collect();
+        let mut total = [0.0f64; N];
+        for chunk in terms.chunks(REDUCTION_CHUNK) {
+            let mut acc = [0.0f64; N];
+            for t in chunk {
+                for k in 0..N {
+                    acc[k] += t[k];
+                }
+            }
+            for k in 0..N {
+                total[k] += acc[k];
+            }
+        }
+        return total;
+    }
     let partial: Vec<[f64; N]> = (0..chunks)
         .into_par_iter()
         .map(|c| {

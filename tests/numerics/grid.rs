@@ -9,7 +9,7 @@ use proptest::prelude::*;
 use sph::fields::{Fields, PermuteScratch};
 use sph::grid::{Grid, GridError, neighbours_naive};
 use sph::math::{Real, Vector};
-use sph::neighbour_list::NeighbourList;
+use sph::neighbour_list::{NeighbourList, Neighbours};
 
 /// Sorts `cloud` with `grid`, checks the permutation, permutes, links and compares every
 /// particle's neighbours with brute force. Returns the positions in sorted order.
@@ -75,7 +75,9 @@ fn visits<const D: usize>(visit: impl FnOnce(&mut dyn FnMut(usize, Vector<D>, Re
 /// A `NeighbourList` built from the linked `grid` visits, for each selected particle, exactly
 /// the grid's pairs in the grid's order with bitwise the same offsets (so a sweep over it sums
 /// the same floats), and nothing for the others. Built twice into one list (all particles, then
-/// every third one skipped), as the backend reuses it between velocity solves.
+/// every third one skipped), as the backend reuses it between velocity solves; and the loops'
+/// `Neighbours::List`, which takes the grid for the particles the list does not hold, visits
+/// what the grid visits for every particle.
 fn assert_list_matches_grid<const D: usize>(grid: &Grid<D>, positions: &[Vector<D>]) {
     let mut list = NeighbourList::default();
     for skip_every_third in [false, true] {
@@ -83,13 +85,18 @@ fn assert_list_matches_grid<const D: usize>(grid: &Grid<D>, positions: &[Vector<
         list.build(grid, positions, selected);
         assert_eq!(list.len(), positions.len(), "the list covers every particle");
         for i in 0..positions.len() {
-            let from_list = visits::<D>(|f| list.for_each_neighbour(positions, i, f));
+            let from_list = visits::<D>(|f| list.for_each_neighbour(i, f));
             if selected(i) {
                 let from_grid = visits::<D>(|f| grid.for_each_neighbour(positions, i, f));
                 assert_eq!(from_list, from_grid, "particle {i}: list vs grid");
             } else {
                 assert!(from_list.is_empty(), "particle {i} was not selected");
             }
+            // The loops' view: the list where it lists `i`, the grid elsewhere.
+            let through = Neighbours::List(&list, grid);
+            let from_either = visits::<D>(|f| through.for_each_neighbour(positions, i, f));
+            let from_grid = visits::<D>(|f| grid.for_each_neighbour(positions, i, f));
+            assert_eq!(from_either, from_grid, "particle {i}: list or grid vs grid");
         }
     }
     list.clear();

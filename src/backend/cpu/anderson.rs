@@ -4,7 +4,7 @@
 
 use crate::backend::partition::Partition;
 use crate::fields::{FLUID, Fields};
-use crate::math::{Real, sum_in_order};
+use crate::math::{REDUCTION_CHUNK, Real};
 use crate::physics::correction;
 use crate::physics::multiphase::Phases;
 use crate::solver::anderson::{AndersonState, WINDOW};
@@ -39,6 +39,12 @@ impl AndersonBuffers {
     /// `fields.density`: `g(P) = max(P + k (ρ* − ρ0), 0)` (`physics::correction::pressure_increment`,
     /// stiffness `k` [m²/s²], `rho0` [kg/m³] or each particle's own with the multiphase effect),
     /// mixed with the window's iterates, `P ≥ 0` (note 6).
+    ///
+    /// Two parallel passes: `f`, the new differences and every dot product in one (chunks of
+    /// `REDUCTION_CHUNK` summed in order, as `math::sum_in_order` sums them, so the sums do not
+    /// depend on the thread count), then the mixed pressure with the previous iterate saved. At
+    /// a few thousand particles a parallel pass costs about what its work does, so the passes
+    /// are fused (docs/performance.md, "The corrected solver's sweeps").
     pub(super) fn mix<const D: usize>(
         &mut self,
         fields: &mut Fields<D>,
@@ -48,77 +54,108 @@ impl AndersonBuffers {
         partition: &mut Partition,
     ) {
         let n = fields.len();
-        let (kind, density, rest) = (&fields.kind, &fields.density, &fields.rest_density);
-        // f = g(P) − P for fluid, 0 for solids.
-        self.f.resize(n, 0.0);
-        self.f.par_iter_mut().enumerate().for_each(|(i, out)| {
-            *out = if kind[i] == FLUID {
-                let rho0 = phases.rest_density(rest, i, rho0);
-                correction::pressure_increment(density[i], rho0, fields.pressure[i], k)
-            } else {
-                0.0
-            };
-        });
         if self.dp.len() != WINDOW {
             self.dp = vec![Vec::new(); WINDOW];
             self.df = vec![Vec::new(); WINDOW];
         }
+        self.f.resize(n, 0.0);
+        self.previous.resize(n, 0.0);
+        self.previous_f.resize(n, 0.0);
+        for v in self.dp.iter_mut().chain(self.df.iter_mut()) {
+            v.resize(n, 0.0);
+        }
         let state = &mut self.state;
-        if state.has_previous {
-            let s = state.next;
-            let (dp, df) = (&mut self.dp[s], &mut self.df[s]);
-            dp.resize(n, 0.0);
-            df.resize(n, 0.0);
-            let (p, prev, f, prev_f) = (&fields.pressure, &self.previous, &self.f, &self.previous_f);
-            dp.par_iter_mut()
-                .zip(df.par_iter_mut())
-                .enumerate()
-                .for_each(|(i, (dp, df))| {
-                    *dp = p[i] - prev[i];
-                    *df = f[i] - prev_f[i];
-                });
-            let valid = (state.held + 1).min(WINDOW);
-            let slots = &self.df;
-            let counted = &*partition;
-            let mut dots = sum_in_order::<WINDOW, _>(n, |i| {
-                let mut t = [0.0; WINDOW];
-                if !counted.counts(i) {
-                    return t; // a ghost: its owner adds it
+        let has_previous = state.has_previous;
+        let s = state.next;
+        // The differences the new one is dotted with (its own slot included), and those `f` is
+        // fitted by once it is pushed.
+        let valid = (state.held + 1).min(WINDOW);
+        let held_after = if has_previous { valid } else { 0 };
+        let (kind, density, rest) = (&fields.kind, &fields.density, &fields.rest_density);
+        let pressure = &fields.pressure;
+        let (previous, previous_f) = (&self.previous, &self.previous_f);
+        let counted = &*partition;
+        // The new slot's vectors are written; the others are read (`split_at_mut` around `s`).
+        let dp_new = &mut self.dp[s];
+        let (df_before, df_rest) = self.df.split_at_mut(s);
+        let (df_new, df_after) = df_rest.split_first_mut().expect("WINDOW slots");
+        let (df_before, df_after) = (&*df_before, &*df_after);
+        let slot_df = |l: usize, i: usize, df_s: Real| -> Real {
+            match l.cmp(&s) {
+                std::cmp::Ordering::Less => df_before[l][i],
+                std::cmp::Ordering::Equal => df_s,
+                std::cmp::Ordering::Greater => df_after[l - s - 1][i],
+            }
+        };
+        let partial: Vec<([f64; WINDOW], [f64; WINDOW])> = self
+            .f
+            .par_chunks_mut(REDUCTION_CHUNK)
+            .zip(dp_new.par_chunks_mut(REDUCTION_CHUNK))
+            .zip(df_new.par_chunks_mut(REDUCTION_CHUNK))
+            .enumerate()
+            .map(|(c, ((f, dp), df))| {
+                let mut dots = [0.0f64; WINDOW];
+                let mut rhs = [0.0f64; WINDOW];
+                for (o, f_i) in f.iter_mut().enumerate() {
+                    let i = c * REDUCTION_CHUNK + o;
+                    // f = g(P) − P for fluid, 0 for solids.
+                    *f_i = if kind[i] == FLUID {
+                        let rho0 = phases.rest_density(rest, i, rho0);
+                        correction::pressure_increment(density[i], rho0, pressure[i], k)
+                    } else {
+                        0.0
+                    };
+                    if has_previous {
+                        dp[o] = pressure[i] - previous[i];
+                        df[o] = *f_i - previous_f[i];
+                    }
+                    if !counted.counts(i) {
+                        continue; // a ghost: its owner adds it
+                    }
+                    if has_previous {
+                        for l in 0..valid {
+                            dots[l] += f64::from(df[o]) * f64::from(slot_df(l, i, df[o]));
+                        }
+                    }
+                    for l in 0..held_after {
+                        rhs[l] += f64::from(slot_df(l, i, df[o])) * f64::from(*f_i);
+                    }
                 }
-                for (l, out) in t.iter_mut().enumerate().take(valid) {
-                    *out = f64::from(slots[s][i]) * f64::from(slots[l][i]);
-                }
-                t
-            });
+                (dots, rhs)
+            })
+            .collect();
+        let (mut dots, mut rhs) = ([0.0f64; WINDOW], [0.0f64; WINDOW]);
+        for (d, r) in &partial {
+            for l in 0..WINDOW {
+                dots[l] += d[l];
+                rhs[l] += r[l];
+            }
+        }
+        if has_previous {
             partition.sum(&mut dots);
             state.push(&dots);
         }
         let held = state.held;
-        let (slots_dp, slots_df, f) = (&self.dp, &self.df, &self.f);
-        let counted = &*partition;
-        let mut rhs = sum_in_order::<WINDOW, _>(n, |i| {
-            let mut t = [0.0; WINDOW];
-            if !counted.counts(i) {
-                return t;
-            }
-            for (l, out) in t.iter_mut().enumerate().take(held) {
-                *out = f64::from(slots_df[l][i]) * f64::from(f[i]);
-            }
-            t
-        });
+        debug_assert_eq!(held, held_after);
         partition.sum(&mut rhs);
         let gamma = state.coefficients(&rhs).map(|g| g as Real);
         state.has_previous = true;
-        self.previous.clone_from(&fields.pressure);
-        fields.pressure.par_iter_mut().enumerate().for_each(|(i, p)| {
-            if kind[i] == FLUID {
-                let mut mixed = *p + f[i];
-                for l in 0..held {
-                    mixed -= gamma[l] * (slots_dp[l][i] + slots_df[l][i]);
+        let (slots_dp, slots_df, f) = (&self.dp, &self.df, &self.f);
+        fields
+            .pressure
+            .par_iter_mut()
+            .zip(self.previous.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (p, previous))| {
+                *previous = *p;
+                if kind[i] == FLUID {
+                    let mut mixed = *p + f[i];
+                    for l in 0..held {
+                        mixed -= gamma[l] * (slots_dp[l][i] + slots_df[l][i]);
+                    }
+                    *p = mixed.max(0.0); // note 6
                 }
-                *p = mixed.max(0.0); // note 6
-            }
-        });
+            });
         // This `f` becomes the previous one: a swap, the next call rewrites `f` whole.
         std::mem::swap(&mut self.f, &mut self.previous_f);
     }

@@ -7,11 +7,13 @@ use crate::backend::{CorrectionError, Sweep};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, max_each_in_order, max_or_nan, non_negative_or_nan};
 use crate::model::params::StepParams;
+use crate::neighbour_list::Neighbours;
 use crate::physics::{
     correction,
     multiphase::{self, Phases},
-    pressure::pressure_acceleration_from_terms,
+    pressure::{pressure_acceleration_from_terms, pressure_term},
 };
+use crate::smoothing::Smoothing;
 use rayon::prelude::*;
 
 impl<const D: usize> CpuBackend<D> {
@@ -138,8 +140,7 @@ impl<const D: usize> CpuBackend<D> {
         let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
         let n = fields.len();
         let f = fields;
-        let multiphase = params.phases == Phases::Multi;
-        if multiphase {
+        if params.phases == Phases::Multi {
             fill_volume_pressure_terms(&mut self.pressure_terms, &self.delta_p, &f.mass, density);
         } else {
             fill_pressure_terms(&mut self.pressure_terms, &self.delta_p, density);
@@ -157,19 +158,7 @@ impl<const D: usize> CpuBackend<D> {
                 *out = if f.kind[i] != FLUID {
                     Vector::zeros()
                 } else {
-                    let mut a = Vector::<D>::zeros();
-                    neighbours.for_each_neighbour(&f.position, i, |j, d, r2| {
-                        if j == i {
-                            return;
-                        }
-                        let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
-                        if multiphase {
-                            a += multiphase::pressure_acceleration(q[i], q[j], f.mass[i], &grad); // [HA06]
-                        } else {
-                            a += pressure_acceleration_from_terms(q[i], q[j], f.mass[j], &grad);
-                        }
-                    });
-                    a * tau2 // eq. (23)
+                    pressure_displacement(&f.position, &f.mass, neighbours, &kernel, params, q, i, tau2)
                 };
                 if partition.counts(i) {
                     f64::from(out.norm())
@@ -199,11 +188,11 @@ impl<const D: usize> CpuBackend<D> {
     pub(super) fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
         self.delta_p_previous.clear();
         self.delta_p.clear();
-        // The fluid and the solids with fluid candidates: the loops of the solve's sweeps.
-        let (kind, dry) = (&fields.kind, &self.dry);
-        self.velocity_neighbours.build(&self.grid, &fields.position, |i| {
-            kind[i] == FLUID || !dry.get(i).copied().unwrap_or(false)
-        });
+        // The fluid, whose loops are the solve's sweeps; the wet solids' loops take the grid
+        // (`crate::neighbour_list`).
+        let kind = &fields.kind;
+        self.velocity_neighbours
+            .build(&self.grid, &fields.position, |i| kind[i] == FLUID);
         self.velocity_solve_start.clone_from(&fields.velocity);
         self.pressure_solve_start.clone_from(&fields.pressure);
         self.anderson.reset();
@@ -215,6 +204,12 @@ impl<const D: usize> CpuBackend<D> {
             .mix(fields, params.phases, params.rho0, k, &mut self.partition);
     }
 
+    /// The velocities `u = u_start + τ a^press(P − P_start)` of the solve's current pressure
+    /// (`Backend::velocity_from_pressure`), in three parallel passes: the fluid's increments
+    /// with their pressure terms, the wet solids' extrapolated increments, and the displacement
+    /// `τ² a^press` (23) turned into the velocity in the same pass. The same floats as
+    /// `correction_displacements` followed by the velocity update: the passes are fused
+    /// because at a few thousand particles a parallel pass costs about what its work does.
     pub(super) fn velocity_from_pressure(
         &mut self,
         fields: &mut Fields<D>,
@@ -222,33 +217,50 @@ impl<const D: usize> CpuBackend<D> {
         tau: f32,
     ) {
         let n = fields.len();
+        let multiphase = params.phases == Phases::Multi;
+        // The solve's density: the sum (18) at its fixed positions, not the predicted one.
+        let density = std::mem::take(&mut self.density_solve_start);
+        let term = |dp: Real, i: usize| {
+            if multiphase {
+                multiphase::pressure_term(dp, fields.mass[i], density[i])
+            } else {
+                pressure_term(dp, density[i])
+            }
+        };
         let start = &self.pressure_solve_start;
         let kind = &fields.kind;
         self.delta_p.resize(n, 0.0);
+        self.pressure_terms.resize(n, 0.0);
         self.delta_p
             .par_iter_mut()
+            .zip(self.pressure_terms.par_iter_mut())
             .zip(fields.pressure.par_iter())
             .enumerate()
-            .for_each(|(i, (dp, p))| *dp = if kind[i] == FLUID { p - start[i] } else { 0.0 });
-        // The solve's density: the sum (18) at its fixed positions, not the predicted one.
-        let density = std::mem::take(&mut self.density_solve_start);
+            .for_each(|(i, ((dp, q), p))| {
+                *dp = if kind[i] == FLUID { p - start[i] } else { 0.0 };
+                *q = term(*dp, i);
+            });
         self.extrapolate_increments(fields, &density, params);
         for (&w, &r) in self.wet.iter().zip(&self.wet_increments) {
             let w = w as usize;
             let p0 = self.pressure_solve_start[w];
             let dp = (p0 + r).max(0.0) - p0; // the wall's pressure stays >= 0
             self.delta_p[w] = dp;
+            self.pressure_terms[w] = term(dp, w);
             fields.pressure[w] = p0 + dp;
         }
-        self.correction_displacements(fields, &density, params, tau, f32::INFINITY);
-        self.density_solve_start = density;
-        let (start, displacement) = (&self.velocity_solve_start, &self.displacement);
-        let kind = &fields.kind;
+        let kernel = params.smoothing();
+        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
+        let (q, start) = (&self.pressure_terms, &self.velocity_solve_start);
+        let tau2 = tau * tau;
+        let (position, mass, kind) = (&fields.position, &fields.mass, &fields.kind);
         fields.velocity.par_iter_mut().enumerate().for_each(|(i, u)| {
             if kind[i] == FLUID {
-                *u = start[i] + displacement[i] / tau;
+                let dx = pressure_displacement(position, mass, neighbours, &kernel, params, q, i, tau2);
+                *u = start[i] + dx / tau;
             }
         });
+        self.density_solve_start = density;
     }
 
     pub(super) fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {
@@ -269,4 +281,35 @@ impl<const D: usize> CpuBackend<D> {
         fields.density.clone_from(&self.density_solve_start);
         self.velocity_neighbours.clear();
     }
+}
+
+/// Eq. (23) for fluid particle `i`: `Δx = τ² a^press` [m] from the pressure terms `q`
+/// (`physics::pressure::pressure_term`, or [HA06]'s volume terms with the multiphase effect) of
+/// `i` and its neighbours (positions [m], masses [kg]), with the scaled spiky gradient (16).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn pressure_displacement<const D: usize>(
+    position: &[Vector<D>],
+    mass: &[Real],
+    neighbours: Neighbours<'_, D>,
+    kernel: &Smoothing<D>,
+    params: &StepParams<D>,
+    q: &[Real],
+    i: usize,
+    tau2: Real,
+) -> Vector<D> {
+    let multiphase = params.phases == Phases::Multi;
+    let mut a = Vector::<D>::zeros();
+    neighbours.for_each_neighbour(position, i, |j, d, r2| {
+        if j == i {
+            return;
+        }
+        let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
+        if multiphase {
+            a += multiphase::pressure_acceleration(q[i], q[j], mass[i], &grad); // [HA06]
+        } else {
+            a += pressure_acceleration_from_terms(q[i], q[j], mass[j], &grad);
+        }
+    });
+    a * tau2 // eq. (23)
 }

@@ -60,8 +60,7 @@ impl<const D: usize> CpuBackend<D> {
         let kernel = params.smoothing();
         let weight = params.density_weight();
         let list = &self.velocity_neighbours;
-        let (position, velocity, mass, kind) =
-            (&fields.position, &fields.velocity, &fields.mass, &fields.kind);
+        let (velocity, mass, kind) = (&fields.velocity, &fields.mass, &fields.kind);
         let rest = &fields.rest_density;
         let multiphase = params.phases == Phases::Multi;
         let start = &self.density_solve_start;
@@ -75,7 +74,7 @@ impl<const D: usize> CpuBackend<D> {
                 return;
             }
             let mut rate = 0.0;
-            list.for_each_neighbour(position, i, |j, d, r2| {
+            list.for_each_neighbour(i, |j, d, r2| {
                 if j != i {
                     let grad = density_kernel_gradient(&kernel, weight, &d, r2.sqrt());
                     let m = if multiphase { mass[i] } else { mass[j] };

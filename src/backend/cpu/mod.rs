@@ -72,10 +72,10 @@ pub struct CpuBackend<const D: usize> {
     pressure_terms: Vec<Real>,
     /// Scratch of `find_dry_solids`: fluid particles before each sorted index.
     fluid_before: Vec<u32>,
-    /// The pairs of the fluid and the wet solids at the velocity solve's fixed positions,
-    /// built by `begin_velocity_solve` and cleared by `end_velocity_solve`
-    /// (`crate::neighbour_list`). Non-empty exactly while a solve runs (it lists every particle).
-    velocity_neighbours: NeighbourList,
+    /// The fluid's pairs at the velocity solve's fixed positions, built by
+    /// `begin_velocity_solve` and cleared by `end_velocity_solve` (`crate::neighbour_list`).
+    /// Non-empty exactly while a solve runs.
+    velocity_neighbours: NeighbourList<D>,
     /// The velocity solve's Anderson acceleration (`anderson.rs`).
     anderson: AndersonBuffers,
     /// The whole simulation, or one rank's share (`backend::partition`): which particles the
@@ -110,11 +110,11 @@ impl<const D: usize> CpuBackend<D> {
 
     /// The velocity solve's `list` while one runs (positions fixed; the list is empty
     /// otherwise), else the `grid`.
-    fn neighbours<'a>(grid: &'a Grid<D>, list: &'a NeighbourList) -> Neighbours<'a, D> {
+    fn neighbours<'a>(grid: &'a Grid<D>, list: &'a NeighbourList<D>) -> Neighbours<'a, D> {
         if list.is_empty() {
             Neighbours::Grid(grid)
         } else {
-            Neighbours::List(list)
+            Neighbours::List(list, grid)
         }
     }
 }

@@ -38,8 +38,8 @@ pub const CONTACT_BYTES_PER_SOLID: u64 = 120;
 /// (allocated to their exact size), the start-of-step copies, the grid's keys, sort pairs and
 /// cell ranges and the reorder scratch per particle; for `corrected` also the correction's
 /// increments, the velocity solve's saved fields and its Anderson window per particle, and per
-/// fluid particle its neighbour list (4 B per pair, about 33 pairs in 3D at `h = 2 dx`, 12 in
-/// 2D). Generation's peak (the lattice and its trim, 32 B per particle) stays below it.
+/// fluid particle its neighbour list (`crate::neighbour_list`: `4 (D + 1)` B per pair, about 33
+/// pairs in 3D at `h = 2 dx`, 13 in 2D). Generation's peak (the lattice and its trim, 32 B per particle) stays below it.
 ///
 /// Calibrated on peak resident sets (`summary.json`'s `peak_resident_bytes`, 2 threads, Xeon
 /// 2-core VM, no frames, less [`BASE_BYTES`]): 3D `wcsph` 166 B per particle on the column and
@@ -47,14 +47,15 @@ pub const CONTACT_BYTES_PER_SOLID: u64 = 120;
 /// `corrected` adds 207 and 204 B per particle there and 75 B on the 3D jet (11,124 particles,
 /// 3 % fluid), which 90 B per particle and 225 B per fluid particle fit within 20 B. 2D `wcsph`
 /// 143 B and `corrected` 162 B more on the 2D dam break at 0.5 mm (259,008 particles, 97 %
-/// fluid), split as in 3D.
+/// fluid), split as in 3D. The neighbour list's pair offsets, added since, count `4 D` B more per
+/// pair: 400 B per fluid particle in 3D, 104 B in 2D.
 pub fn particle_bytes(dim: usize, solver: crate::scene::SolverKind) -> ParticleBytes {
     use crate::scene::SolverKind;
     let (per_particle, per_fluid) = match (dim, solver) {
         (3, SolverKind::Wcsph) => (166, 0),
-        (3, SolverKind::Corrected) => (166 + 90, 225),
+        (3, SolverKind::Corrected) => (166 + 90, 225 + 400),
         (_, SolverKind::Wcsph) => (143, 0),
-        (_, SolverKind::Corrected) => (143 + 50, 115),
+        (_, SolverKind::Corrected) => (143 + 50, 115 + 104),
     };
     ParticleBytes {
         per_particle,
