@@ -1,40 +1,41 @@
-//! A neighbour list for sweeps at fixed positions: the velocity solve (`solver::step`) runs
-//! tens of sweeps (measured 22 per solve on the 2D sloshing tank, 71 on Yeh & Petroff) while
-//! no particle moves, so the pairs within `h` are found once from the grid, each with the offset
-//! and squared distance the grid computes for it, and then visited without the grid's candidate
-//! test, the position gathers, the minimum image or the coincident-pair tie-break. In 3D the
-//! grid's `3^D` cells of side `h` hold about 216 candidates per particle at `h = 2 dx`, of which
-//! about 33 (the sphere's share, 15 %) lie within `h`; the candidate test takes about half of a
-//! grid sweep's time (`perf`).
+//! The velocity solve's pairs with their kernel gradients: the solve (`solver::step`) runs tens
+//! of sweeps (measured 22 per solve on the 2D sloshing tank, 71 on Yeh & Petroff) while no
+//! particle moves, and each sweep visits every fluid pair twice (the predicted density and the
+//! pressure acceleration), both with the spiky gradient (21) of the pair. So the pairs within
+//! `h` of each fluid particle are found once from the grid, each with its spiky gradient, and the
+//! sweeps read the gradient instead of testing candidates, gathering positions, taking the
+//! minimum image, the coincident-pair tie-break, a square root and a division per pair. In 3D
+//! the grid's `3^D` cells of side `h` hold about 216 candidates per particle at `h = 2 dx`, of
+//! which about 33 (the sphere's share, 15 %) lie within `h`.
 //!
-//! The list keeps the grid's visiting order and stores the pair offset (minimum image included)
-//! exactly as [`Grid::for_each_neighbour`] computes it, so a sweep over it gives bitwise the
-//! same sums: the list changes the CPU backend's speed, not its results (the CUDA backend keeps
-//! the grid). The velocity solve lists the fluid only: its loops over the wet solids (a few
-//! layers along the wetted walls) take the grid. Memory: `4 (D + 1)` bytes per listed pair (index
-//! and offset) plus 8 per particle, about 530 B per fluid particle in 3D at `h = 2 dx`, held by the backend (its
-//! capacity is kept between solves); `scene::validate::memory` counts it.
+//! The list keeps the grid's visiting order and computes each gradient from the offset and
+//! squared distance the grid passes, by the same operations the grid loops use
+//! ([`SpikyGradients`]), so a sweep over it gives bitwise the same sums: the list changes the
+//! CPU backend's speed, not its results (the CUDA backend keeps the grid). A particle's own pair
+//! is left out (its gradient is zero and every loop skips it). Memory: `4 (D + 1)` bytes per
+//! listed pair plus 8 per particle, about 530 B per fluid particle in 3D at `h = 2 dx`, held by
+//! the backend (its capacity is kept between solves); `scene::validate::memory` counts it.
 
 use crate::grid::Grid;
-use crate::math::{Real, Vector};
+use crate::math::Vector;
+use crate::smoothing::Smoothing;
 use rayon::prelude::*;
 
-/// One listed pair: the neighbour's index (sorted order) and `x_i − x_j` [m] as the grid
-/// passes it. Its squared length is recomputed from the offset by the grid's own operation
-/// (`norm_squared`), bitwise what the grid passes, also for a coincident pair, whose offset
-/// has one non-zero component (`smoothing::pair_offset`).
+/// One listed pair: the neighbour's index (sorted order) and the spiky gradient
+/// `∇W_spiky(x_i − x_j)` [1/m^(D+1)] (`Smoothing::grad_w_spiky`, unscaled).
 #[derive(Clone, Copy, Debug)]
 struct Pair<const D: usize> {
     index: u32,
-    offset: Vector<D>,
+    gradient: Vector<D>,
 }
 
-/// The pairs within `h` of selected particles, at the positions it was built from.
+/// The pairs within `h` of selected particles, with their spiky gradients, at the positions it
+/// was built from.
 #[derive(Debug, Default, Clone)]
 pub struct NeighbourList<const D: usize> {
     /// First entry of particle `i` in `pairs`; `len + 1` entries.
     start: Vec<usize>,
-    /// Each particle's pairs in the grid's visiting order.
+    /// Each particle's pairs in the grid's visiting order, its own left out.
     pairs: Vec<Pair<D>>,
 }
 
@@ -42,15 +43,23 @@ impl<const D: usize> NeighbourList<D> {
     /// Bytes one listed pair takes.
     pub const PAIR_BYTES: usize = std::mem::size_of::<Pair<D>>();
 
-    /// Lists, for every particle `i` with `selected(i)`, the particles `j` (itself included)
-    /// with `|x_i − x_j| < h` from `grid` (built from `position`); other particles get none.
-    pub fn build(&mut self, grid: &Grid<D>, position: &[Vector<D>], selected: impl Fn(usize) -> bool + Sync) {
+    /// Lists, for every particle `i` with `selected(i)`, the particles `j ≠ i` with
+    /// `|x_i − x_j| < h` from `grid` (built from `position`, support `kernel.h`) and their spiky
+    /// gradients; other particles get none.
+    pub fn build(
+        &mut self,
+        grid: &Grid<D>,
+        kernel: &Smoothing<D>,
+        position: &[Vector<D>],
+        selected: impl Fn(usize) -> bool + Sync,
+    ) {
         let n = position.len();
+        let pairs = SpikyGradients::Grid(grid);
         self.start.clear();
         self.start.par_extend((0..n).into_par_iter().map(|i| {
             let mut count = 0usize;
             if selected(i) {
-                grid.for_each_neighbour(position, i, |_, _, _| count += 1);
+                pairs.for_each(position, kernel, i, |_, _| count += 1);
             }
             count
         }));
@@ -64,7 +73,7 @@ impl<const D: usize> NeighbourList<D> {
         self.start.push(total);
         let blank = Pair {
             index: 0,
-            offset: Vector::<D>::zeros(),
+            gradient: Vector::<D>::zeros(),
         };
         self.pairs.clear();
         self.pairs.resize(total, blank);
@@ -81,10 +90,10 @@ impl<const D: usize> NeighbourList<D> {
                 return;
             }
             let mut k = 0;
-            grid.for_each_neighbour(position, i, |j, offset, _| {
+            pairs.for_each(position, kernel, i, |j, gradient| {
                 out[k] = Pair {
                     index: j as u32,
-                    offset,
+                    gradient,
                 };
                 k += 1;
             });
@@ -94,13 +103,6 @@ impl<const D: usize> NeighbourList<D> {
     /// Number of particles the list was built for.
     pub fn len(&self) -> usize {
         self.start.len().saturating_sub(1)
-    }
-
-    /// Whether particle `i` was selected when the list was built (a selected particle lists at
-    /// least itself).
-    #[inline(always)]
-    pub fn lists(&self, i: usize) -> bool {
-        self.start[i + 1] > self.start[i]
     }
 
     /// Whether the list was built for no particle.
@@ -119,47 +121,46 @@ impl<const D: usize> NeighbourList<D> {
         self.start.capacity() * std::mem::size_of::<usize>() + self.pairs.capacity() * Self::PAIR_BYTES
     }
 
-    /// Calls `f(j, x_i − x_j, |x_i − x_j|²)` for every listed neighbour of `i`, in the order
-    /// and with the pair offsets of [`Grid::for_each_neighbour`] at the positions it was built
+    /// Calls `f(j, ∇W_spiky(x_i − x_j))` for every listed neighbour `j ≠ i` of `i`, in the grid's
+    /// order, with the gradient [`SpikyGradients::Grid`] gives at the positions it was built
     /// from.
     #[inline]
-    pub fn for_each_neighbour<F>(&self, i: usize, mut f: F)
+    pub fn for_each_gradient<F>(&self, i: usize, mut f: F)
     where
-        F: FnMut(usize, Vector<D>, Real),
+        F: FnMut(usize, Vector<D>),
     {
         for p in &self.pairs[self.start[i]..self.start[i + 1]] {
-            f(p.index as usize, p.offset, p.offset.norm_squared());
+            f(p.index as usize, p.gradient);
         }
     }
 }
 
-/// Where a loop finds a particle's neighbours: the grid, or a list built at the same positions.
+/// Where a loop finds a particle's neighbours `j ≠ i` and their spiky gradients (21): the grid
+/// (any positions it was linked for), or a [`NeighbourList`] built at the same positions for the
+/// particles it lists.
 #[derive(Clone, Copy)]
-pub enum Neighbours<'a, const D: usize> {
-    /// The cell grid (any positions the grid was linked for).
+pub enum SpikyGradients<'a, const D: usize> {
+    /// The cell grid: the gradient computed from the grid's offset and squared distance.
     Grid(&'a Grid<D>),
-    /// A [`NeighbourList`] (fixed positions) for the particles it lists, the grid it was built
-    /// from for the others.
-    List(&'a NeighbourList<D>, &'a Grid<D>),
+    /// The list's stored gradients.
+    List(&'a NeighbourList<D>),
 }
 
-impl<const D: usize> Neighbours<'_, D> {
-    /// [`Grid::for_each_neighbour`], or [`NeighbourList::for_each_neighbour`] where the list
-    /// holds `i` (a listed particle has at least itself as a pair).
+impl<const D: usize> SpikyGradients<'_, D> {
+    /// Calls `f(j, ∇W_spiky(x_i − x_j))` for every neighbour `j ≠ i` of `i` within `h`, in the
+    /// grid's order; bitwise the same gradients from the grid and from a list built from it.
     #[inline(always)]
-    pub fn for_each_neighbour<F>(&self, position: &[Vector<D>], i: usize, f: F)
+    pub fn for_each<F>(&self, position: &[Vector<D>], kernel: &Smoothing<D>, i: usize, mut f: F)
     where
-        F: FnMut(usize, Vector<D>, Real),
+        F: FnMut(usize, Vector<D>),
     {
         match self {
-            Neighbours::Grid(g) => g.for_each_neighbour(position, i, f),
-            Neighbours::List(l, g) => {
-                if l.lists(i) {
-                    l.for_each_neighbour(i, f)
-                } else {
-                    g.for_each_neighbour(position, i, f)
+            SpikyGradients::Grid(g) => g.for_each_neighbour(position, i, |j, d, r2| {
+                if j != i {
+                    f(j, kernel.grad_w_spiky(&d, r2.sqrt()));
                 }
-            }
+            }),
+            SpikyGradients::List(l) => l.for_each_gradient(i, f),
         }
     }
 }

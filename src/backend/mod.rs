@@ -308,9 +308,9 @@ pub trait Backend<const D: usize> {
     /// Starts a stage's velocity solve (`solver::step`, after the position correction):
     /// remembers every particle's velocity, pressure and density (18) and forgets the previous
     /// sweep's increments. Positions stay fixed until `end_velocity_solve`: the CPU backend
-    /// lists the pairs here once (`crate::neighbour_list`, same sums bitwise); the CUDA
-    /// backend keeps searching the grid.
-    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>);
+    /// lists the fluid's pairs and their spiky gradients here once (`crate::neighbour_list`,
+    /// same sums bitwise); the CUDA backend keeps searching the grid.
+    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
     /// The velocity solve's density: `ρ* = base_i + τ Σ_j m_j (u_i − u_j)·∇W_ρ(x_i − x_j)`
     /// [kg/m³] for fluid particles into `density`, `base_i` from the density remembered by
     /// `begin_velocity_solve` (`physics::density::velocity_solve_base`: ρ0_i inside the fluid,

@@ -367,7 +367,7 @@ impl<const D: usize> Simulation<D> {
             })?;
             *drift = 0.0;
         }
-        bk.begin_velocity_solve(f);
+        bk.begin_velocity_solve(f, params);
         let cap = VELOCITY_SOLVE_CAP.min(max_iterations);
         let mut first = None;
         let mut iterations = 0u32;

@@ -2,14 +2,15 @@
 //! the positions by the returned permutation and `link`, `for_each_neighbour` visits exactly the
 //! particles `neighbours_naive` finds, once each, with the right offsets and squared distances.
 //! Also: the velocity solve's `NeighbourList` visiting exactly what the grid visits (same order,
-//! bitwise the same offsets), memory independent of empty space, errors (not panics) for bad
+//! bitwise the same spiky gradients), memory independent of empty space, errors (not panics) for bad
 //! input, and `Fields::permute` moving every particle field.
 
 use proptest::prelude::*;
 use sph::fields::{Fields, PermuteScratch};
 use sph::grid::{Grid, GridError, neighbours_naive};
 use sph::math::{Real, Vector};
-use sph::neighbour_list::{NeighbourList, Neighbours};
+use sph::neighbour_list::{NeighbourList, SpikyGradients};
+use sph::smoothing::Smoothing;
 
 /// Sorts `cloud` with `grid`, checks the permutation, permutes, links and compares every
 /// particle's neighbours with brute force. Returns the positions in sorted order.
@@ -61,42 +62,46 @@ fn assert_neighbours_match<const D: usize>(
     positions
 }
 
-/// Every `(j, offset, r²)` the grid passes for particle `i`, in its order, as bits.
-type Visits = Vec<(usize, Vec<u32>, u32)>;
+/// Every `(j, ∇W_spiky)` a loop visits for particle `i`, in its order, as bits.
+type Visits = Vec<(usize, Vec<u32>)>;
 
-fn visits<const D: usize>(visit: impl FnOnce(&mut dyn FnMut(usize, Vector<D>, Real))) -> Visits {
+fn visits<const D: usize>(visit: impl FnOnce(&mut dyn FnMut(usize, Vector<D>))) -> Visits {
     let mut out = Vec::new();
-    visit(&mut |j, d: Vector<D>, r2: Real| {
-        out.push((j, d.iter().map(|c| c.to_bits()).collect(), r2.to_bits()));
-    });
+    visit(&mut |j, g: Vector<D>| out.push((j, g.iter().map(|c| c.to_bits()).collect())));
     out
 }
 
 /// A `NeighbourList` built from the linked `grid` visits, for each selected particle, exactly
-/// the grid's pairs in the grid's order with bitwise the same offsets (so a sweep over it sums
-/// the same floats), and nothing for the others. Built twice into one list (all particles, then
-/// every third one skipped), as the backend reuses it between velocity solves; and the loops'
-/// `Neighbours::List`, which takes the grid for the particles the list does not hold, visits
-/// what the grid visits for every particle.
+/// the grid's pairs `j ≠ i` in the grid's order, each with bitwise the spiky gradient of the
+/// grid's offset and squared distance (so a sweep over it sums the same floats), and nothing
+/// for the others. Built twice into one list (all particles, then every third one skipped), as
+/// the backend reuses it between velocity solves; and `SpikyGradients` gives the same from the
+/// grid and from the list.
 fn assert_list_matches_grid<const D: usize>(grid: &Grid<D>, positions: &[Vector<D>]) {
+    let kernel = Smoothing::<D>::new(grid.cell_size()).expect("2D or 3D");
     let mut list = NeighbourList::default();
     for skip_every_third in [false, true] {
         let selected = |i: usize| !(skip_every_third && i % 3 == 0);
-        list.build(grid, positions, selected);
+        list.build(grid, &kernel, positions, selected);
         assert_eq!(list.len(), positions.len(), "the list covers every particle");
         for i in 0..positions.len() {
-            let from_list = visits::<D>(|f| list.for_each_neighbour(i, f));
+            let from_list = visits::<D>(|f| list.for_each_gradient(i, f));
             if selected(i) {
-                let from_grid = visits::<D>(|f| grid.for_each_neighbour(positions, i, f));
+                let from_grid = visits::<D>(|f| {
+                    grid.for_each_neighbour(positions, i, |j, d, r2| {
+                        if j != i {
+                            f(j, kernel.grad_w_spiky(&d, r2.sqrt()));
+                        }
+                    })
+                });
                 assert_eq!(from_list, from_grid, "particle {i}: list vs grid");
+                let through =
+                    |s: SpikyGradients<'_, D>| visits::<D>(|f| s.for_each(positions, &kernel, i, f));
+                assert_eq!(through(SpikyGradients::List(&list)), from_grid, "particle {i}");
+                assert_eq!(through(SpikyGradients::Grid(grid)), from_grid, "particle {i}");
             } else {
                 assert!(from_list.is_empty(), "particle {i} was not selected");
             }
-            // The loops' view: the list where it lists `i`, the grid elsewhere.
-            let through = Neighbours::List(&list, grid);
-            let from_either = visits::<D>(|f| through.for_each_neighbour(positions, i, f));
-            let from_grid = visits::<D>(|f| grid.for_each_neighbour(positions, i, f));
-            assert_eq!(from_either, from_grid, "particle {i}: list or grid vs grid");
         }
     }
     list.clear();

@@ -3,13 +3,15 @@
 //! number of them, so the stretched cells of `L/⌊L/h⌋` are exercised), with positions up to
 //! `0.2 h` outside the period (as between two wraps), `for_each_neighbour` visits exactly the
 //! particles whose minimum-image offset is shorter than `h`, once each, with that offset; the
-//! velocity solve's `NeighbourList` visits the same pairs with the same offsets.
+//! velocity solve's `NeighbourList` visits the same pairs with the spiky gradients of the same
+//! offsets.
 
 use proptest::prelude::*;
 use sph::grid::{Grid, GridError, neighbours_naive_periodic};
 use sph::math::{Real, Vector};
 use sph::neighbour_list::NeighbourList;
 use sph::periodic::{Periodic, PeriodicAxes};
+use sph::smoothing::Smoothing;
 
 /// Pairs whose squared minimum-image distance lies within this fraction of `h²` from `h²` are
 /// not compared: at the rim the f32 rounding of `d ∓ L` (a few ulps of `L`) decides on which
@@ -60,13 +62,18 @@ fn assert_periodic_neighbours_match<const D: usize>(cloud: &[Vector<D>], h: Real
             positions[i]
         );
     }
+    let kernel = Smoothing::<D>::new(h).expect("2D or 3D");
     let mut list = NeighbourList::default();
-    list.build(&grid, &positions, |_| true);
+    list.build(&grid, &kernel, &positions, |_| true);
     for i in 0..positions.len() {
         let mut from_grid = Vec::new();
-        grid.for_each_neighbour(&positions, i, |j, d, r2| from_grid.push((j, d, r2)));
+        grid.for_each_neighbour(&positions, i, |j, d, r2| {
+            if j != i {
+                from_grid.push((j, kernel.grad_w_spiky(&d, r2.sqrt())));
+            }
+        });
         let mut from_list = Vec::new();
-        list.for_each_neighbour(i, |j, d, r2| from_list.push((j, d, r2)));
+        list.for_each_gradient(i, |j, g| from_list.push((j, g)));
         assert_eq!(from_list, from_grid, "particle {i}: list vs grid");
     }
     // Dense enough clouds always have pairs across the seam (not asserted per case: a sparse

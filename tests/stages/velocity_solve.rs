@@ -180,7 +180,7 @@ fn check_predicted_density<const D: usize>(seed: u64, kernel: DensityKernel, pha
     let label = format!("{D}D {kernel:?} {phases:?}");
     for under in backends() {
         let (out, ()) = under.run(&f, &p, |b, f| {
-            b.begin_velocity_solve(f);
+            b.begin_velocity_solve(f, &p);
             b.predicted_density(f, &p, TAU);
         });
         let got = in_id_order(&out);
@@ -305,7 +305,7 @@ fn check_sweeps<const D: usize>(seed: u64, phases: Phases) {
     let label = format!("{D}D {phases:?}");
     for under in backends() {
         let (out, sweeps) = under.run(&f, &p, |b, f| {
-            b.begin_velocity_solve(f);
+            b.begin_velocity_solve(f, &p);
             let mut sweeps: Vec<SweepStates<D>> = Vec::new();
             for _ in 0..SWEEPS {
                 b.predicted_density(f, &p, TAU);
@@ -464,7 +464,7 @@ fn check_end_velocity_solve<const D: usize>(seed: u64) {
     for under in backends() {
         for keep in [true, false] {
             let (out, last) = under.run(&f, &p, |b, f| {
-                b.begin_velocity_solve(f);
+                b.begin_velocity_solve(f, &p);
                 b.predicted_density(f, &p, TAU);
                 b.mix_velocity_pressure(f, &p, k);
                 b.velocity_from_pressure(f, &p, TAU);

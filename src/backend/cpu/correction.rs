@@ -7,7 +7,7 @@ use crate::backend::{CorrectionError, Sweep};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector, max_each_in_order, max_or_nan, non_negative_or_nan};
 use crate::model::params::StepParams;
-use crate::neighbour_list::Neighbours;
+use crate::neighbour_list::SpikyGradients;
 use crate::physics::{
     correction,
     multiphase::{self, Phases},
@@ -137,7 +137,7 @@ impl<const D: usize> CpuBackend<D> {
         max_step: f32,
     ) -> Sweep {
         let kernel = params.smoothing();
-        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
+        let pairs = SpikyGradients::Grid(&self.grid);
         let n = fields.len();
         let f = fields;
         if params.phases == Phases::Multi {
@@ -158,7 +158,7 @@ impl<const D: usize> CpuBackend<D> {
                 *out = if f.kind[i] != FLUID {
                     Vector::zeros()
                 } else {
-                    pressure_displacement(&f.position, &f.mass, neighbours, &kernel, params, q, i, tau2)
+                    pressure_displacement(&f.position, &f.mass, pairs, &kernel, params, q, i, tau2)
                 };
                 if partition.counts(i) {
                     f64::from(out.norm())
@@ -185,14 +185,16 @@ impl<const D: usize> CpuBackend<D> {
         }
     }
 
-    pub(super) fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
+    pub(super) fn begin_velocity_solve(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
         self.delta_p_previous.clear();
         self.delta_p.clear();
-        // The fluid, whose loops are the solve's sweeps; the wet solids' loops take the grid
-        // (`crate::neighbour_list`).
+        // The fluid's pairs and gradients, which the solve's sweeps visit; the wet solids' loops
+        // take the grid (`crate::neighbour_list`).
         let kind = &fields.kind;
         self.velocity_neighbours
-            .build(&self.grid, &fields.position, |i| kind[i] == FLUID);
+            .build(&self.grid, &params.smoothing(), &fields.position, |i| {
+                kind[i] == FLUID
+            });
         self.velocity_solve_start.clone_from(&fields.velocity);
         self.pressure_solve_start.clone_from(&fields.pressure);
         self.anderson.reset();
@@ -250,13 +252,13 @@ impl<const D: usize> CpuBackend<D> {
             fields.pressure[w] = p0 + dp;
         }
         let kernel = params.smoothing();
-        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
+        let pairs = SpikyGradients::List(&self.velocity_neighbours);
         let (q, start) = (&self.pressure_terms, &self.velocity_solve_start);
         let tau2 = tau * tau;
         let (position, mass, kind) = (&fields.position, &fields.mass, &fields.kind);
         fields.velocity.par_iter_mut().enumerate().for_each(|(i, u)| {
             if kind[i] == FLUID {
-                let dx = pressure_displacement(position, mass, neighbours, &kernel, params, q, i, tau2);
+                let dx = pressure_displacement(position, mass, pairs, &kernel, params, q, i, tau2);
                 *u = start[i] + dx / tau;
             }
         });
@@ -291,7 +293,7 @@ impl<const D: usize> CpuBackend<D> {
 fn pressure_displacement<const D: usize>(
     position: &[Vector<D>],
     mass: &[Real],
-    neighbours: Neighbours<'_, D>,
+    pairs: SpikyGradients<'_, D>,
     kernel: &Smoothing<D>,
     params: &StepParams<D>,
     q: &[Real],
@@ -300,11 +302,8 @@ fn pressure_displacement<const D: usize>(
 ) -> Vector<D> {
     let multiphase = params.phases == Phases::Multi;
     let mut a = Vector::<D>::zeros();
-    neighbours.for_each_neighbour(position, i, |j, d, r2| {
-        if j == i {
-            return;
-        }
-        let grad = kernel.grad_w_spiky(&d, r2.sqrt()) * params.pressure_gradient_scale;
+    pairs.for_each(position, kernel, i, |j, spiky| {
+        let grad = spiky * params.pressure_gradient_scale;
         if multiphase {
             a += multiphase::pressure_acceleration(q[i], q[j], mass[i], &grad); // [HA06]
         } else {

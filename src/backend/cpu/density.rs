@@ -5,7 +5,7 @@ use super::CpuBackend;
 use crate::fields::{FLUID, Fields};
 use crate::model::params::StepParams;
 use crate::physics::{
-    density::{density_kernel_gradient, density_term, velocity_solve_base},
+    density::{DensityKernel, density_kernel_gradient, density_term, velocity_solve_base},
     eos,
     multiphase::{self, Phases},
 };
@@ -59,7 +59,6 @@ impl<const D: usize> CpuBackend<D> {
     pub(super) fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
         let kernel = params.smoothing();
         let weight = params.density_weight();
-        let list = &self.velocity_neighbours;
         let (velocity, mass, kind) = (&fields.velocity, &fields.mass, &fields.kind);
         let rest = &fields.rest_density;
         let multiphase = params.phases == Phases::Multi;
@@ -69,20 +68,41 @@ impl<const D: usize> CpuBackend<D> {
             fields.len(),
             "predicted_density outside a velocity solve"
         );
-        fields.density.par_iter_mut().enumerate().for_each(|(i, rho)| {
-            if kind[i] != FLUID {
-                return;
+        let base = |i: usize| velocity_solve_base(start[i], params.phases.rest_density(rest, i, params.rho0));
+        let m = |i: usize, j: usize| if multiphase { mass[i] } else { mass[j] };
+        match weight.kernel {
+            // `corrected`: the list's spiky gradients (`crate::neighbour_list`), scaled as
+            // `density_kernel_gradient` scales them.
+            DensityKernel::ScaledSpiky => {
+                let list = &self.velocity_neighbours;
+                fields.density.par_iter_mut().enumerate().for_each(|(i, rho)| {
+                    if kind[i] != FLUID {
+                        return;
+                    }
+                    let mut rate = 0.0;
+                    list.for_each_gradient(i, |j, spiky| {
+                        let grad = spiky * weight.spiky_scale;
+                        rate += m(i, j) * (velocity[i] - velocity[j]).dot(&grad);
+                    });
+                    *rho = base(i) + tau * rate;
+                });
             }
-            let mut rate = 0.0;
-            list.for_each_neighbour(i, |j, d, r2| {
-                if j != i {
-                    let grad = density_kernel_gradient(&kernel, weight, &d, r2.sqrt());
-                    let m = if multiphase { mass[i] } else { mass[j] };
-                    rate += m * (velocity[i] - velocity[j]).dot(&grad);
-                }
-            });
-            *rho =
-                velocity_solve_base(start[i], params.phases.rest_density(rest, i, params.rho0)) + tau * rate;
-        });
+            DensityKernel::Poly6 => {
+                let (grid, position) = (&self.grid, &fields.position);
+                fields.density.par_iter_mut().enumerate().for_each(|(i, rho)| {
+                    if kind[i] != FLUID {
+                        return;
+                    }
+                    let mut rate = 0.0;
+                    grid.for_each_neighbour(position, i, |j, d, r2| {
+                        if j != i {
+                            let grad = density_kernel_gradient(&kernel, weight, &d, r2.sqrt());
+                            rate += m(i, j) * (velocity[i] - velocity[j]).dot(&grad);
+                        }
+                    });
+                    *rho = base(i) + tau * rate;
+                });
+            }
+        }
     }
 }

@@ -17,7 +17,7 @@ use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::{Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector};
-use crate::neighbour_list::{NeighbourList, Neighbours};
+use crate::neighbour_list::NeighbourList;
 use crate::physics::damping_zone::DampingZone;
 use crate::physics::gradient_moment::MomentSums;
 use anderson::AndersonBuffers;
@@ -72,7 +72,7 @@ pub struct CpuBackend<const D: usize> {
     pressure_terms: Vec<Real>,
     /// Scratch of `find_dry_solids`: fluid particles before each sorted index.
     fluid_before: Vec<u32>,
-    /// The fluid's pairs at the velocity solve's fixed positions, built by
+    /// The fluid's pairs and their spiky gradients at the velocity solve's fixed positions, built by
     /// `begin_velocity_solve` and cleared by `end_velocity_solve` (`crate::neighbour_list`).
     /// Non-empty exactly while a solve runs.
     velocity_neighbours: NeighbourList<D>,
@@ -106,16 +106,6 @@ impl<const D: usize> CpuBackend<D> {
             + self.fluid_before.capacity() * 4
             + self.velocity_neighbours.heap_bytes()
             + self.anderson.heap_bytes()
-    }
-
-    /// The velocity solve's `list` while one runs (positions fixed; the list is empty
-    /// otherwise), else the `grid`.
-    fn neighbours<'a>(grid: &'a Grid<D>, list: &'a NeighbourList<D>) -> Neighbours<'a, D> {
-        if list.is_empty() {
-            Neighbours::Grid(grid)
-        } else {
-            Neighbours::List(list, grid)
-        }
     }
 }
 
@@ -281,8 +271,8 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
         CpuBackend::correct_positions(self, fields, params, tau, kick_tau, max_step)
     }
 
-    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
-        CpuBackend::begin_velocity_solve(self, fields)
+    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
+        CpuBackend::begin_velocity_solve(self, fields, params)
     }
 
     fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {

@@ -21,7 +21,7 @@ impl<const D: usize> CpuBackend<D> {
         source: SolidForceSource,
     ) -> Vec<SolidLoad> {
         let kernel = params.smoothing();
-        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
+        let neighbours = &self.grid;
         let f = fields;
         // The correction moves particles by pressure alone: its own pressures, no pair terms.
         let terms = source.pair_terms();

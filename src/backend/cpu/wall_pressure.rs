@@ -119,7 +119,7 @@ impl<const D: usize> CpuBackend<D> {
     /// fluid neighbours' `delta_p` (densities `density` [kg/m³]), into `wet_increments`.
     pub(super) fn extrapolate_increments(&mut self, f: &Fields<D>, density: &[Real], params: &StepParams<D>) {
         let kernel = params.smoothing();
-        let neighbours = Self::neighbours(&self.grid, &self.velocity_neighbours);
+        let neighbours = &self.grid;
         let fluid_dp = &self.delta_p;
         self.wet_increments.clear();
         self.wet_increments.par_extend(self.wet.par_iter().map(|&w| {

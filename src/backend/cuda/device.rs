@@ -570,7 +570,7 @@ impl<const D: usize, K: Launch<D> + Clone> Backend<D> for CudaBackend<D, K> {
         self.launch_correct_positions(params, tau, kick_tau, max_step)
     }
 
-    fn begin_velocity_solve(&mut self, _fields: &mut Fields<D>) {
+    fn begin_velocity_solve(&mut self, _fields: &mut Fields<D>, _params: &StepParams<D>) {
         self.launch_begin_velocity_solve()
     }
 

@@ -226,9 +226,9 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         )
     }
 
-    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>) {
+    fn begin_velocity_solve(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
         self.refresh(fields, "begin_velocity_solve");
-        self.inner.begin_velocity_solve(fields);
+        self.inner.begin_velocity_solve(fields, params);
     }
 
     fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
