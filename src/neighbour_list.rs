@@ -17,9 +17,81 @@
 //! the backend (its capacity is kept between solves); `scene::validate::memory` counts it.
 
 use crate::grid::Grid;
-use crate::math::Vector;
+use crate::math::{Real, Vector};
 use crate::smoothing::Smoothing;
 use rayon::prelude::*;
+
+/// Lists of `T` per item: `start[k]..start[k + 1]` of `entries` is item `k`'s. Filled in two
+/// parallel passes (count, then fill), each item in its own slice.
+#[derive(Debug, Clone)]
+struct Lists<T> {
+    start: Vec<usize>,
+    entries: Vec<T>,
+}
+
+impl<T> Default for Lists<T> {
+    fn default() -> Self {
+        Self {
+            start: Vec::new(),
+            entries: Vec::new(),
+        }
+    }
+}
+
+impl<T: Copy + Send + Sync> Lists<T> {
+    /// `items` lists: `count(k)` entries for item `k`, written by `fill(k, slice)` (which
+    /// writes exactly that many), `blank` until then.
+    fn build(
+        &mut self,
+        items: usize,
+        blank: T,
+        count: impl Fn(usize) -> usize + Sync + Send,
+        fill: impl Fn(usize, &mut [T]) + Sync,
+    ) {
+        self.start.clear();
+        self.start.par_extend((0..items).into_par_iter().map(count));
+        // Exclusive prefix sum, with the total appended.
+        let mut total = 0usize;
+        for s in &mut self.start {
+            let c = *s;
+            *s = total;
+            total += c;
+        }
+        self.start.push(total);
+        self.entries.clear();
+        self.entries.resize(total, blank);
+        let mut slices: Vec<&mut [T]> = Vec::with_capacity(items);
+        let mut rest = self.entries.as_mut_slice();
+        for w in self.start.windows(2) {
+            let (head, tail) = rest.split_at_mut(w[1] - w[0]);
+            slices.push(head);
+            rest = tail;
+        }
+        slices.into_par_iter().enumerate().for_each(|(k, out)| {
+            if !out.is_empty() {
+                fill(k, out);
+            }
+        });
+    }
+
+    fn items(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+
+    fn of(&self, k: usize) -> &[T] {
+        &self.entries[self.start[k]..self.start[k + 1]]
+    }
+
+    fn clear(&mut self) {
+        self.start.clear();
+        self.entries.clear();
+    }
+
+    fn heap_bytes(&self) -> usize {
+        self.start.capacity() * std::mem::size_of::<usize>()
+            + self.entries.capacity() * std::mem::size_of::<T>()
+    }
+}
 
 /// One listed pair: the neighbour's index (sorted order) and the spiky gradient
 /// `∇W_spiky(x_i − x_j)` [1/m^(D+1)] (`Smoothing::grad_w_spiky`, unscaled).
@@ -33,10 +105,8 @@ struct Pair<const D: usize> {
 /// was built from.
 #[derive(Debug, Default, Clone)]
 pub struct NeighbourList<const D: usize> {
-    /// First entry of particle `i` in `pairs`; `len + 1` entries.
-    start: Vec<usize>,
     /// Each particle's pairs in the grid's visiting order, its own left out.
-    pairs: Vec<Pair<D>>,
+    pairs: Lists<Pair<D>>,
 }
 
 impl<const D: usize> NeighbourList<D> {
@@ -51,58 +121,39 @@ impl<const D: usize> NeighbourList<D> {
         grid: &Grid<D>,
         kernel: &Smoothing<D>,
         position: &[Vector<D>],
-        selected: impl Fn(usize) -> bool + Sync,
+        selected: impl Fn(usize) -> bool + Sync + Send,
     ) {
-        let n = position.len();
         let pairs = SpikyGradients::Grid(grid);
-        self.start.clear();
-        self.start.par_extend((0..n).into_par_iter().map(|i| {
-            let mut count = 0usize;
-            if selected(i) {
-                pairs.for_each(position, kernel, i, |_, _| count += 1);
-            }
-            count
-        }));
-        // Exclusive prefix sum, with the total appended.
-        let mut total = 0usize;
-        for s in &mut self.start {
-            let c = *s;
-            *s = total;
-            total += c;
-        }
-        self.start.push(total);
         let blank = Pair {
             index: 0,
             gradient: Vector::<D>::zeros(),
         };
-        self.pairs.clear();
-        self.pairs.resize(total, blank);
-        // Each particle fills its own slice of `pairs`.
-        let mut slices: Vec<&mut [Pair<D>]> = Vec::with_capacity(n);
-        let mut rest = self.pairs.as_mut_slice();
-        for w in self.start.windows(2) {
-            let (head, tail) = rest.split_at_mut(w[1] - w[0]);
-            slices.push(head);
-            rest = tail;
-        }
-        slices.into_par_iter().enumerate().for_each(|(i, out)| {
-            if out.is_empty() {
-                return;
-            }
-            let mut k = 0;
-            pairs.for_each(position, kernel, i, |j, gradient| {
-                out[k] = Pair {
-                    index: j as u32,
-                    gradient,
-                };
-                k += 1;
-            });
-        });
+        self.pairs.build(
+            position.len(),
+            blank,
+            |i| {
+                let mut count = 0usize;
+                if selected(i) {
+                    pairs.for_each(position, kernel, i, |_, _| count += 1);
+                }
+                count
+            },
+            |i, out| {
+                let mut k = 0;
+                pairs.for_each(position, kernel, i, |j, gradient| {
+                    out[k] = Pair {
+                        index: j as u32,
+                        gradient,
+                    };
+                    k += 1;
+                });
+            },
+        );
     }
 
     /// Number of particles the list was built for.
     pub fn len(&self) -> usize {
-        self.start.len().saturating_sub(1)
+        self.pairs.items()
     }
 
     /// Whether the list was built for no particle.
@@ -112,13 +163,12 @@ impl<const D: usize> NeighbourList<D> {
 
     /// Forgets the pairs (keeps the capacity).
     pub fn clear(&mut self) {
-        self.start.clear();
         self.pairs.clear();
     }
 
     /// Bytes held by the list's arrays.
     pub fn heap_bytes(&self) -> usize {
-        self.start.capacity() * std::mem::size_of::<usize>() + self.pairs.capacity() * Self::PAIR_BYTES
+        self.pairs.heap_bytes()
     }
 
     /// Calls `f(j, ∇W_spiky(x_i − x_j))` for every listed neighbour `j ≠ i` of `i`, in the grid's
@@ -129,8 +179,95 @@ impl<const D: usize> NeighbourList<D> {
     where
         F: FnMut(usize, Vector<D>),
     {
-        for p in &self.pairs[self.start[i]..self.start[i + 1]] {
+        for p in self.pairs.of(i) {
             f(p.index as usize, p.gradient);
+        }
+    }
+}
+
+/// The fluid neighbours of the wet solids at the velocity solve's fixed positions, each with
+/// the grid's offset `x_w − x_j` [m] and the poly6 weight `W(r²)` (20) [1/m^D]: what the walls'
+/// [A12] extrapolation (`boundary::wall_pressure`) sums every sweep. Bitwise what the grid's
+/// loop gives (the grid's order, its fluid pairs only). `4 (D + 2)` bytes per pair.
+#[derive(Debug, Default, Clone)]
+pub struct WetSolidPairs<const D: usize> {
+    pairs: Lists<FluidPair<D>>,
+}
+
+/// One fluid neighbour of a wet solid: its index, the offset [m] and the poly6 weight [1/m^D].
+#[derive(Clone, Copy, Debug)]
+struct FluidPair<const D: usize> {
+    index: u32,
+    offset: Vector<D>,
+    weight: Real,
+}
+
+impl<const D: usize> WetSolidPairs<D> {
+    /// Lists the fluid neighbours (`is_fluid(j)`) of each solid in `wet` (sorted indices) from
+    /// `grid` (built from `position`), with their offsets and poly6 weights.
+    pub fn build(
+        &mut self,
+        grid: &Grid<D>,
+        kernel: &Smoothing<D>,
+        position: &[Vector<D>],
+        wet: &[u32],
+        is_fluid: impl Fn(usize) -> bool + Sync + Send,
+    ) {
+        let blank = FluidPair {
+            index: 0,
+            offset: Vector::<D>::zeros(),
+            weight: 0.0,
+        };
+        self.pairs.build(
+            wet.len(),
+            blank,
+            |k| {
+                let mut count = 0usize;
+                grid.for_each_neighbour(position, wet[k] as usize, |j, _, _| {
+                    count += usize::from(is_fluid(j));
+                });
+                count
+            },
+            |k, out| {
+                let mut n = 0;
+                grid.for_each_neighbour(position, wet[k] as usize, |j, offset, r2| {
+                    if is_fluid(j) {
+                        out[n] = FluidPair {
+                            index: j as u32,
+                            offset,
+                            weight: kernel.w(r2),
+                        };
+                        n += 1;
+                    }
+                });
+            },
+        );
+    }
+
+    /// Whether the list holds no solid (outside a velocity solve).
+    pub fn is_empty(&self) -> bool {
+        self.pairs.items() == 0
+    }
+
+    /// Forgets the pairs (keeps the capacity).
+    pub fn clear(&mut self) {
+        self.pairs.clear();
+    }
+
+    /// Bytes held by the list's arrays.
+    pub fn heap_bytes(&self) -> usize {
+        self.pairs.heap_bytes()
+    }
+
+    /// Calls `f(j, x_w − x_j, W)` for every fluid neighbour `j` of the `k`-th wet solid, in the
+    /// grid's order.
+    #[inline]
+    pub fn for_each_fluid<F>(&self, k: usize, mut f: F)
+    where
+        F: FnMut(usize, &Vector<D>, Real),
+    {
+        for p in self.pairs.of(k) {
+            f(p.index as usize, &p.offset, p.weight);
         }
     }
 }

@@ -6,7 +6,8 @@
 //!   backend's dense grid, `kernels/sph.cuh`), with `n_k = ⌊L_k/h⌋ ≥ 3` cells of size
 //!   `L_k/n_k ≥ h` (the cell is stretched to divide the period, so any `L_k ≥ 3h` works);
 //! - every pair loop takes its offset `x_i − x_j` through [`Periodic::minimum_image`] (CPU:
-//!   `Grid::for_each_neighbour` and `NeighbourList`; CUDA: `pair_delta` in `kernels/sph.cuh`),
+//!   `Grid::for_each_neighbour`, whose offsets the velocity solve's lists store; CUDA:
+//!   `pair_delta` in `kernels/sph.cuh`),
 //!   so no stage computes a raw difference itself;
 //! - the stage `wrap_positions` ([`Periodic::wrap`]) moves a fluid particle that left
 //!   `[min_k, max_k)` back by `±L_k` once a step, after the last integrator stage (positions in

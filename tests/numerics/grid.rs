@@ -9,7 +9,7 @@ use proptest::prelude::*;
 use sph::fields::{Fields, PermuteScratch};
 use sph::grid::{Grid, GridError, neighbours_naive};
 use sph::math::{Real, Vector};
-use sph::neighbour_list::{NeighbourList, SpikyGradients};
+use sph::neighbour_list::{NeighbourList, SpikyGradients, WetSolidPairs};
 use sph::smoothing::Smoothing;
 
 /// Sorts `cloud` with `grid`, checks the permutation, permutes, links and compares every
@@ -76,7 +76,7 @@ fn visits<const D: usize>(visit: impl FnOnce(&mut dyn FnMut(usize, Vector<D>))) 
 /// grid's offset and squared distance (so a sweep over it sums the same floats), and nothing
 /// for the others. Built twice into one list (all particles, then every third one skipped), as
 /// the backend reuses it between velocity solves; and `SpikyGradients` gives the same from the
-/// grid and from the list.
+/// grid and from the list. The wet solids' list of fluid pairs likewise.
 fn assert_list_matches_grid<const D: usize>(grid: &Grid<D>, positions: &[Vector<D>]) {
     let kernel = Smoothing::<D>::new(grid.cell_size()).expect("2D or 3D");
     let mut list = NeighbourList::default();
@@ -106,6 +106,27 @@ fn assert_list_matches_grid<const D: usize>(grid: &Grid<D>, positions: &[Vector<
     }
     list.clear();
     assert!(list.is_empty());
+    // The wet solids' fluid pairs: every third particle a "solid", every other one of those
+    // "wet"; the list gives each wet solid's fluid pairs in the grid's order, with the grid's
+    // offset and the poly6 weight of its squared distance, bit for bit.
+    let is_fluid = |j: usize| j % 3 != 0;
+    let wet: Vec<u32> = (0..positions.len() as u32).filter(|i| i % 6 == 0).collect();
+    let mut wet_pairs = WetSolidPairs::default();
+    wet_pairs.build(grid, &kernel, positions, &wet, is_fluid);
+    let bits = |d: &Vector<D>, w: Real| (d.iter().map(|c| c.to_bits()).collect::<Vec<_>>(), w.to_bits());
+    for (k, &w) in wet.iter().enumerate() {
+        let mut from_list = Vec::new();
+        wet_pairs.for_each_fluid(k, |j, d, weight| from_list.push((j, bits(d, weight))));
+        let mut from_grid = Vec::new();
+        grid.for_each_neighbour(positions, w as usize, |j, d, r2| {
+            if is_fluid(j) {
+                from_grid.push((j, bits(&d, kernel.w(r2))));
+            }
+        });
+        assert_eq!(from_list, from_grid, "wet solid {w}: list vs grid");
+    }
+    wet_pairs.clear();
+    assert!(wet_pairs.is_empty());
 }
 
 fn check<const D: usize>(cloud: &[Vector<D>], h: Real) -> Vec<Vector<D>> {

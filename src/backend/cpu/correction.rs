@@ -188,12 +188,17 @@ impl<const D: usize> CpuBackend<D> {
     pub(super) fn begin_velocity_solve(&mut self, fields: &mut Fields<D>, params: &StepParams<D>) {
         self.delta_p_previous.clear();
         self.delta_p.clear();
-        // The fluid's pairs and gradients, which the solve's sweeps visit; the wet solids' loops
-        // take the grid (`crate::neighbour_list`).
-        let kind = &fields.kind;
+        // The fluid's pairs and gradients, and the wet solids' fluid pairs, which the solve's
+        // sweeps visit (`crate::neighbour_list`).
+        let (kind, kernel) = (&fields.kind, params.smoothing());
+        if self.dry.len() != fields.len() {
+            self.find_dry_solids(kind);
+        }
         self.velocity_neighbours
-            .build(&self.grid, &params.smoothing(), &fields.position, |i| {
-                kind[i] == FLUID
+            .build(&self.grid, &kernel, &fields.position, |i| kind[i] == FLUID);
+        self.wet_pairs
+            .build(&self.grid, &kernel, &fields.position, &self.wet, |j| {
+                kind[j] == FLUID
             });
         self.velocity_solve_start.clone_from(&fields.velocity);
         self.pressure_solve_start.clone_from(&fields.pressure);
@@ -242,7 +247,7 @@ impl<const D: usize> CpuBackend<D> {
                 *dp = if kind[i] == FLUID { p - start[i] } else { 0.0 };
                 *q = term(*dp, i);
             });
-        self.extrapolate_increments(fields, &density, params);
+        self.extrapolate_listed_increments(&density);
         for (&w, &r) in self.wet.iter().zip(&self.wet_increments) {
             let w = w as usize;
             let p0 = self.pressure_solve_start[w];
@@ -282,6 +287,7 @@ impl<const D: usize> CpuBackend<D> {
         // Positions did not move: the sum (18) is still the one remembered at the start.
         fields.density.clone_from(&self.density_solve_start);
         self.velocity_neighbours.clear();
+        self.wet_pairs.clear();
     }
 }
 

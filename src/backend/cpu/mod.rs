@@ -17,7 +17,7 @@ use crate::boundary::motion::{SolidKinematics, SolidReference};
 use crate::fields::{Fields, PermuteScratch};
 use crate::grid::{Grid, GridError};
 use crate::math::{Real, Vector};
-use crate::neighbour_list::NeighbourList;
+use crate::neighbour_list::{NeighbourList, WetSolidPairs};
 use crate::physics::damping_zone::DampingZone;
 use crate::physics::gradient_moment::MomentSums;
 use anderson::AndersonBuffers;
@@ -76,6 +76,8 @@ pub struct CpuBackend<const D: usize> {
     /// `begin_velocity_solve` and cleared by `end_velocity_solve` (`crate::neighbour_list`).
     /// Non-empty exactly while a solve runs.
     velocity_neighbours: NeighbourList<D>,
+    /// The `wet` solids' fluid pairs over the same solve (`crate::neighbour_list`).
+    wet_pairs: WetSolidPairs<D>,
     /// The velocity solve's Anderson acceleration (`anderson.rs`).
     anderson: AndersonBuffers,
     /// The whole simulation, or one rank's share (`backend::partition`): which particles the
@@ -105,6 +107,7 @@ impl<const D: usize> CpuBackend<D> {
             + self.pressure_terms.capacity() * 4
             + self.fluid_before.capacity() * 4
             + self.velocity_neighbours.heap_bytes()
+            + self.wet_pairs.heap_bytes()
             + self.anderson.heap_bytes()
     }
 }

@@ -132,4 +132,17 @@ impl<const D: usize> CpuBackend<D> {
             sums.increment()
         }));
     }
+
+    /// [`CpuBackend::extrapolate_increments`] in a velocity solve, from the wet solids' fluid
+    /// pairs listed at its start (`crate::neighbour_list::WetSolidPairs`): bitwise the same.
+    pub(super) fn extrapolate_listed_increments(&mut self, density: &[Real]) {
+        let (pairs, fluid_dp) = (&self.wet_pairs, &self.delta_p);
+        self.wet_increments.clear();
+        self.wet_increments
+            .par_extend((0..self.wet.len()).into_par_iter().map(|k| {
+                let mut sums = WallPressureSums::<D>::default();
+                pairs.for_each_fluid(k, |j, d, w| sums.add(fluid_dp[j], density[j], d, w));
+                sums.increment()
+            }));
+    }
 }
