@@ -10,13 +10,13 @@ use crate::physics::multiphase::Phases;
 use crate::solver::anderson::{AndersonState, WINDOW};
 use rayon::prelude::*;
 
-/// The host state and the vectors [Pa] of the acceleration: per ring slot the differences
-/// `ΔP_j`, `Δf_j` of consecutive iterates, the previous iterate `P` with its `f = g(P) − P`,
-/// and the current `f`.
+/// The host state and the vectors [Pa] of the acceleration: per ring slot the difference
+/// `Δf_j` of consecutive iterates and the sum `ΔP_j + Δf_j` (all the mix reads of `ΔP_j`), the
+/// previous iterate `P` with its `f = g(P) − P`, and the current `f`.
 #[derive(Debug, Default)]
 pub(super) struct AndersonBuffers {
     state: AndersonState,
-    dp: Vec<Vec<Real>>,
+    dp_df: Vec<Vec<Real>>,
     df: Vec<Vec<Real>>,
     previous: Vec<Real>,
     previous_f: Vec<Real>,
@@ -31,7 +31,7 @@ impl AndersonBuffers {
 
     /// Bytes held by the vectors.
     pub(super) fn heap_bytes(&self) -> usize {
-        let slots: usize = self.dp.iter().chain(&self.df).map(Vec::capacity).sum();
+        let slots: usize = self.dp_df.iter().chain(&self.df).map(Vec::capacity).sum();
         (slots + self.previous.capacity() + self.previous_f.capacity() + self.f.capacity()) * 4
     }
 
@@ -54,14 +54,14 @@ impl AndersonBuffers {
         partition: &mut Partition,
     ) {
         let n = fields.len();
-        if self.dp.len() != WINDOW {
-            self.dp = vec![Vec::new(); WINDOW];
+        if self.dp_df.len() != WINDOW {
+            self.dp_df = vec![Vec::new(); WINDOW];
             self.df = vec![Vec::new(); WINDOW];
         }
         self.f.resize(n, 0.0);
         self.previous.resize(n, 0.0);
         self.previous_f.resize(n, 0.0);
-        for v in self.dp.iter_mut().chain(self.df.iter_mut()) {
+        for v in self.dp_df.iter_mut().chain(self.df.iter_mut()) {
             v.resize(n, 0.0);
         }
         let state = &mut self.state;
@@ -76,7 +76,7 @@ impl AndersonBuffers {
         let (previous, previous_f) = (&self.previous, &self.previous_f);
         let counted = &*partition;
         // The new slot's vectors are written; the others are read (`split_at_mut` around `s`).
-        let dp_new = &mut self.dp[s];
+        let dp_df_new = &mut self.dp_df[s];
         let (df_before, df_rest) = self.df.split_at_mut(s);
         let (df_new, df_after) = df_rest.split_first_mut().expect("WINDOW slots");
         let (df_before, df_after) = (&*df_before, &*df_after);
@@ -90,10 +90,10 @@ impl AndersonBuffers {
         let partial: Vec<([f64; WINDOW], [f64; WINDOW])> = self
             .f
             .par_chunks_mut(REDUCTION_CHUNK)
-            .zip(dp_new.par_chunks_mut(REDUCTION_CHUNK))
+            .zip(dp_df_new.par_chunks_mut(REDUCTION_CHUNK))
             .zip(df_new.par_chunks_mut(REDUCTION_CHUNK))
             .enumerate()
-            .map(|(c, ((f, dp), df))| {
+            .map(|(c, ((f, dp_df), df))| {
                 let mut dots = [0.0f64; WINDOW];
                 let mut rhs = [0.0f64; WINDOW];
                 for (o, f_i) in f.iter_mut().enumerate() {
@@ -106,8 +106,10 @@ impl AndersonBuffers {
                         0.0
                     };
                     if has_previous {
-                        dp[o] = pressure[i] - previous[i];
                         df[o] = *f_i - previous_f[i];
+                        // Only `ΔP_j + Δf_j` enters the mix: summed once here, the same f32
+                        // sum the mix would take.
+                        dp_df[o] = (pressure[i] - previous[i]) + df[o];
                     }
                     if !counted.counts(i) {
                         continue; // a ghost: its owner adds it
@@ -140,7 +142,7 @@ impl AndersonBuffers {
         partition.sum(&mut rhs);
         let gamma = state.coefficients(&rhs).map(|g| g as Real);
         state.has_previous = true;
-        let (slots_dp, slots_df, f) = (&self.dp, &self.df, &self.f);
+        let (slots_dp_df, f) = (&self.dp_df, &self.f);
         fields
             .pressure
             .par_iter_mut()
@@ -151,7 +153,7 @@ impl AndersonBuffers {
                 if kind[i] == FLUID {
                     let mut mixed = *p + f[i];
                     for l in 0..held {
-                        mixed -= gamma[l] * (slots_dp[l][i] + slots_df[l][i]);
+                        mixed -= gamma[l] * slots_dp_df[l][i];
                     }
                     *p = mixed.max(0.0); // note 6
                 }
