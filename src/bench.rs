@@ -127,7 +127,7 @@ fn neighbours_per_particle<const D: usize>(sim: &Simulation<D>) -> f64 {
     };
     let position: Vec<_> = perm.iter().map(|&p| f.position[p as usize]).collect();
     let id: Vec<u32> = perm.iter().map(|&p| f.id[p as usize]).collect();
-    grid.link(&id);
+    grid.link(&id, &position);
     use rayon::prelude::*;
     // Every particle up to 200,000; beyond, an even sample of 200,000 (the mean converges long
     // before, and counting 1e8 particles would take longer than the benchmark).

@@ -18,6 +18,16 @@
 //! cells then break at the seam, so a periodic grid stores each cell's `3^D` neighbour cells as
 //! single ranges (in the same order: axis 0 fastest), and every candidate's offset goes
 //! through [`Periodic::minimum_image`].
+//!
+//! After the cells, [`Grid::link`] lists each particle's candidates within
+//! `(1 + CANDIDATE_SKIN) h` once (`candidates`), and [`Grid::for_each_neighbour`] visits that
+//! list: the same pairs in the same order as the cells while particles drift less than
+//! `CANDIDATE_SKIN / 2 · h` since the sort, at a sixth of the candidates in 3D.
+mod candidates;
+
+pub use candidates::CANDIDATE_SKIN;
+use candidates::Candidates;
+
 use crate::math::{Real, Vector};
 use crate::periodic::Periodic;
 use crate::smoothing::pair_offset;
@@ -92,6 +102,9 @@ pub struct Grid<const D: usize> {
     inv_cell: [f64; D],
     /// Ranges per cell in `rows`: `3^(D−1)` rows, or `3^D` single cells with periodic axes.
     rows_per_cell: usize,
+    /// Each particle's candidates within `(1 + CANDIDATE_SKIN) h` at the positions given to
+    /// [`Grid::link`], in the cells' order.
+    candidates: Candidates,
 }
 
 /// Number of neighbour rows per cell: `3^(D−1)`.
@@ -123,6 +136,7 @@ impl<const D: usize> Default for Grid<D> {
             extent: [0; D],
             inv_cell: [1.0; D],
             rows_per_cell: rows_per_cell(D),
+            candidates: Candidates::default(),
         }
     }
 }
@@ -148,6 +162,7 @@ impl<const D: usize> Grid<D> {
             + self.pairs.capacity() * 16
             + self.perm.capacity() * 4
             + self.id.capacity() * 4
+            + self.candidates.heap_bytes()
     }
 
     /// Stage `sort_by_cell`, first half: hashes `position` to cells of size `cell_size` [m] and
@@ -258,14 +273,20 @@ impl<const D: usize> Grid<D> {
     }
 
     /// Stage `sort_by_cell`, second half: builds the cell ranges and each cell's neighbour rows
-    /// from the sorted keys, and keeps the particles' ids `id` (sorted order, one per particle;
-    /// the tie-break of coincident pairs). Call after the fields have been permuted.
+    /// from the sorted keys, keeps the particles' ids `id` (sorted order, one per particle;
+    /// the tie-break of coincident pairs), and lists each particle's candidates from the sorted
+    /// `position` (module docs). Call after the fields have been permuted.
     ///
     /// # Panics
-    /// When `id` does not hold one id per sorted particle.
-    pub fn link(&mut self, id: &[u32]) {
+    /// When `id` or `position` does not hold one entry per sorted particle.
+    pub fn link(&mut self, id: &[u32], position: &[Vector<D>]) {
         let n = self.keys.len();
         assert_eq!(id.len(), n, "Grid::link needs one id per sorted particle");
+        assert_eq!(
+            position.len(),
+            n,
+            "Grid::link needs one position per sorted particle"
+        );
         self.id.clear();
         self.id.extend_from_slice(id);
         self.cell_keys.clear();
@@ -289,6 +310,7 @@ impl<const D: usize> Grid<D> {
                 self.link_periodic(self.cell_keys[c], out);
             });
             self.rows = rows;
+            self.list_candidates(position);
             return;
         }
         rows.par_chunks_mut(r).enumerate().for_each(|(c, out)| {
@@ -306,6 +328,25 @@ impl<const D: usize> Grid<D> {
             }
         });
         self.rows = rows;
+        self.list_candidates(position);
+    }
+
+    /// Fills `candidates` from the cells' ranges at the sorted `position`.
+    fn list_candidates(&mut self, position: &[Vector<D>]) {
+        let reach = self.cell_size * (1.0 + CANDIDATE_SKIN);
+        let reach2 = reach * reach;
+        let mut candidates = std::mem::take(&mut self.candidates);
+        candidates.build(position.len(), |i, out| {
+            let xi = position[i];
+            for range in self.neighbour_ranges(i) {
+                for (j, xj) in position[range.clone()].iter().enumerate() {
+                    if self.periodic.minimum_image(xi - xj).norm_squared() < reach2 {
+                        out.push((range.start + j) as u32);
+                    }
+                }
+            }
+        });
+        self.candidates = candidates;
     }
 
     /// The `3^D` neighbour cells of the cell `key` of a periodic grid, one range each, axis 0
@@ -375,7 +416,9 @@ impl<const D: usize> Grid<D> {
 
     /// Calls `f(j, x_i − x_j, |x_i − x_j|²)` for every particle `j` (including `i` itself) with
     /// `|x_i − x_j| < h`, where `h` is the cell size (`x_i − x_j` the minimum image along
-    /// periodic axes). `position` must be in sorted order. A pair
+    /// periodic axes), in the order of the cells' ranges (`Grid::neighbour_ranges`). `position`
+    /// must be in sorted order, each particle within `CANDIDATE_SKIN / 2 · h` of where
+    /// [`Grid::link`] saw it: the pairs come from its candidate lists. A pair
     /// `j ≠ i` closer than `COINCIDENT_FRACTION·h` gets the offset of
     /// [`crate::smoothing::pair_offset`] (a fixed antisymmetric direction from the ids given to
     /// [`Grid::link`], note 4).
@@ -386,15 +429,13 @@ impl<const D: usize> Grid<D> {
     {
         let xi = position[i];
         let h2 = self.cell_size * self.cell_size;
-        for range in self.neighbour_ranges(i) {
-            for (j, xj) in position[range.clone()].iter().enumerate() {
-                let d = self.periodic.minimum_image(xi - xj);
-                let r2 = d.norm_squared();
-                if r2 < h2 {
-                    let j = range.start + j;
-                    let (d, r2) = pair_offset(d, r2, self.id[i], self.id[j], self.cell_size);
-                    f(j, d, r2);
-                }
+        for &j in self.candidates.of(i) {
+            let j = j as usize;
+            let d = self.periodic.minimum_image(xi - position[j]);
+            let r2 = d.norm_squared();
+            if r2 < h2 {
+                let (d, r2) = pair_offset(d, r2, self.id[i], self.id[j], self.cell_size);
+                f(j, d, r2);
             }
         }
     }

@@ -57,6 +57,10 @@ pub const VELOCITY_TOLERANCE: f64 = 0.05;
 /// Summed displacement since the last sort, in units of `h`, that triggers a re-sort.
 pub const RESORT_DRIFT: f64 = 0.005;
 
+// Two particles drift apart by at most `2 RESORT_DRIFT h` between sorts; the grid's candidate
+// lists cover `CANDIDATE_SKIN h` (`crate::grid`), so every pair within `h` is listed.
+const _: () = assert!(2.0 * RESORT_DRIFT <= crate::grid::CANDIDATE_SKIN as f64);
+
 impl<const D: usize> Simulation<D> {
     /// Advances the simulation by one step, ending no later than `end_time` [s].
     pub fn step(&mut self, end_time: f64) -> Result<StepReport, StepError> {

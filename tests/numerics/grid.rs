@@ -3,11 +3,14 @@
 //! particles `neighbours_naive` finds, once each, with the right offsets and squared distances.
 //! Also: the velocity solve's `NeighbourList` visiting exactly what the grid visits (same order,
 //! bitwise the same spiky gradients), memory independent of empty space, errors (not panics) for bad
-//! input, and `Fields::permute` moving every particle field.
+//! input, and `Fields::permute` moving every particle field. And the grid's candidate lists:
+//! after every particle drifted by up to `RESORT_DRIFT h` since the sort (as the correction
+//! allows), `for_each_neighbour` still visits exactly what the cells' ranges hold within `h`,
+//! in their order, with the same offsets.
 
 use proptest::prelude::*;
 use sph::fields::{Fields, PermuteScratch};
-use sph::grid::{Grid, GridError, neighbours_naive};
+use sph::grid::{CANDIDATE_SKIN, Grid, GridError, neighbours_naive};
 use sph::math::{Real, Vector};
 use sph::neighbour_list::{NeighbourList, SpikyGradients, WetSolidPairs};
 use sph::smoothing::Smoothing;
@@ -33,7 +36,7 @@ fn assert_neighbours_match<const D: usize>(
     }
     let positions: Vec<Vector<D>> = perm.iter().map(|&p| cloud[p as usize]).collect();
     // Each particle's id is its index in the cloud.
-    grid.link(&perm);
+    grid.link(&perm, &positions);
     assert_eq!(grid.cell_size(), h);
     assert!(
         grid.cell_count() <= n,
@@ -59,7 +62,73 @@ fn assert_neighbours_match<const D: usize>(
         );
     }
     assert_list_matches_grid(grid, &positions);
+    assert_drifted_visits_match_cells(grid, &positions);
     positions
+}
+
+/// Every `(j, offset bits)` the cells' ranges (`Grid::neighbour_ranges`) hold within `h` of
+/// particle `i` at `positions`, in their order, with the offset `for_each_neighbour` passes (the
+/// minimum image and the coincident tie-break): what the candidate lists must reproduce.
+pub(crate) fn cell_walk<const D: usize>(
+    grid: &Grid<D>,
+    positions: &[Vector<D>],
+    i: usize,
+) -> Vec<(usize, Vec<u32>)> {
+    let h = grid.cell_size();
+    let id = grid.ids();
+    let mut out = Vec::new();
+    for range in grid.neighbour_ranges(i) {
+        for j in range {
+            let d = grid.periodic().minimum_image(positions[i] - positions[j]);
+            let r2 = d.norm_squared();
+            if r2 < h * h {
+                let (d, _) = sph::smoothing::pair_offset(d, r2, id[i], id[j], h);
+                out.push((j, d.iter().map(|c| c.to_bits()).collect()));
+            }
+        }
+    }
+    out
+}
+
+/// `for_each_neighbour`'s visits of particle `i`, as [`cell_walk`] gives them.
+pub(crate) fn list_walk<const D: usize>(
+    grid: &Grid<D>,
+    positions: &[Vector<D>],
+    i: usize,
+) -> Vec<(usize, Vec<u32>)> {
+    let mut out = Vec::new();
+    grid.for_each_neighbour(positions, i, |j, d, _| {
+        out.push((j, d.iter().map(|c| c.to_bits()).collect()))
+    });
+    out
+}
+
+/// Moves every particle of the linked `grid` by `RESORT_DRIFT h` in a direction of its own (a
+/// hash of its index) and checks that the candidate lists still give the cells' pairs.
+pub(crate) fn assert_drifted_visits_match_cells<const D: usize>(grid: &Grid<D>, positions: &[Vector<D>]) {
+    let h = grid.cell_size();
+    let step = (sph::solver::step::RESORT_DRIFT as Real) * h;
+    let drifted: Vec<Vector<D>> = positions
+        .iter()
+        .enumerate()
+        .map(|(i, x)| {
+            let mut u = Vector::<D>::from_fn(|k, _| {
+                let z = (i as u64 * 0x9E37_79B9_7F4A_7C15 + k as u64 * 0xBF58_476D_1CE4_E5B9) >> 40;
+                z as Real / (1u64 << 24) as Real - 0.5
+            });
+            if u.norm() == 0.0 {
+                u[0] = 1.0;
+            }
+            x + u.normalize() * step
+        })
+        .collect();
+    for i in 0..positions.len() {
+        assert_eq!(
+            list_walk(grid, &drifted, i),
+            cell_walk(grid, &drifted, i),
+            "particle {i} after a drift of RESORT_DRIFT h: candidate lists vs cells"
+        );
+    }
 }
 
 /// Every `(j, ∇W_spiky)` a loop visits for particle `i`, in its order, as bits.
@@ -187,6 +256,37 @@ proptest! {
         assert_neighbours_match(&mut grid, &a, ha);
         assert_neighbours_match(&mut grid, &b, hb);
     }
+}
+
+#[test]
+fn candidate_lists_hold_a_pair_that_drifts_into_the_support() {
+    // Two particles just beyond h at the sort, each drifting RESORT_DRIFT h towards the other:
+    // within h afterwards, so the lists must hold them (the skin covers twice that drift).
+    let h: Real = 0.1;
+    let drift = sph::solver::step::RESORT_DRIFT as Real * h;
+    assert!(2.0 * drift <= CANDIDATE_SKIN * h);
+    let gap = h + 1.8 * drift;
+    // Mid-cell (cells of side h from 0), so the pair lies in neighbouring cells.
+    let cloud = vec![
+        v3(0.55, 0.55, 0.55),
+        v3(0.55 + gap, 0.55, 0.55),
+        v3(0.55, 0.57, 0.55),
+    ];
+    let mut grid = Grid::<3>::default();
+    let perm = grid.sort(&cloud, h).expect("finite").to_vec();
+    let positions: Vec<Vector<3>> = perm.iter().map(|&p| cloud[p as usize]).collect();
+    grid.link(&perm, &positions);
+    let (a, b) = (
+        perm.iter().position(|&p| p == 0).expect("in the sort"),
+        perm.iter().position(|&p| p == 1).expect("in the sort"),
+    );
+    let mut moved = positions.clone();
+    moved[a][0] += drift;
+    moved[b][0] -= drift;
+    let mut seen = false;
+    grid.for_each_neighbour(&moved, a, |j, _, r2| seen |= j == b && r2 < h * h);
+    assert!(seen, "the pair drifted within h and must be visited");
+    assert_eq!(list_walk(&grid, &moved, a), cell_walk(&grid, &moved, a));
 }
 
 #[test]
@@ -548,7 +648,7 @@ fn fields_permute_by_the_grid_sort_keeps_particles_whole() {
     let mut grid = Grid::<3>::default();
     let perm = grid.sort(&f.position, 0.1).expect("finite").to_vec();
     f.permute(&perm, &mut PermuteScratch::default());
-    grid.link(&f.id);
+    grid.link(&f.id, &f.position);
     assert_moved_together(&f, &original, &perm);
     for i in 0..n {
         let mut visited = Vec::new();

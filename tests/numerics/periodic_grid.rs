@@ -27,11 +27,12 @@ fn assert_periodic_neighbours_match<const D: usize>(cloud: &[Vector<D>], h: Real
         .to_vec();
     let positions: Vec<Vector<D>> = perm.iter().map(|&p| cloud[p as usize]).collect();
     // Each particle's id is its index in the cloud.
-    grid.link(&perm);
+    grid.link(&perm, &positions);
     let at_rim = |i: usize, j: usize| {
         let r2 = periodic.minimum_image(positions[i] - positions[j]).norm_squared();
         (r2 - h * h).abs() <= RIM * h * h
     };
+    super::grid::assert_drifted_visits_match_cells(&grid, &positions);
     let mut across = 0;
     for i in 0..positions.len() {
         let mut visited = Vec::new();
@@ -144,7 +145,7 @@ fn a_lattice_filling_the_period_has_no_seam() {
         .expect("6 cells")
         .to_vec();
     let positions: Vec<Vector<2>> = perm.iter().map(|&p| cloud[p as usize]).collect();
-    grid.link(&perm);
+    grid.link(&perm, &positions);
     let count = |i: usize| {
         let mut c = 0;
         grid.for_each_neighbour(&positions, i, |_, _, _| c += 1);

@@ -18,7 +18,7 @@ impl<const D: usize> CpuBackend<D> {
         self.delta_p_previous.clear();
         self.delta_p.clear();
         fields.permute(perm, &mut self.scratch);
-        self.grid.link(&fields.id);
+        self.grid.link(&fields.id, &fields.position);
         self.find_dry_solids(&fields.kind);
         Ok(())
     }

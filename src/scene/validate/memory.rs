@@ -48,14 +48,18 @@ pub const CONTACT_BYTES_PER_SOLID: u64 = 120;
 /// 3 % fluid), which 90 B per particle and 225 B per fluid particle fit within 20 B. 2D `wcsph`
 /// 143 B and `corrected` 162 B more on the 2D dam break at 0.5 mm (259,008 particles, 97 %
 /// fluid), split as in 3D. The neighbour list's pair offsets, added since, count `4 D` B more per
-/// pair: 400 B per fluid particle in 3D, 104 B in 2D.
+/// pair: 400 B per fluid particle in 3D, 104 B in 2D. The grid's candidate lists
+/// (`crate::grid`), added since too, hold 4 B per candidate within `1.02 h` and 4 B per
+/// particle: about 36 candidates inside the fluid in 3D and 13 in 2D, fewer at walls and at the
+/// free surface; counted as 120 B per particle in 3D (the column scene read +8 % at 148 B) and
+/// 56 B in 2D.
 pub fn particle_bytes(dim: usize, solver: crate::scene::SolverKind) -> ParticleBytes {
     use crate::scene::SolverKind;
     let (per_particle, per_fluid) = match (dim, solver) {
-        (3, SolverKind::Wcsph) => (166, 0),
-        (3, SolverKind::Corrected) => (166 + 90, 225 + 400),
-        (_, SolverKind::Wcsph) => (143, 0),
-        (_, SolverKind::Corrected) => (143 + 50, 115 + 104),
+        (3, SolverKind::Wcsph) => (166 + 120, 0),
+        (3, SolverKind::Corrected) => (166 + 120 + 90, 225 + 400),
+        (_, SolverKind::Wcsph) => (143 + 56, 0),
+        (_, SolverKind::Corrected) => (143 + 56 + 50, 115 + 104),
     };
     ParticleBytes {
         per_particle,
