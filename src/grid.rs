@@ -22,17 +22,22 @@
 //! After the cells, [`Grid::link`] lists each particle's candidates within
 //! `(1 + CANDIDATE_SKIN) h` once (`candidates`), and [`Grid::for_each_neighbour`] visits that
 //! list: the same pairs in the same order as the cells while particles drift less than
-//! `CANDIDATE_SKIN / 2 · h` since the sort, at a sixth of the candidates in 3D.
-mod candidates;
-
-pub use candidates::CANDIDATE_SKIN;
-use candidates::Candidates;
-
+//! `CANDIDATE_SKIN / 2 · h` since the sort, at a sixth of the candidates in 3D. Why: the CPU
+//! backend visits every particle's neighbours in several passes per sort (density, wall
+//! pressure, gradient moment, forces, the correction's sweeps and the velocity solve's lists),
+//! and the cells' `3^D` candidates hold about 216 particles in 3D at `h = 2 dx` (36 in 2D), of
+//! which about 33 (13) lie within `h`.
+use crate::block_lists::BlockLists;
 use crate::math::{Real, Vector};
 use crate::periodic::Periodic;
 use crate::smoothing::pair_offset;
 use rayon::prelude::*;
 use std::ops::Range;
+
+/// Extra reach of the candidate lists beyond `h`, in units of `h`. It covers a drift of
+/// `CANDIDATE_SKIN / 2 · h` of each particle of a pair since the sort; the solver re-sorts at
+/// half of that (`solver::step::RESORT_DRIFT`), so rounding has a factor 2 of room.
+pub const CANDIDATE_SKIN: Real = 0.02;
 
 /// Errors of the neighbour grid.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -104,7 +109,7 @@ pub struct Grid<const D: usize> {
     rows_per_cell: usize,
     /// Each particle's candidates within `(1 + CANDIDATE_SKIN) h` at the positions given to
     /// [`Grid::link`], in the cells' order.
-    candidates: Candidates,
+    candidates: BlockLists<u32>,
 }
 
 /// Number of neighbour rows per cell: `3^(D−1)`.
@@ -136,7 +141,7 @@ impl<const D: usize> Default for Grid<D> {
             extent: [0; D],
             inv_cell: [1.0; D],
             rows_per_cell: rows_per_cell(D),
-            candidates: Candidates::default(),
+            candidates: BlockLists::default(),
         }
     }
 }

@@ -19,6 +19,7 @@ pub use nalgebra;
 pub mod backend;
 pub mod bench;
 pub mod bench_scaling;
+mod block_lists;
 pub mod boundary;
 pub mod charts;
 pub mod cli;
