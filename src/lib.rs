@@ -21,6 +21,7 @@ pub mod bench;
 pub mod bench_scaling;
 mod block_lists;
 pub mod boundary;
+pub mod bounded_read;
 pub mod charts;
 pub mod cli;
 pub mod distributed;

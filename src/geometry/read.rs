@@ -23,23 +23,17 @@ pub const MAX_MESH_BYTES: u64 = 1 << 30;
 /// `.obj`, any case), in file units.
 ///
 /// # Errors
-/// [`MeshError::Read`] if the file cannot be read or is too large, [`MeshError::Format`] if it
+/// [`MeshError::Read`] if the file cannot be read, is not a regular file or is too large, [`MeshError::Format`] if it
 /// is neither format or malformed.
 pub fn read_triangles(path: &Path) -> Result<Vec<Triangle>, MeshError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    // Only a regular file, at most `MAX_MESH_BYTES` (`crate::bounded_read`).
     let read = |path: &Path| -> Result<Vec<u8>, MeshError> {
-        let size = std::fs::metadata(path)
-            .map_err(|e| MeshError::Read(e.to_string()))?
-            .len();
-        if size > MAX_MESH_BYTES {
-            return Err(MeshError::Read(format!(
-                "{size} bytes, more than the {MAX_MESH_BYTES} bytes read"
-            )));
-        }
-        std::fs::read(path).map_err(|e| MeshError::Read(e.to_string()))
+        crate::bounded_read::read_regular_file(path, MAX_MESH_BYTES)
+            .map_err(|e| MeshError::Read(e.to_string()))
     };
     match ext.as_deref() {
         Some("stl") => stl(&read(path)?),

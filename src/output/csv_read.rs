@@ -10,18 +10,19 @@
 
 use std::path::{Path, PathBuf};
 
+/// The largest CSV file read \[bytes\]: 1 GiB. A run's own logs grow with its steps and
+/// probes (a probe row of 20 values every step for 10⁶ steps is about 200 MB); reference
+/// records and wave-maker series are kilobytes to megabytes. The table is held in memory while
+/// it is read, so a bound keeps a mistaken path from exhausting it.
+pub const MAX_CSV_BYTES: u64 = 1 << 30;
+
 /// Errors reading a CSV file; each names the file, and the line and column where there is one.
 #[derive(Debug, thiserror::Error)]
 pub enum CsvReadError {
-    /// Reading the file failed.
-    #[error("cannot read {}: {source}", path.display())]
-    Io {
-        /// The file being read.
-        path: PathBuf,
-        /// The underlying I/O error.
-        #[source]
-        source: std::io::Error,
-    },
+    /// The file was not read: missing, unreadable, not a regular file, or larger than
+    /// [`MAX_CSV_BYTES`] (`crate::bounded_read`).
+    #[error(transparent)]
+    File(#[from] crate::bounded_read::BoundedReadError),
     /// The file has no header row (it is empty or blank).
     #[error("{}:1: no header row", path.display())]
     NoHeader {
@@ -100,13 +101,10 @@ impl CsvFile {
     /// values are checked when they are asked for.
     ///
     /// # Errors
-    /// [`CsvReadError::Io`], [`CsvReadError::NoHeader`], [`CsvReadError::Ragged`],
-    /// [`CsvReadError::Malformed`].
+    /// [`CsvReadError::File`] (only a regular file of at most [`MAX_CSV_BYTES`] is read),
+    /// [`CsvReadError::NoHeader`], [`CsvReadError::Ragged`], [`CsvReadError::Malformed`].
     pub fn read(path: &Path) -> Result<Self, CsvReadError> {
-        let bytes = std::fs::read(path).map_err(|source| CsvReadError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let bytes = crate::bounded_read::read_regular_file(path, MAX_CSV_BYTES)?;
         Self::parse(path, &bytes)
     }
 

@@ -37,6 +37,14 @@ pub enum RunFolderError {
         #[source]
         source: std::io::Error,
     },
+    /// The run folder's path names something other than a folder (a file, a device).
+    #[error("--out {} is {kind}, not a folder: choose a folder for the run's results", path.display())]
+    NotAFolder {
+        /// The path.
+        path: PathBuf,
+        /// What it is.
+        kind: &'static str,
+    },
     /// Another run holds the folder's lock.
     #[error(
         "{} is in use by another sph run (its lock {LOCK_FILE} is held); wait for it to end or choose another --out",
@@ -146,13 +154,14 @@ impl RunFolder {
     /// previous run's manifest lists.
     pub fn fresh(dir: &Path, identity: RunIdentity, force: bool) -> Result<Self, RunFolderError> {
         let lock = lock(dir)?;
-        let previous = read_manifest(dir)?;
-        let names = entries(dir)?;
+        let previous = read_manifest(dir).inspect_err(|_| lock.abandon(dir))?;
+        let names = entries(dir).inspect_err(|_| lock.abandon(dir))?;
         if !names.is_empty() && !force {
             let what = match &previous {
                 Some(m) => format!("the files of run {}", m.identity.run_id),
                 None => "files not written by sph".to_string(),
             };
+            lock.abandon(dir);
             return Err(RunFolderError::Occupied {
                 dir: dir.to_path_buf(),
                 what,
@@ -168,7 +177,7 @@ impl RunFolder {
                 identity,
                 files: BTreeSet::new(),
             },
-            _lock: lock,
+            _lock: lock.file,
         };
         folder.write_manifest()?;
         Ok(folder)
@@ -177,13 +186,17 @@ impl RunFolder {
     /// Takes `dir` to continue the run its manifest names.
     pub fn resume(dir: &Path) -> Result<Self, RunFolderError> {
         let lock = lock(dir)?;
-        let manifest = read_manifest(dir)?.ok_or_else(|| RunFolderError::NoManifest {
-            dir: dir.to_path_buf(),
-        })?;
+        let manifest = read_manifest(dir)
+            .and_then(|m| {
+                m.ok_or_else(|| RunFolderError::NoManifest {
+                    dir: dir.to_path_buf(),
+                })
+            })
+            .inspect_err(|_| lock.abandon(dir))?;
         Ok(Self {
             dir: dir.to_path_buf(),
             manifest,
-            _lock: lock,
+            _lock: lock.file,
         })
     }
 
@@ -266,13 +279,44 @@ impl RunFolder {
     }
 }
 
+/// A folder's lock, and whether taking it created the lock file.
+struct Lock {
+    file: File,
+    created: bool,
+}
+
+impl Lock {
+    /// A refused run leaves the folder as it found it: the lock file goes if this run made it.
+    fn abandon(&self, dir: &Path) {
+        if self.created {
+            let _ = std::fs::remove_file(dir.join(LOCK_FILE));
+        }
+    }
+}
+
 /// Creates `dir` (and its parents) and takes its lock, without waiting.
-fn lock(dir: &Path) -> Result<File, RunFolderError> {
+fn lock(dir: &Path) -> Result<Lock, RunFolderError> {
+    // A path that exists must be a folder (links followed): "File exists (os error 17)" from
+    // `create_dir_all` would not say which.
+    if let Ok(meta) = std::fs::metadata(dir) {
+        if !meta.is_dir() {
+            let kind = if meta.is_file() {
+                "a file"
+            } else {
+                "not a folder or a file"
+            };
+            return Err(RunFolderError::NotAFolder {
+                path: dir.to_path_buf(),
+                kind,
+            });
+        }
+    }
     std::fs::create_dir_all(dir).map_err(|e| RunFolderError::io(dir, e))?;
     let path = dir.join(LOCK_FILE);
+    let created = std::fs::symlink_metadata(&path).is_err();
     let file = safe_file::open_or_create(&path).map_err(|e| RunFolderError::io(&path, e))?;
     match try_lock(&file) {
-        Ok(true) => Ok(file),
+        Ok(true) => Ok(Lock { file, created }),
         Ok(false) => Err(RunFolderError::Locked {
             dir: dir.to_path_buf(),
         }),

@@ -38,6 +38,8 @@ pub enum MissingReason {
     NoDirectory,
     /// The file is not at this path.
     NotFound(PathBuf),
+    /// The path names something other than a regular file (a directory, a device, a pipe).
+    NotRegular(PathBuf, &'static str),
 }
 
 impl fmt::Display for MissingReason {
@@ -48,6 +50,9 @@ impl fmt::Display for MissingReason {
                 "no reference directory is set (--reference-dir DIR or {REFERENCE_DIR_ENV})"
             ),
             MissingReason::NotFound(path) => write!(f, "{} does not exist", path.display()),
+            MissingReason::NotRegular(path, kind) => {
+                write!(f, "{} is {kind}, not a regular file", path.display())
+            }
         }
     }
 }
@@ -85,9 +90,15 @@ pub fn locate_references(scene: &mut Scene, dir: Option<&Path>) -> Vec<SkippedRe
         } else {
             dir.map(|d| d.join(&reference.file))
         };
+        use crate::bounded_read::{BoundedReadError, check_regular_file};
         reference.location = match path {
-            Some(p) if p.is_file() => ReferenceLocation::Found(p),
-            Some(p) => ReferenceLocation::Missing(MissingReason::NotFound(p)),
+            Some(p) => match check_regular_file(&p) {
+                Ok(()) => ReferenceLocation::Found(p),
+                Err(BoundedReadError::NotRegular { kind, .. }) => {
+                    ReferenceLocation::Missing(MissingReason::NotRegular(p, kind))
+                }
+                Err(_) => ReferenceLocation::Missing(MissingReason::NotFound(p)),
+            },
             None => ReferenceLocation::Missing(MissingReason::NoDirectory),
         };
     }

@@ -75,6 +75,28 @@ fn degenerate_empty_unreadable_and_2d_meshes_are_refused() {
             .reason
             .contains("cannot read the file")
     );
+    // Only a regular file is read: a folder or a link to /dev/zero is refused by what it is
+    // (reading either would not end or not make sense).
+    let folder = dir.join("folder.stl");
+    std::fs::create_dir_all(&folder).unwrap();
+    let ps = problems(parse_scene(&mesh_scene(folder.to_str().unwrap()), "t", &[]));
+    assert!(
+        with_key(&ps, "solid[0].file")
+            .reason
+            .contains("is a directory, not a regular file")
+    );
+    #[cfg(unix)]
+    {
+        let zero = dir.join("zero.obj");
+        let _ = std::fs::remove_file(&zero);
+        std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+        let ps = problems(parse_scene(&mesh_scene(zero.to_str().unwrap()), "t", &[]));
+        let reason = &with_key(&ps, "solid[0].file").reason;
+        assert!(
+            reason.contains("is a character device, not a regular file"),
+            "{reason}"
+        );
+    }
     let other = dir.join("cube.ply");
     let ps = problems(parse_scene(&mesh_scene(other.to_str().unwrap()), "t", &[]));
     assert!(

@@ -4,8 +4,9 @@
 //! - a stale checkpoint, or one copied from another folder, cannot be resumed over a newer run;
 //! - a second run into a folder in use is refused while the first runs, and the first's files
 //!   stay whole;
-//! - a new run into a folder holding anything is refused unless `--force`, which removes only
-//!   the previous run's listed files; the `running` summary replaces the old `completed` one;
+//! - a new run into a folder holding anything is refused unless `--force` (and leaves no lock
+//!   file behind), which removes only the previous run's listed files; the `running` summary
+//!   replaces the old `completed` one; `--out` naming a file is refused as such;
 //! - links planted in the folder are never written through;
 //! - SIGINT and SIGTERM end the run after a step with a checkpoint, status `interrupted` and
 //!   exit status 130 / 143, and the run resumes to the same bytes as a run never stopped;
@@ -163,6 +164,22 @@ fn a_new_run_never_overwrites_or_leaves_behind_what_is_not_its_own() {
             .unwrap(),
         "files not written by sph",
     );
+    // Refused, the folder is left as it was: not even the lock file stays.
+    assert!(
+        !folder.join(".sph.lock").exists(),
+        "the refused run left its lock file"
+    );
+    // `--out` naming a file is refused by what it is, and the file is left alone.
+    let file = dir.join("results.txt");
+    std::fs::write(&file, "not a folder").unwrap();
+    refused(
+        run(Path::new(SCENE), "0.05", &["--out"])
+            .args(out(&[&file]))
+            .output()
+            .unwrap(),
+        "is a file, not a folder",
+    );
+    assert_eq!(read(&file), b"not a folder");
     // Forced, it still will not overwrite the user's summary.json.
     refused(
         run(Path::new(SCENE), "0.05", &["--force", "--out"])

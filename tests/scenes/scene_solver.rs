@@ -654,6 +654,21 @@ fn reference_files_are_looked_up_in_the_reference_directory() {
         skipped[0].reason,
         sc::MissingReason::NotFound(dir.join("data/martin_moyce.csv"))
     );
+    // A folder where the file should be is named as such, not as missing.
+    std::fs::create_dir_all(data.join("martin_moyce.csv")).unwrap();
+    let skipped = sc::locate_references(&mut s, Some(&dir));
+    assert_eq!(
+        skipped[0].reason,
+        sc::MissingReason::NotRegular(dir.join("data/martin_moyce.csv"), "a directory")
+    );
+    assert!(
+        skipped[0]
+            .to_string()
+            .contains("is a directory, not a regular file"),
+        "{}",
+        skipped[0]
+    );
+    std::fs::remove_dir(data.join("martin_moyce.csv")).unwrap();
     std::fs::write(data.join("martin_moyce.csv"), "x\n").unwrap();
     assert!(sc::locate_references(&mut s, Some(&dir)).is_empty());
     assert_eq!(

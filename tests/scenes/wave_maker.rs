@@ -109,8 +109,8 @@ fn damping_zone_keys_are_checked() {
 
 /// A piston driven by a displacement series: the flume with `kind = "series"` and a CSV of the
 /// piston's own sine (0.0173 m, T = 1.1 s, every 10 ms, no ramp) moves as the sine does, to the
-/// spline's interpolation error (1e-4 of the amplitude here); a missing file and a bad line are
-/// errors at `motion.file` naming the file.
+/// spline's interpolation error (1e-4 of the amplitude here); a missing file, a device and a bad
+/// line are errors at `motion.file` naming the file.
 #[test]
 fn a_series_piston_follows_its_samples() {
     let dir = crate::common::scratch_dir("wave_maker_series");
@@ -148,6 +148,21 @@ fn a_series_piston_follows_its_samples() {
     let e = load_scene(&dir.join("missing.toml"), &[]).expect_err("no file");
     let p = with_key(e.problems(), "solid[1].motion.file").clone();
     assert!(p.reason.contains("nowhere.csv"), "{p:?}");
+    // Only a regular file is read: a link to /dev/zero would never end.
+    #[cfg(unix)]
+    {
+        let _ = std::fs::remove_file(dir.join("zero.csv"));
+        std::os::unix::fs::symlink("/dev/zero", dir.join("zero.csv")).expect("a link");
+        let zero = text.replace("stroke.csv", "zero.csv");
+        std::fs::write(dir.join("zero.toml"), &zero).expect("writable");
+        let e = load_scene(&dir.join("zero.toml"), &[]).expect_err("a device");
+        let p = with_key(e.problems(), "solid[1].motion.file").clone();
+        assert!(
+            p.reason
+                .contains("zero.csv is a character device, not a regular file"),
+            "{p:?}"
+        );
+    }
     std::fs::write(dir.join("bad.csv"), "t_s,x_m\n0,0\n0.1\n").expect("writable");
     let bad = text.replace("stroke.csv", "bad.csv");
     std::fs::write(dir.join("bad.toml"), &bad).expect("writable");

@@ -194,6 +194,12 @@ fn malformed_and_missing_files_are_errors() {
     ));
     let path = Path::new("/nonexistent/sph/front.csv");
     let err = read_surge_front(path).unwrap_err();
-    assert!(matches!(err, ValidationError::Io { .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            ValidationError::File(sph::bounded_read::BoundedReadError::Io { .. })
+        ),
+        "{err}"
+    );
     assert!(err.to_string().contains("/nonexistent/sph/front.csv"), "{err}");
 }

@@ -292,12 +292,17 @@ fn read_series(
         return None;
     };
     let full = dir.join(file);
-    let text = match std::fs::read_to_string(&full) {
-        Ok(t) => t,
+    // Only a regular file, at most `MAX_CSV_BYTES` (`crate::bounded_read`).
+    let bytes = match crate::bounded_read::read_regular_file(&full, crate::output::csv_read::MAX_CSV_BYTES) {
+        Ok(b) => b,
         Err(e) => {
-            c.err(path.k("file"), format!("cannot read {}: {e}", full.display()));
+            c.err(path.k("file"), e.to_string());
             return None;
         }
+    };
+    let Ok(text) = String::from_utf8(bytes) else {
+        c.err(path.k("file"), format!("{} is not UTF-8 text", full.display()));
+        return None;
     };
     let series =
         DisplacementSeries::parse(&text).and_then(|(t, s)| DisplacementSeries::new(file, t, s, direction));
