@@ -78,7 +78,7 @@ pub enum PlotError {
     },
     /// The data span of an axis is too large to be represented (it
     /// overflows `f64` once padded).
-    #[error("{axis} axis range {low}..{high} is too large to plot")]
+    #[error("{axis} axis range {low:.3e}..{high:.3e} is too large to plot")]
     AxisRange {
         /// `"x"` or `"y"`.
         axis: &'static str,

@@ -297,7 +297,8 @@ fn cli_reports_bad_input_without_panicking() {
 
 /// A reference file that is there but malformed stops `sph run` before it computes, naming the
 /// probe and the file, and leaves no output folder; a missing one is reported in one line, the
-/// run goes on and `summary.json` records the comparison as skipped.
+/// run goes on and `summary.json` records the comparison as skipped; one whose values no figure
+/// can hold completes the run with a warning.
 #[test]
 fn run_refuses_a_malformed_reference_and_skips_a_missing_one() {
     let dir = scratch("missing_reference");
@@ -341,6 +342,39 @@ fn run_refuses_a_malformed_reference_and_skips_a_missing_one() {
     let reason = front["reason"].as_str().expect("reason");
     assert!(reason.contains(&empty.display().to_string()), "{reason}");
     assert!(out.join("probes.csv").exists(), "the probe is still sampled");
+
+    // Finite values no figure can hold (±1e308): the run still completes, the figure's
+    // failure is a warning, and the numbers stay in summary.json.
+    let extreme = dir.join("extreme");
+    std::fs::create_dir_all(&extreme).expect("dir");
+    let mut record =
+        String::from("series,n2_height_over_width,a_column_width_in,T_n_t_sqrt_g_over_a,Z_front_over_a\n");
+    for (k, series) in ["MM1952_n2-1_jaxsph", "MM1952_n2-1_trixiparticles"]
+        .iter()
+        .enumerate()
+    {
+        for (t, z) in [(0.0, 1e308), (0.01, -1e308), (1.5 + k as f64, 1e308)] {
+            record += &format!("{series},1,,{t},{z}\n");
+        }
+    }
+    std::fs::write(extreme.join("martin_moyce_1952_surge_front.csv"), record).expect("write");
+    let out = dir.join("extreme_run");
+    run(&out, &extreme).unwrap_or_else(|e| panic!("a figure cannot fail the run: {e:#}"));
+    let summary = read_summary(&out.join("summary.json")).expect("summary.json");
+    assert_eq!(summary.status, "completed");
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("figures were not drawn") && w.contains("1.000e308")),
+        "{:?}",
+        summary.warnings
+    );
+    assert!(
+        summary.extra["probe_errors"].get("front").is_some(),
+        "{:?}",
+        summary.extra
+    );
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
 
