@@ -225,10 +225,19 @@ impl BodyContact {
     }
 
     /// Whether a body particle is within `reach` [m] of a fixed solid's particle, the body at
-    /// `centre` turned by `orientation`.
+    /// `centre` turned by `orientation`. The cells within `reach` are scanned while they are
+    /// fewer than the obstacles' non-empty cells; beyond, every obstacle is tested, so a reach
+    /// of any size (a light body's speed times the step) costs at most bodies × obstacles.
     pub fn within(&self, centre: &Vector3<f64>, orientation: &UnitQuaternion<f64>, reach: f64) -> bool {
         let d = self.distance;
-        let n = (reach / d).ceil() as i64;
+        let span = (reach / d).ceil();
+        if !(2.0 * span + 1.0).powi(3).le(&(self.cells.len() as f64)) {
+            return self.offsets.iter().any(|o| {
+                let x = centre + orientation * o;
+                self.obstacles.iter().any(|y| (x - y).norm() < reach)
+            });
+        }
+        let n = span as i64;
         self.offsets.iter().any(|o| {
             let x = centre + orientation * o;
             let c = cell_of(&x, d);
@@ -317,6 +326,26 @@ mod tests {
 
     /// A body sliding along a floor feels friction opposing the slide, at most μ times the
     /// normal force.
+    #[test]
+    fn within_answers_for_any_reach_without_scanning_empty_space() {
+        let law = SpringDashpot {
+            restitution: 0.5,
+            friction: 0.0,
+        };
+        let obstacles: Vec<Vector3<f64>> = (0..50)
+            .map(|k| Vector3::new(0.01 * f64::from(k), 0.0, 0.0))
+            .collect();
+        let c = BodyContact::new(law, 0.01, vec![Vector3::zeros()], obstacles, 1.0);
+        let q = UnitQuaternion::identity();
+        let far = Vector3::new(0.0, 10.0, 0.0);
+        assert!(!c.within(&far, &q, 0.05));
+        // A reach of 1e12 spacings (a body of density 1e-6 at its first step) answers at once.
+        assert!(c.within(&far, &q, 1e10));
+        assert!(c.within(&far, &q, f64::INFINITY));
+        assert!(!c.within(&far, &q, f64::NAN));
+        assert!(c.within(&Vector3::new(0.2, 0.005, 0.0), &q, 0.01));
+    }
+
     #[test]
     fn friction_opposes_sliding_and_is_bounded_by_mu_times_the_normal_force() {
         let d = 0.01;
