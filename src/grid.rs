@@ -310,28 +310,26 @@ impl<const D: usize> Grid<D> {
         let mut rows = std::mem::take(&mut self.rows);
         rows.clear();
         rows.resize(self.cell_keys.len() * r, (0, 0));
-        if !self.periodic.axes.is_empty() {
+        if self.periodic.axes.is_empty() {
+            rows.par_chunks_mut(r).enumerate().for_each(|(c, out)| {
+                let key = self.cell_keys[c];
+                for (row, slot) in out.iter_mut().enumerate() {
+                    // Offsets −1, 0, +1 on axes 1..D, enumerated by `row` in base 3.
+                    let mut base = key as i128;
+                    let mut t = row;
+                    for k in 1..D {
+                        let off = (t % 3) as i128 - 1;
+                        t /= 3;
+                        base += off * self.stride[k] as i128;
+                    }
+                    *slot = self.particles_in_keys((base - 1) as u64, (base + 1) as u64);
+                }
+            });
+        } else {
             rows.par_chunks_mut(r).enumerate().for_each(|(c, out)| {
                 self.link_periodic(self.cell_keys[c], out);
             });
-            self.rows = rows;
-            self.list_candidates(position);
-            return;
         }
-        rows.par_chunks_mut(r).enumerate().for_each(|(c, out)| {
-            let key = self.cell_keys[c];
-            for (row, slot) in out.iter_mut().enumerate() {
-                // Offsets −1, 0, +1 on axes 1..D, enumerated by `row` in base 3.
-                let mut base = key as i128;
-                let mut t = row;
-                for k in 1..D {
-                    let off = (t % 3) as i128 - 1;
-                    t /= 3;
-                    base += off * self.stride[k] as i128;
-                }
-                *slot = self.particles_in_keys((base - 1) as u64, (base + 1) as u64);
-            }
-        });
         self.rows = rows;
         self.list_candidates(position);
     }
