@@ -45,10 +45,12 @@ pub fn wavenumber(omega: f64, depth: f64, g: f64) -> f64 {
 /// Biésel's transfer function of a piston wave maker ([DD91] eq. 6.20): the height `H` [m] of
 /// the progressive wave it makes per metre of stroke `S` (full excursion),
 /// `H/S = 2 (cosh 2kd − 1) / (sinh 2kd + 2kd)`, for `k d` [dimensionless] > 0. It rises from
-/// `k d` in shallow water (`H/S → kd`) to 2 in deep water.
+/// `k d` in shallow water (`H/S → kd`) to 2 in deep water. Evaluated as the same ratio divided
+/// through by `sinh 2kd`, `2 tanh kd / (1 + 2kd/sinh 2kd)`, which stays finite where `cosh`
+/// overflows (`k d` above about 355) and keeps `kd` where `cosh 2kd − 1` rounds to 0.
 pub fn piston_height_per_stroke(kd: f64) -> f64 {
     let x = 2.0 * kd;
-    2.0 * (x.cosh() - 1.0) / (x.sinh() + x)
+    2.0 * kd.tanh() / (1.0 + x / x.sinh())
 }
 
 /// The transfer function of a flap wave maker ([DD91] §6.2): the far-field wave height `H` [m]
@@ -66,10 +68,21 @@ pub fn piston_height_per_stroke(kd: f64) -> f64 {
 /// At `l = 0` this is the bed-hinged flap of [DD91] §6.2,
 /// `H/S = 4 (sinh kd / kd) (kd sinh kd − cosh kd + 1) / (sinh 2kd + 2kd)`, which rises from
 /// `kd/2` in shallow water to 2 in deep water; as `l → −∞` it tends to the piston's.
+///
+/// Evaluated divided through by `sinh 2kd = 2 sinh kd cosh kd`, with `1 − cosh a/cosh kd`
+/// (`a = k max(l, 0)`) as `2 sinh((kd + a)/2) sinh((kd − a)/2)/cosh kd` (no cancellation in
+/// shallow water) or, past `k d = 300` where those overflow, as `1 − e^(a − kd) (1 +
+/// e^(−2a))/(1 + e^(−2kd))`: finite for any `k d > 0`.
 pub fn flap_height_per_stroke(kd: f64, q: f64) -> f64 {
     let lever = kd * (1.0 - q);
-    let integral = kd.sinh() - (kd.cosh() - (kd * q.max(0.0)).cosh()) / lever;
-    4.0 * kd.sinh() * integral / ((2.0 * kd).sinh() + 2.0 * kd)
+    let a = kd * q.max(0.0);
+    let one_minus_cosh_ratio = if kd < 300.0 {
+        2.0 * (0.5 * (kd + a)).sinh() * (0.5 * (kd - a)).sinh() / kd.cosh()
+    } else {
+        1.0 - (a - kd).exp() * (1.0 + (-2.0 * a).exp()) / (1.0 + (-2.0 * kd).exp())
+    };
+    let integral_per_cosh = kd.tanh() - one_minus_cosh_ratio / lever;
+    2.0 * integral_per_cosh / (1.0 + 2.0 * kd / (2.0 * kd).sinh())
 }
 
 #[cfg(test)]
@@ -106,8 +119,11 @@ mod tests {
         assert!((piston_height_per_stroke(30.0) - 2.0).abs() < 1e-9);
         let x: f64 = 2.4;
         let by_hand = 2.0 * (x.cosh() - 1.0) / (x.sinh() + x);
-        assert!((piston_height_per_stroke(1.2) - by_hand).abs() < 1e-15);
+        assert!((piston_height_per_stroke(1.2) - by_hand).abs() < 1e-14);
         assert!((by_hand - 1.1586).abs() < 1e-4, "{by_hand}");
+        // Finite at the extremes a scene can ask for (a period of 1e-9 s or 1e30 s).
+        assert_eq!(piston_height_per_stroke(1e6), 2.0);
+        assert!((piston_height_per_stroke(1e-30) / 1e-30 - 1.0).abs() < 1e-12);
     }
 
     /// The bed-hinged flap: `H/S → kd/2` in shallow water (the integral's leading term, to
@@ -126,5 +142,9 @@ mod tests {
         let far = flap_height_per_stroke(x, -1e7);
         assert!((far / piston_height_per_stroke(x) - 1.0).abs() < 1e-6, "{far}");
         assert!(flap_height_per_stroke(x, 0.5) < closed);
+        // Finite at the extremes: deep water tends to 2 (minus 2/kd), shallow to kd/2.
+        assert!((flap_height_per_stroke(1e6, 0.0) - 2.0).abs() < 1e-5);
+        assert!((flap_height_per_stroke(1e6, 0.5) - 2.0).abs() < 1e-5);
+        assert!((flap_height_per_stroke(1e-20, 0.0) / 5e-21 - 1.0).abs() < 1e-3);
     }
 }

@@ -84,6 +84,25 @@ fn bad_flap_keys_are_reported_at_their_keys() {
     assert!(with_key(&p, "solid[1].motion.hinge").reason.contains("not a key"));
 }
 
+/// A hinge height that puts the bed outside the domain (`hinge_height = -1e6`), and a wave
+/// shorter than ten particle spacings, are errors at their keys.
+#[test]
+fn flap_values_beyond_the_flume_are_refused_at_their_keys() {
+    let text = std::fs::read_to_string(SCENE).expect("shipped scene");
+    let p = problems(parse(&edit(&text, "hinge_height = 0.0", "hinge_height = -1e6")));
+    assert!(
+        with_key(&p, "solid[1].motion.hinge_height")
+            .reason
+            .contains("puts the bed at")
+    );
+    let p = problems(parse(&edit(&text, "period = 1.1,", "period = 1e-9,")));
+    assert!(
+        with_key(&p, "solid[1].motion.period")
+            .reason
+            .contains("particle spacings")
+    );
+}
+
 /// A checkpoint taken while the flap swings (no ramp: full speed from the first step; a coarse
 /// 0.04 m lattice) restarts bit for bit: 40 steps straight against 20 + checkpoint + restore
 /// into a fresh simulation + 20. The flap's turn is recomputed from the time, so nothing of it

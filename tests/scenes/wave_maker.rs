@@ -86,6 +86,32 @@ fn bad_piston_keys_are_reported_at_their_keys() {
     assert!(p.reason.contains("needs gravity"), "{p:?}");
 }
 
+/// Values the flume cannot hold are refused at the key that sets them, before any computation,
+/// with numbers that say why: a wave shorter than ten particle spacings (a period of 1e-9 s or
+/// 0.12 s), a depth deeper than the domain is high, and a period so long that the stroke leaves
+/// the domain (finite numbers, not `inf`/`NaN`).
+#[test]
+fn piston_values_beyond_the_flume_are_refused_at_their_keys() {
+    let text = flume();
+    for period in ["1e-9", "0.12"] {
+        let short = edit(&text, "period = 1.1,", &format!("period = {period},"));
+        let p = with_key(&problems(parse(&short)), "solid[1].motion.period").clone();
+        assert!(
+            p.reason.contains("shorter than 10 particle spacings") && p.reason.contains("particles.spacing"),
+            "{p:?}"
+        );
+    }
+    let deep = edit(&text, "depth = 0.3,", "depth = 1e6,");
+    let p = with_key(&problems(parse(&deep)), "solid[1].motion.depth").clone();
+    assert!(p.reason.contains("more than the domain is high"), "{p:?}");
+    let long = edit(&text, "period = 1.1,", "period = 1e30,");
+    let p = with_key(&problems(parse(&long)), "solid[1].motion.wave_height").clone();
+    assert!(
+        p.reason.contains("the stroke") && !p.reason.contains("inf") && !p.reason.contains("NaN"),
+        "{p:?}"
+    );
+}
+
 /// `[damping_zone]`: `strength` defaults to DualSPHysics' 10 1/s; equal ends, a wrong length
 /// and a non-positive strength are errors at their keys; an unknown key is refused.
 #[test]

@@ -59,10 +59,21 @@ pub(super) fn check_geometry(c: &mut Checker, scene: &Scene) {
                 );
             }
             if let Some(k) = outside_axis(&swept, domain, tol) {
+                // A wave maker's stroke comes from the wave: say from which values.
+                let cause = match m {
+                    Motion::Piston(p) => format!(
+                        " (the stroke {} m that makes waves {} m high of period {} s on {} m of water)",
+                        num(p.stroke()),
+                        num(p.wave_height),
+                        num(p.period),
+                        num(p.depth)
+                    ),
+                    _ => String::new(),
+                };
                 c.err(
                     KeyPath::key("solid").i(i).k("motion").k(key),
                     format!(
-                        "solid \"{}\" sweeps {} while moving by ±{} m on axis {}, outside the domain {}",
+                        "solid \"{}\" sweeps {} while moving by ±{} m on axis {}, outside the domain {}{cause}",
                         s.name,
                         fmt_box(&swept),
                         num(reach[k]),

@@ -39,6 +39,7 @@ mod probes;
 mod sea;
 mod solids;
 mod step_bounds;
+mod wave_maker;
 
 use geometry::{check_box, check_geometry};
 use keys::{
@@ -552,6 +553,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
             // Geometry is checked even when other keys have problems, so
             // that everything is reported at once.
             check_geometry(&mut c, &scene);
+            wave_maker::check_wave_makers(&mut c, &scene);
             open::check_open_geometry(&mut c, &scene);
             // Values the f32 solver cannot hold, then values that cannot finish (whose
             // estimates need the magnitudes to hold).
