@@ -306,6 +306,23 @@ fn new_probe_keys_are_checked() {
             "probe[0].sampling_rate",
             "not with kind = \"front\"",
         ),
+        // Sizes and rates bounded by the scene: a face or a section larger than the domain,
+        // and a rate that would take more than `MAX_SAMPLES` samples (issue 51: each spun).
+        (
+            "kind = \"pressure\"\npoint = [0.8, 0.1]\ndiameter = 1e6\nnormal = \"x\"",
+            "probe[0].diameter",
+            "outside the domain",
+        ),
+        (
+            "kind = \"flow_rate\"\npoint = [0.2, 0.1]\nsize = [1e6]",
+            "probe[0].size[0]",
+            "outside the domain",
+        ),
+        (
+            "kind = \"pressure\"\npoint = [0.8, 0.1]\nsampling_rate = 1e30",
+            "probe[0].sampling_rate",
+            "samples, more than the limit",
+        ),
         (
             "kind = \"velocity\"\npoint = [0.2, 0.1]\nsampling_rate = 0.0",
             "probe[0].sampling_rate",

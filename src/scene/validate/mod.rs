@@ -35,6 +35,7 @@ mod open;
 mod periodic;
 mod ranks;
 use ranks::check_ranks;
+mod probe_extents;
 mod probes;
 mod sea;
 mod solids;
@@ -554,6 +555,7 @@ pub(crate) fn validate_raw(file: &SceneFile, dir: &Path) -> Result<Scene, Vec<Ra
             // that everything is reported at once.
             check_geometry(&mut c, &scene);
             wave_maker::check_wave_makers(&mut c, &scene);
+            probe_extents::check_probe_extents(&mut c, &scene);
             open::check_open_geometry(&mut c, &scene);
             // Values the f32 solver cannot hold, then values that cannot finish (whose
             // estimates need the magnitudes to hold).
