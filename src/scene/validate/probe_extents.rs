@@ -65,7 +65,7 @@ pub(super) fn check_probe_extents(c: &mut Checker, scene: &Scene) {
         }
         if let Averaging::Window(window) = p.averaging {
             let samples = scene.end_time / window;
-            if !(samples <= MAX_SAMPLES) {
+            if samples.is_nan() || samples > MAX_SAMPLES {
                 c.err(
                     path.k("sampling_rate"),
                     format!(

@@ -86,7 +86,7 @@ pub(super) fn check_wave_makers(c: &mut Checker, scene: &Scene) {
         if let Some((period, k)) = regular {
             let length = std::f64::consts::TAU / k;
             let shortest = MIN_SPACINGS_PER_WAVELENGTH * scene.spacing;
-            if !(length >= shortest) {
+            if length.is_nan() || length < shortest {
                 c.err(
                     path.k("period"),
                     format!(
