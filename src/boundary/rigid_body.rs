@@ -187,6 +187,33 @@ impl RigidBody {
         s.centre + s.orientation * (x0 - self.mass.centre)
     }
 
+    /// The largest frequency `ω_m` [rad/s] at which the moorings can ring the body, `None`
+    /// without moorings: `ω_m² = Σ k (1/M + |r|²/I)` over the lines (`r` the fairlead about the
+    /// centre of mass, `I` the smallest principal moment, 2D: `I_zz`), an upper bound on the
+    /// frequencies of the taut lines' translation and rotation modes together. The time step
+    /// keeps `ω_m dt ≤ CONTACT_STEP` as for a contact (`solver::timestep`): the lines are as
+    /// explicit as the contact spring.
+    pub fn mooring_frequency(&self, dim: usize) -> Option<f64> {
+        if self.moorings.is_empty() {
+            return None;
+        }
+        let i = &self.mass.inertia;
+        let moment = if dim == 2 {
+            i[(2, 2)]
+        } else {
+            i[(0, 0)].min(i[(1, 1)]).min(i[(2, 2)])
+        };
+        let squared: f64 = self
+            .moorings
+            .iter()
+            .map(|m| {
+                let r2 = (m.fairlead - self.mass.centre).norm_squared();
+                m.stiffness * (1.0 / self.mass.mass + r2 / moment)
+            })
+            .sum();
+        Some(squared.sqrt())
+    }
+
     /// The moorings' force [N] and moment about the centre of mass [N m] in state `s`.
     pub fn mooring_load(&self, s: &BodyState) -> (Vector3<f64>, Vector3<f64>) {
         let (mut force, mut moment) = (Vector3::zeros(), Vector3::zeros());

@@ -38,19 +38,17 @@ pub struct Floating {
 }
 
 impl Floating {
-    /// The rigid body of this floating solid of shape `volume`, bounded by `min`..`max` [m], in a
-    /// scene of particle spacing `spacing` [m] and dimension `dim`: the shape sampled on a
-    /// lattice of `spacing / MASS_CELLS_PER_SPACING` ([`MassProperties::of_cells`]), then the
-    /// scene's overrides. Gravity is zero here: the run sets it at each stage. `None` when the
-    /// lattice finds no point inside.
-    pub fn rigid_body(
-        &self,
+    /// The shape `volume`, bounded by `min`..`max` [m], at unit density, sampled on a lattice
+    /// of `spacing / MASS_CELLS_PER_SPACING` ([`MassProperties::of_cells`]) in dimension `dim`:
+    /// its `mass` is the shape's volume [m³] (2D: area [m²]). `None` when the lattice finds no
+    /// point inside.
+    pub fn shape_properties(
         volume: &Volume,
         min: &[f64],
         max: &[f64],
         spacing: f64,
         dim: usize,
-    ) -> Option<RigidBody> {
+    ) -> Option<MassProperties> {
         let s = spacing / MASS_CELLS_PER_SPACING;
         let n: Vec<i64> = (0..dim)
             .map(|k| ((max[k] - min[k]) / s).ceil().max(1.0) as i64)
@@ -70,12 +68,32 @@ impl Floating {
             _ => volume.lattice_inside::<3>([min[0], min[1], min[2]], [n[0], n[1], n[2]], s, |i| visit(i)),
         }
         let cell = s.powi(dim as i32);
-        let sampled = MassProperties::of_cells(&points, cell, 1.0, dim)?;
-        let density = match self.amount {
+        MassProperties::of_cells(&points, cell, 1.0, dim)
+    }
+
+    /// The body's mean density [kg/m³] on a shape of `volume` [m³] (2D: m²).
+    pub fn mean_density(&self, volume: f64) -> f64 {
+        match self.amount {
             BodyAmount::Density(rho) => rho,
-            // `sampled` has unit density: its mass is the volume.
-            BodyAmount::Mass(m) => m / sampled.mass,
-        };
+            BodyAmount::Mass(m) => m / volume,
+        }
+    }
+
+    /// The rigid body of this floating solid of shape `volume`, bounded by `min`..`max` [m], in a
+    /// scene of particle spacing `spacing` [m] and dimension `dim`: the shape's properties
+    /// ([`Floating::shape_properties`]) at the body's density, then the scene's overrides.
+    /// Gravity is zero here: the run sets it at each stage. `None` when the lattice finds no
+    /// point inside.
+    pub fn rigid_body(
+        &self,
+        volume: &Volume,
+        min: &[f64],
+        max: &[f64],
+        spacing: f64,
+        dim: usize,
+    ) -> Option<RigidBody> {
+        let sampled = Self::shape_properties(volume, min, max, spacing, dim)?;
+        let density = self.mean_density(sampled.mass);
         let mut mass = MassProperties {
             mass: sampled.mass * density,
             centre: sampled.centre,

@@ -174,6 +174,12 @@ fn estimate(scene: &Scene) -> Estimate {
         // A floating solid's contact bounds only the steps in which it touches a solid
         // (`boundary::contact`): not the estimate's.
         contact_frequency: None,
+        // The moorings bound every step.
+        mooring_frequency: crate::scene::floating::rigid_bodies(scene)
+            .iter()
+            .flatten()
+            .filter_map(|b| b.mooring_frequency(scene.dimension))
+            .reduce(f64::max),
         remaining: f64::INFINITY,
     };
     let (dt, limit) = timestep::choose(&inputs);
@@ -248,6 +254,13 @@ fn limit_key(scene: &Scene, e: &Estimate) -> (KeyPath, String) {
                 "floating-body contact limit {} / omega_c, omega_c = sqrt({} g0 / dx) (boundary::contact)",
                 short(crate::boundary::contact::CONTACT_STEP),
                 short(crate::boundary::contact::CONTACT_STIFFNESS)
+            ),
+        ),
+        TimeStepLimit::Mooring => (
+            KeyPath::key("solid"),
+            format!(
+                "mooring limit {} / omega_m, omega_m^2 = sum k (1/M + r^2/I) over a floating solid's moorings",
+                short(crate::boundary::contact::CONTACT_STEP)
             ),
         ),
         TimeStepLimit::Force => (

@@ -356,6 +356,16 @@ impl<const D: usize> Simulation<D> {
         Ok(())
     }
 
+    /// The largest mooring frequency `ω_m` [rad/s] over the floating bodies
+    /// (`RigidBody::mooring_frequency`), which bounds the step; `None` without moorings.
+    pub(super) fn mooring_frequency(&self) -> Option<f64> {
+        self.floating
+            .iter()
+            .flatten()
+            .filter_map(|b| b.body.mooring_frequency(D))
+            .reduce(f64::max)
+    }
+
     /// `ω_c` [rad/s] of the stiffest contact a floating body may enter over a step of `dt` [s],
     /// which then bounds the step (`boundary::contact`, module doc); `None` when no body can
     /// reach a fixed solid within `dt`.

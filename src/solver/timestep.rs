@@ -9,6 +9,8 @@
 //!
 //! - contact:       `dt ≤ CONTACT_STEP / ω_c` with a floating body's contact frequency `ω_c`
 //!   (`boundary::contact`), for a fixed step too: the contact is explicit
+//! - mooring:       `dt ≤ CONTACT_STEP / ω_m` with a floating body's mooring frequency `ω_m`
+//!   (`RigidBody::mooring_frequency`), for the same reason
 //!
 //! and never past the end time.
 //!
@@ -39,6 +41,8 @@ pub enum TimeStepLimit {
     Viscosity,
     /// A floating body's contact with a solid (`boundary::contact`).
     Contact,
+    /// A floating body's mooring lines (`RigidBody::mooring_frequency`).
+    Mooring,
     /// Shortened to land on the end time.
     EndTime,
 }
@@ -53,6 +57,7 @@ impl TimeStepLimit {
             TimeStepLimit::Force => "force",
             TimeStepLimit::Viscosity => "viscosity",
             TimeStepLimit::Contact => "contact",
+            TimeStepLimit::Mooring => "mooring",
             TimeStepLimit::EndTime => "end_time",
         }
     }
@@ -95,6 +100,9 @@ pub struct TimeStepInputs {
     pub fixed: Option<f64>,
     /// The stiffest floating body's contact frequency `ω_c` [rad/s]; `None` without contact.
     pub contact_frequency: Option<f64>,
+    /// The stiffest floating body's mooring frequency `ω_m` [rad/s]
+    /// (`RigidBody::mooring_frequency`); `None` without moorings.
+    pub mooring_frequency: Option<f64>,
     /// Time left until the end of the run [s].
     pub remaining: f64,
 }
@@ -147,11 +155,16 @@ pub fn choose(inputs: &TimeStepInputs) -> (f64, TimeStepLimit) {
             best
         }
     };
-    if let Some(w) = inputs.contact_frequency {
-        let c = crate::boundary::contact::CONTACT_STEP / w;
-        if c < dt {
-            dt = c;
-            limit = TimeStepLimit::Contact;
+    for (w, kind) in [
+        (inputs.contact_frequency, TimeStepLimit::Contact),
+        (inputs.mooring_frequency, TimeStepLimit::Mooring),
+    ] {
+        if let Some(w) = w {
+            let c = crate::boundary::contact::CONTACT_STEP / w;
+            if c < dt {
+                dt = c;
+                limit = kind;
+            }
         }
     }
     if inputs.remaining < dt {
@@ -249,6 +262,7 @@ impl<const D: usize> Simulation<D> {
             }),
             fixed: c.dt,
             contact_frequency: None,
+            mooring_frequency: self.mooring_frequency(),
             remaining: end_time - time,
         };
         let (mut dt, mut limit) = choose(&inputs);
@@ -291,12 +305,13 @@ mod tests {
             kinematic_viscosity: 1e-6,
             fixed: None,
             contact_frequency: None,
+            mooring_frequency: None,
             remaining: 1.0,
         }
     }
 
     #[test]
-    fn a_floating_body_in_contact_bounds_the_step_even_a_fixed_one() {
+    fn a_floating_body_in_contact_or_moored_bounds_the_step_even_a_fixed_one() {
         let w = 1000.0;
         let c = crate::boundary::contact::CONTACT_STEP / w;
         for fixed in [None, Some(1.0)] {
@@ -307,6 +322,14 @@ mod tests {
                 ..inputs()
             });
             assert_eq!((dt, limit), (c, TimeStepLimit::Contact));
+            let (dt, limit) = choose(&TimeStepInputs {
+                contact_frequency: Some(0.5 * w),
+                mooring_frequency: Some(w),
+                sound_speed: 0.0,
+                fixed,
+                ..inputs()
+            });
+            assert_eq!((dt, limit), (c, TimeStepLimit::Mooring));
         }
     }
 
@@ -340,7 +363,9 @@ mod tests {
     #[test]
     fn limit_names_are_the_serialized_ones() {
         use TimeStepLimit::*;
-        for limit in [Fixed, SoundSpeed, FlowSpeed, Force, Viscosity, EndTime] {
+        for limit in [
+            Fixed, SoundSpeed, FlowSpeed, Force, Viscosity, Contact, Mooring, EndTime,
+        ] {
             assert_eq!(serde_json::to_value(limit).unwrap(), limit.name());
         }
     }

@@ -163,12 +163,41 @@ fn bad_floating_input_names_the_key() {
         ),
         // 1 mm thick: no point of the quarter-spacing lattice its mass is sampled on.
         ("solid.1.max=[0.4, 0.266]", "too thin to float"),
+        // Mean densities outside 1e-3..1e3 rho0 (a body of 1e-6 kg/m³ used to hang the run).
+        ("solid.1.floating.density=1e-6", "solid[1].floating.density"),
+        ("solid.1.floating={ mass = 1e-30 }", "solid[1].floating.mass"),
+        ("solid.1.floating={ mass = 1e30 }", "solid[1].floating.mass"),
+        (
+            "solid.1.floating.fixed=[\"x\", \"x\"]",
+            "solid[1].floating.fixed[1]",
+        ),
+        (
+            "solid.1.floating.centre_of_mass=[3.0, 0.3]",
+            "solid[1].floating.centre_of_mass",
+        ),
+        (
+            "solid.1.floating.moorings=[{ anchor = [0.3, 0.0], fairlead = [0.3, 0.1], stiffness = 50.0, rest_length = 0.1 }]",
+            "solid[1].floating.moorings[0].fairlead",
+        ),
+        // Stiffer than the body's wall contact at this spacing: 1e10 N/m used to hang the run.
+        (
+            "solid.1.floating.moorings=[{ anchor = [0.3, 0.0], fairlead = [0.3, 0.265], stiffness = 1e10, rest_length = 0.1 }]",
+            "solid[1].floating.moorings",
+        ),
     ];
     for (set, key) in cases {
         let err = load_scene(Path::new("scenes/floating_box_2d.toml"), &[set.to_string()])
             .expect_err(set)
             .to_string();
         assert!(err.contains(key), "{set}: {err}");
+    }
+    // The same line at a mooring's stiffness, and the bounds' ends, are accepted.
+    for set in [
+        "solid.1.floating.moorings=[{ anchor = [0.3, 0.0], fairlead = [0.3, 0.265], stiffness = 50.0, rest_length = 0.1 }]",
+        "solid.1.floating.density=1.0",
+        "solid.1.floating.density=1e6",
+    ] {
+        load_scene(Path::new("scenes/floating_box_2d.toml"), &[set.to_string()]).expect(set);
     }
 }
 

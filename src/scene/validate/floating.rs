@@ -1,16 +1,25 @@
 //! A solid's `floating` table (`schema::FloatingFile`) into a [`Floating`]: exactly one of
 //! `density` and `mass` (> 0), finite overrides of `dimension` entries, the held degrees of
-//! freedom or a hinge (not both), and the moorings.
+//! freedom or a hinge (not both), and the moorings; once the shape is known
+//! ([`check_body`]) the bounds the physics sets on them.
 
 use super::{Checker, KeyPath};
+use crate::boundary::contact::contact_frequency;
 use crate::boundary::contact::{SpringDashpot, WallContact};
 use crate::boundary::rigid_body::{Freedom, Mooring};
+use crate::geometry::Volume;
 use crate::scene::floating::{BodyAmount, Floating};
 use crate::scene::schema::{ContactFile, FloatingFile, NumberOrVector};
 use nalgebra::Vector3;
 
 /// The degrees of freedom `fixed` may name, 3D: translation, then rotation.
 const AXES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+
+/// The range of a floating body's mean density over the fluid's `rho0`: from lighter than air
+/// in water (1.2e-3) to heavier than any solid in it (osmium: 22.6) by a wide margin. Outside
+/// it the fluid's load per unit body mass (or gravity's against the fluid's) is out of all
+/// proportion, and a body of `density = 1e-30` is thrown out of the domain at its first step.
+pub const BODY_DENSITY_RATIO: [f64; 2] = [1e-3, 1e3];
 
 /// A vector of `dim` entries embedded in 3 (z = 0 in 2D).
 fn embed(v: &[f64]) -> Vector3<f64> {
@@ -102,6 +111,105 @@ pub(super) fn check_floating(
     })
 }
 
+/// The bounds on floating body `f` (at `path`) that need its shape `volume`, bounded by
+/// `min`..`max` [m], in a scene of particle spacing `spacing` [m], fluid density `rho0`
+/// [kg/m³] and dimension `dim`: the shape holds a point of the mass lattice; the mean density
+/// is within [`BODY_DENSITY_RATIO`] of `rho0`; `centre_of_mass` lies in the body's box and
+/// every fairlead within a spacing of it (a fairlead is a point of the body); and the moorings
+/// ring the body no faster than its wall contact (`RigidBody::mooring_frequency` at most
+/// `ω_c = sqrt(200 g0 / dx)`, `boundary::contact`): a stiffer line is a fixed point (use
+/// `fixed` or `hinge`) and would cut the step below the contact's. Returns whether all hold.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn check_body(
+    c: &mut Checker,
+    path: &KeyPath,
+    f: &Floating,
+    volume: &Volume,
+    min: &[f64],
+    max: &[f64],
+    spacing: f64,
+    rho0: Option<f64>,
+    dim: usize,
+) -> bool {
+    let Some(shape) = Floating::shape_properties(volume, min, max, spacing, dim) else {
+        c.err(
+            path.clone(),
+            "the solid's shape holds no point of the lattice its mass is sampled on (a quarter of the particle spacing): too thin to float".into(),
+        );
+        return false;
+    };
+    let mut ok = true;
+    let density = f.mean_density(shape.mass);
+    if let Some(rho0) = rho0 {
+        let ratio = density / rho0;
+        let [low, high] = BODY_DENSITY_RATIO;
+        if ratio.is_nan() || ratio < low || ratio > high {
+            let key = match f.amount {
+                BodyAmount::Density(_) => "density",
+                BodyAmount::Mass(_) => "mass",
+            };
+            c.err(
+                path.k(key),
+                format!(
+                    "the body's mean density is {density:.3e} kg/m³ ({ratio:.3e} times the fluid's rho0 = {rho0}; \
+                     its shape holds {:.4e} m{}): give {low:e} to {high:e} times rho0",
+                    shape.mass,
+                    if dim == 2 { "²" } else { "³" }
+                ),
+            );
+            ok = false;
+        }
+    }
+    let inside =
+        |x: &Vector3<f64>, margin: f64| (0..dim).all(|k| x[k] >= min[k] - margin && x[k] <= max[k] + margin);
+    let bounds = || format!("{:?}..{:?}", &min[..dim], &max[..dim]);
+    if let Some(centre) = &f.centre_of_mass
+        && !inside(centre, 0.0)
+    {
+        c.err(
+            path.k("centre_of_mass"),
+            format!(
+                "lies outside the body's box {}: the centre of mass is inside the body",
+                bounds()
+            ),
+        );
+        ok = false;
+    }
+    for (k, m) in f.moorings.iter().enumerate() {
+        if !inside(&m.fairlead, spacing) {
+            c.err(
+                path.k("moorings").i(k).k("fairlead"),
+                format!(
+                    "lies more than a particle spacing ({spacing} m) outside the body's box {}: a fairlead is a point of the body",
+                    bounds()
+                ),
+            );
+            ok = false;
+        }
+    }
+    if ok
+        && rho0.is_some()
+        && let Some(body) = f.rigid_body(volume, min, max, spacing, dim)
+        && let Some(w) = body.mooring_frequency(dim)
+    {
+        let limit = contact_frequency(spacing);
+        if w.is_nan() || w > limit {
+            let total: f64 = f.moorings.iter().map(|m| m.stiffness).sum();
+            c.err(
+                path.k("moorings"),
+                format!(
+                    "the lines ({total:.3e} N/m in all) would ring the body at {w:.3e} rad/s, above the {limit:.3e} rad/s \
+                     of its contact with a wall at this spacing: at most {:.3e} N/m in all at these fairleads \
+                     (a stiffer line is a fixed point: use `fixed` or `hinge`)",
+                    total * (limit / w).powi(2)
+                ),
+            );
+            ok = false;
+        }
+    }
+    ok
+}
+
 /// `contact`: the spring–dashpot (default) with `restitution` in (0, 1] and `friction` ≥ 0, or
 /// `kind = "none"` without them.
 fn check_contact(c: &mut Checker, path: &KeyPath, f: Option<&ContactFile>) -> Option<WallContact> {
@@ -175,6 +283,11 @@ fn check_freedom(c: &mut Checker, path: &KeyPath, f: &FloatingFile, dim: usize) 
             };
             let mut ok = true;
             for (k, name) in names.iter().enumerate() {
+                if names[..k].contains(name) {
+                    c.err(path.k("fixed").i(k), format!("{name:?} is named twice"));
+                    ok = false;
+                    continue;
+                }
                 match AXES.iter().position(|a| a == name) {
                     Some(i) if allowed.contains(&name.as_str()) => {
                         if i < 3 {

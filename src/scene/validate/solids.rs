@@ -13,7 +13,7 @@ use std::sync::Arc;
 
 use nalgebra::{Unit, Vector3};
 
-use super::floating::check_floating;
+use super::floating::{check_body, check_floating};
 use super::keys::check_name;
 use super::motion::check_motion;
 use super::{Checker, KeyPath, num};
@@ -152,13 +152,10 @@ pub(super) fn check_solid(
     let mut motion = motion?;
     let floating = floating?;
     let spacing = Some(file.particles.spacing).filter(|s| *s > 0.0 && s.is_finite());
+    let rho0 = Some(file.fluid.rho0).filter(|r| *r > 0.0 && r.is_finite());
     if let (Some(f), Some(spacing)) = (&floating, spacing)
-        && f.rigid_body(&volume, &min, &max, spacing, dim).is_none()
+        && !check_body(c, &path.k("floating"), f, &volume, &min, &max, spacing, rho0, dim)
     {
-        c.err(
-            path.k("floating"),
-            "the solid's shape holds no point of the lattice its mass is sampled on (a quarter of the particle spacing): too thin to float".into(),
-        );
         return None;
     }
     if let Some(Motion::Flap(flap)) = &mut motion {
