@@ -36,14 +36,15 @@ pub enum Error {
     /// The run folder is held by another run, holds another run's files, or cannot be used.
     #[error(transparent)]
     Folder(#[from] crate::run::RunFolderError),
-    /// A signal (SIGINT, SIGTERM) ended the run after its current step; the run's state was
-    /// checkpointed and `summary.json` says `interrupted`.
-    #[error(
-        "interrupted by signal {signal}; the run was checkpointed and can be continued with sph run --resume"
-    )]
+    /// A signal (SIGINT, SIGTERM) ended the run after its current step, the run's state
+    /// checkpointed; or inside a step still running a grace time after the signal
+    /// (`solver::interrupt`), that step's state not written. `summary.json` says `interrupted`.
+    #[error("{}", interrupted_message(*signal, *inside_step))]
     Interrupted {
         /// The signal's number.
         signal: usize,
+        /// The step abandoned, where the signal ended the run inside one.
+        inside_step: Option<u64>,
     },
     /// The requested backend is not available.
     #[error(transparent)]
@@ -51,4 +52,17 @@ pub enum Error {
     /// The run cannot be split across ranks.
     #[error(transparent)]
     Split(#[from] crate::solver::ranks::SplitError),
+}
+
+/// The message of [`Error::Interrupted`].
+fn interrupted_message(signal: usize, inside_step: Option<u64>) -> String {
+    match inside_step {
+        None => format!(
+            "interrupted by signal {signal}; the run was checkpointed and can be continued with sph run --resume"
+        ),
+        Some(step) => format!(
+            "interrupted by signal {signal} inside step {step}, which was still running a grace time after it; \
+             that step's state was not written (sph run --resume continues from the last checkpoint, if one was written)"
+        ),
+    }
 }

@@ -132,6 +132,10 @@ pub fn run(
         restart,
         ranks,
     };
+    if root && options.stop.is_some() {
+        let summary = out.join("summary.json");
+        super::signals::on_second_signal(move |signal| super::signals::mark_interrupted(&summary, signal));
+    }
     let bar = if root {
         progress_bar()
     } else {

@@ -266,8 +266,9 @@ enum Ending {
     Completed,
     /// A step or a write failed.
     Failed(Error),
-    /// A signal asked to stop (its number).
-    Interrupted(usize),
+    /// A signal asked to stop (its number), after a step, or inside the step given, which was
+    /// abandoned (`solver::interrupt`).
+    Interrupted(usize, Option<u64>),
 }
 
 /// What the time loop carries from step to step.
@@ -468,12 +469,25 @@ fn steps<const D: usize>(
 ) -> Result<Ending, Error> {
     let end = scene.end_time;
     let every = options.restart.every;
+    // A stop request ends a step that runs on past a grace time (`solver::interrupt`): twice
+    // the longest step so far, at least `STOP_GRACE`. Not across ranks: they agree on a stop
+    // after a step.
+    if let (Some(flag), None) = (&options.stop, &options.ranks) {
+        sim.interrupt_long_steps(flag.clone(), crate::solver::interrupt::STOP_GRACE);
+    }
+    let mut longest = std::time::Duration::ZERO;
     while sim.clock().time < end {
         let iterations_before = sim.stats().correction.iterations;
+        let started = Instant::now();
         let report = match sim.step(end) {
             Ok(report) => report,
+            Err(crate::solver::StepError::Interrupted { signal, step, .. }) => {
+                return Ok(Ending::Interrupted(signal, Some(step)));
+            }
             Err(e) => return Ok(Ending::Failed(e.into())),
         };
+        longest = longest.max(started.elapsed());
+        sim.set_interrupt_grace(2 * longest);
         let row = StepRow::of(sim, &report, iterations_before);
         record_step(sim, scene, options, state, &row)?;
         let clock = sim.clock();
@@ -487,7 +501,7 @@ fn steps<const D: usize>(
             write_checkpoint(sim, options, state)?;
         }
         if signal != 0 {
-            return Ok(Ending::Interrupted(signal));
+            return Ok(Ending::Interrupted(signal, None));
         }
         let wall = state.start.elapsed().as_secs_f64();
         if !options.ranks.as_ref().is_none_or(Ranks::is_root) {

@@ -67,7 +67,7 @@ pub(super) fn finish<const D: usize>(
         return match ending {
             Ending::Completed => Ok(summary.clone()),
             Ending::Failed(e) => Err(e),
-            Ending::Interrupted(signal) => Err(Error::Interrupted { signal }),
+            Ending::Interrupted(signal, inside_step) => Err(Error::Interrupted { signal, inside_step }),
         };
     }
     let ending = match statistics(sim, scene, summary, state, totals) {
@@ -80,7 +80,10 @@ pub(super) fn finish<const D: usize>(
     summary.status = match &ending {
         Ending::Completed => "completed".into(),
         Ending::Failed(e) => format!("failed: {e}"),
-        Ending::Interrupted(signal) => format!("interrupted (signal {signal})"),
+        Ending::Interrupted(signal, None) => format!("interrupted (signal {signal})"),
+        Ending::Interrupted(signal, Some(step)) => {
+            format!("interrupted (signal {signal}) inside step {step}, which was not written")
+        }
     };
     let written = match state.writers.as_mut() {
         Some(w) => w.summary(summary),
@@ -90,7 +93,7 @@ pub(super) fn finish<const D: usize>(
         (Ending::Completed, Ok(())) => Ok(summary.clone()),
         (Ending::Completed, Err(e)) => Err(e),
         (Ending::Failed(e), _) => Err(e),
-        (Ending::Interrupted(signal), _) => Err(Error::Interrupted { signal }),
+        (Ending::Interrupted(signal, inside_step), _) => Err(Error::Interrupted { signal, inside_step }),
     }
 }
 

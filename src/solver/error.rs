@@ -73,6 +73,20 @@ pub enum StepError {
         /// The run's end time [s].
         end_time: f64,
     },
+    /// A stop signal came and the step was still running a grace time later
+    /// (`solver::interrupt`): the step was abandoned, its state is not written.
+    #[error(
+        "step {step}, t = {time:.6} s: stopped inside the step by signal {signal} (the step was still running \
+         a grace time after it; the last finished step's state is what is on disk)"
+    )]
+    Interrupted {
+        /// The step that was running.
+        step: u64,
+        /// Simulated time at its start [s].
+        time: f64,
+        /// The signal's number.
+        signal: usize,
+    },
     /// The backend failed (a device launch or copy).
     #[error("step {step}: {source}")]
     Backend {

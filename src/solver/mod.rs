@@ -7,6 +7,7 @@ pub mod anderson;
 pub mod checkpoint;
 pub mod escape;
 pub mod floating;
+pub mod interrupt;
 pub mod open;
 pub mod plan;
 pub mod ranks;

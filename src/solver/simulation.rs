@@ -75,6 +75,8 @@ pub struct Simulation<const D: usize> {
     pub(super) density_fresh: bool,
     /// The start-up settle ran ([`Simulation::settle`]).
     pub(super) settled: bool,
+    /// The stop request polled inside a step (`solver::interrupt`), if the run set one.
+    pub(super) interrupt: Option<super::interrupt::Interrupt>,
     /// The current step stored its start positions (`Backend::store_step_start`, SSP-RK3): the
     /// no-penetration guard can tell from them which side a particle came from.
     pub(super) step_start_stored: bool,
@@ -223,6 +225,7 @@ impl<const D: usize> Simulation<D> {
             grid_fresh: false,
             density_fresh: false,
             settled: false,
+            interrupt: None,
             step_start_stored: false,
             keep_out: Vec::new(),
             motions: vec![None; solids.len()],

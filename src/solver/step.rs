@@ -392,7 +392,10 @@ impl<const D: usize> Simulation<D> {
         let tolerance = velocity_tolerance(self.config.integrator) * delta;
         let mut first = None;
         let mut iterations = 0u32;
+        let (interrupt, step) = (&mut self.interrupt, self.clock.step);
+        let time = self.clock.time;
         let keep = loop {
+            super::interrupt::due(interrupt, step, time)?;
             bk.predicted_density(f, params, tau as f32);
             let residual = bk.correction_error(f, params).residual;
             let start = *first.get_or_insert(residual);
@@ -456,6 +459,7 @@ impl<const D: usize> Simulation<D> {
         let mut drift = if self.grid_fresh { 0.0 } else { f64::INFINITY };
         let mut iterations = 0u32;
         let error = loop {
+            self.check_interrupt()?;
             let (bk, f) = (&mut self.backend, &mut self.fields);
             if drift > RESORT_DRIFT * h {
                 bk.sort_by_cell(f, params).map_err(|source| StepError::Grid {

@@ -8,5 +8,6 @@ mod common;
 
 mod checkpoint;
 mod kill_resume;
+mod long_step;
 mod restart;
 mod run_folder;
