@@ -103,4 +103,24 @@ fn bad_open_boundaries_name_the_key() {
         "open_boundary[0].ramp",
         "must be > 0",
     );
+    // The outflow on the inflow's section (its fluid side reversed): it drained the channel.
+    problem_with(
+        &edit(
+            &t,
+            "min = [0.6, 0.0]\nmax = [0.6, 0.1]\nnormal = [-1.0, 0.0]",
+            "min = [0.0, 0.05]\nmax = [0.0, 0.1]\nnormal = [-1.0, 0.0]",
+        ),
+        "open_boundary[1]",
+        "lies on open_boundary[0]'s section",
+    );
+    // An outflow just behind the inflow's plane, its buffer in the inflow's.
+    problem_with(
+        &edit(
+            &t,
+            "min = [0.6, 0.0]\nmax = [0.6, 0.1]\nnormal = [-1.0, 0.0]",
+            "min = [-0.01, 0.0]\nmax = [-0.01, 0.1]\nnormal = [1.0, 0.0]",
+        ),
+        "open_boundary[1]",
+        "overlaps open_boundary[0]'s buffer",
+    );
 }

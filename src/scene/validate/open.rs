@@ -1,7 +1,7 @@
 //! `[[open_boundary]]` (`boundary::open`): the section's corners and a normal along a
 //! coordinate axis, a buffer of at least one kernel support, an inflow velocity that points into
-//! the fluid; then, on the resolved scene, a buffer inside the domain and clear of every solid,
-//! and a solver that can run it (`wcsph`, one phase, the normal's axis not periodic).
+//! the fluid; then, on the resolved scene, a buffer inside the domain and clear of every solid
+//! and of the other boundaries' sections and buffers, and a solver that can run it (`wcsph`, one phase, the normal's axis not periodic).
 
 use super::*;
 use crate::boundary::open::Profile;
@@ -186,6 +186,47 @@ fn buffer_box(b: &OpenBoundarySpec, dx: f64) -> Aabb {
     region
 }
 
+/// Boundary `b` (at `path`) apart from the earlier boundary `j`, `other`: their sections do not
+/// share a plane over a positive area (an outflow on an inflow's section drains what the inflow
+/// brings), and their buffers do not overlap (a buffer particle belongs to one boundary).
+fn check_apart(
+    c: &mut Checker,
+    path: &KeyPath,
+    b: &OpenBoundarySpec,
+    (j, other): (usize, &OpenBoundarySpec),
+    dx: f64,
+) {
+    let tol = 1e-6 * dx;
+    let dim = b.min.len();
+    let same_plane = other.axis == b.axis && (other.min[b.axis] - b.min[b.axis]).abs() <= tol;
+    let sections_meet = same_plane
+        && (0..dim)
+            .filter(|&k| k != b.axis)
+            .all(|k| b.max[k].min(other.max[k]) - b.min[k].max(other.min[k]) > tol);
+    let (mine, theirs) = (buffer_box(b, dx), buffer_box(other, dx));
+    if sections_meet {
+        c.err(
+            path.clone(),
+            format!(
+                "its section {} lies on open_boundary[{j}]'s section {} (the plane {} = {}): give each section a plane of its own",
+                fmt_box(&Aabb { min: b.min.clone(), max: b.max.clone() }),
+                fmt_box(&Aabb { min: other.min.clone(), max: other.max.clone() }),
+                axis_name(b.axis),
+                b.min[b.axis]
+            ),
+        );
+    } else if intersection(&mine, &theirs, tol).is_some() {
+        c.err(
+            path.clone(),
+            format!(
+                "its buffer {} overlaps open_boundary[{j}]'s buffer {}: a buffer particle belongs to one boundary",
+                fmt_box(&mine),
+                fmt_box(&theirs)
+            ),
+        );
+    }
+}
+
 /// On the resolved scene: each buffer inside the domain and clear of the solids; the solver
 /// and effects that open boundaries run with.
 pub(super) fn check_open_geometry(c: &mut Checker, scene: &Scene) {
@@ -205,6 +246,9 @@ pub(super) fn check_open_geometry(c: &mut Checker, scene: &Scene) {
                     axis_name(k)
                 ),
             );
+        }
+        for (j, other) in scene.open_boundaries[..i].iter().enumerate() {
+            check_apart(c, &path, b, (j, other), dx);
         }
         for s in &scene.solids {
             let extent = solid_extent(s, dx, scene.wall_layers());
