@@ -74,6 +74,19 @@ pub enum CsvReadError {
         /// The first column missing from the row, or the first extra field, counted from 1.
         position: usize,
     },
+    /// Two header columns share a name: columns are found by name, so which one is meant is
+    /// ambiguous.
+    #[error("{}:1: columns {first} and {second} are both named `{column}`", path.display())]
+    DuplicateColumn {
+        /// The file being read.
+        path: PathBuf,
+        /// The name.
+        column: String,
+        /// The positions of its first two columns, counted from 1.
+        first: usize,
+        /// See `first`.
+        second: usize,
+    },
     /// The text is not CSV the reader can parse (invalid UTF-8, say).
     #[error("{}:{line}: {reason}", path.display())]
     Malformed {
@@ -102,7 +115,8 @@ impl CsvFile {
     ///
     /// # Errors
     /// [`CsvReadError::File`] (only a regular file of at most [`MAX_CSV_BYTES`] is read),
-    /// [`CsvReadError::NoHeader`], [`CsvReadError::Ragged`], [`CsvReadError::Malformed`].
+    /// [`CsvReadError::NoHeader`], [`CsvReadError::DuplicateColumn`], [`CsvReadError::Ragged`],
+    /// [`CsvReadError::Malformed`].
     pub fn read(path: &Path) -> Result<Self, CsvReadError> {
         let bytes = crate::bounded_read::read_regular_file(path, MAX_CSV_BYTES)?;
         Self::parse(path, &bytes)
@@ -141,6 +155,16 @@ impl CsvFile {
                 }
             }
         };
+        for (second, name) in header.iter().enumerate() {
+            if let Some(first) = header[..second].iter().position(|h| h == name && !h.is_empty()) {
+                return Err(CsvReadError::DuplicateColumn {
+                    path: path.to_path_buf(),
+                    column: name.clone(),
+                    first: first + 1,
+                    second: second + 1,
+                });
+            }
+        }
         let mut rows = Vec::new();
         let mut row_lines = Vec::new();
         let mut last_line = 1;
@@ -337,5 +361,7 @@ mod tests {
         let e = f.column("c").unwrap_err().to_string();
         assert_eq!(e, "x.csv:1: no column `c` in the header (a,b)");
         assert!(matches!(parse("\n \n"), Err(CsvReadError::NoHeader { .. })));
+        let e = parse("t_s,p_Pa,x,p_Pa\n0,1,2,3\n").unwrap_err().to_string();
+        assert_eq!(e, "x.csv:1: columns 2 and 4 are both named `p_Pa`");
     }
 }
