@@ -106,30 +106,15 @@ pub fn exit_status(error: &anyhow::Error) -> i32 {
 }
 
 /// Marks the run whose `summary.json` is at `path` as ended by `signal` where it still says
-/// `running` (the second signal's hook of `sph run`): the file is rewritten whole through a
-/// temporary sibling and a rename, and left as it is if it cannot be read.
+/// `running` (the second signal's hook of `sph run`), rewritten by `output::write_summary`; left
+/// as it is if it cannot be read.
 pub fn mark_interrupted(path: &std::path::Path, signal: usize) {
-    let Ok(text) = std::fs::read_to_string(path) else {
+    let Ok(mut summary) = crate::output::read_summary(path) else {
         return;
     };
-    let Ok(mut summary) = serde_json::from_str::<serde_json::Value>(&text) else {
-        return;
-    };
-    if summary.get("status").and_then(|s| s.as_str()) != Some("running") {
-        return;
-    }
-    summary["status"] =
-        format!("interrupted (signal {signal}): a second signal ended the process inside a step").into();
-    let Ok(bytes) = serde_json::to_vec_pretty(&summary) else {
-        return;
-    };
-    let tmp = crate::output::safe_file::unique_tmp_path(path, "");
-    let written = crate::output::safe_file::create_new(&tmp).and_then(|mut f| {
-        use std::io::Write;
-        f.write_all(&bytes)?;
-        f.sync_all()
-    });
-    if written.and_then(|()| std::fs::rename(&tmp, path)).is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    if summary.status == "running" {
+        summary.status =
+            format!("interrupted (signal {signal}): a second signal ended the process inside a step");
+        let _ = crate::output::write_summary(path, &summary);
     }
 }

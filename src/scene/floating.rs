@@ -92,7 +92,12 @@ impl Floating {
         spacing: f64,
         dim: usize,
     ) -> Option<RigidBody> {
-        let sampled = Self::shape_properties(volume, min, max, spacing, dim)?;
+        Some(self.rigid_body_of(&Self::shape_properties(volume, min, max, spacing, dim)?))
+    }
+
+    /// The rigid body of this floating solid on its shape's unit-density properties `sampled`
+    /// ([`Floating::shape_properties`]).
+    pub fn rigid_body_of(&self, sampled: &MassProperties) -> RigidBody {
         let density = self.mean_density(sampled.mass);
         let mut mass = MassProperties {
             mass: sampled.mass * density,
@@ -105,13 +110,13 @@ impl Floating {
         if let Some(i) = self.inertia {
             mass.inertia = Matrix3::from_diagonal(&i);
         }
-        Some(RigidBody {
+        RigidBody {
             mass,
             freedom: self.freedom.clone(),
             moorings: self.moorings.clone(),
             gravity: Vector3::zeros(),
             contact: self.contact,
-        })
+        }
     }
 }
 

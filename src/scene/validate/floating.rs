@@ -189,8 +189,7 @@ pub(super) fn check_body(
     }
     if ok
         && rho0.is_some()
-        && let Some(body) = f.rigid_body(volume, min, max, spacing, dim)
-        && let Some(w) = body.mooring_frequency(dim)
+        && let Some(w) = f.rigid_body_of(&shape).mooring_frequency(dim)
     {
         let limit = contact_frequency(spacing);
         if w.is_nan() || w > limit {
