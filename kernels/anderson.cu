@@ -8,6 +8,8 @@
 //   velocity_from_pressure: velocity_solve_increments -> correction_pressure_wall (the start's
 //     pressure and density) -> velocity_solve_solid_pressure -> correction_displacement(_multiphase)
 //     (the start's density) -> velocity_from_displacement.
+// The warm start before the first iteration (velocity_solve_warm_start) and the record after the
+// last (velocity_solve_record): backend::cuda::warm_start.
 // The window's differences are stored slot-major: slot l of a buffer of WINDOW n floats is
 // `slots[l n .. (l + 1) n]`.
 #include "sph.cuh"
@@ -107,4 +109,32 @@ SPH_KERNEL(velocity_from_displacement)(u32 n, float tau, const u32* __restrict__
     vec_t u = vload(velocity_start, i);
     for (int k = 0; k < D; ++k) u.c[k] += dx.c[k] / tau;
     vstore(vel, i, u);
+}
+
+/// The warm start (`CpuBackend::warm_start_velocity_solve`): a fluid particle whose record in
+/// `slot` was written by the slot's last solve (`recorded_by == solves`) starts from
+/// `max(P_start + dP, 0)`. Records are id-major: `id * slots + slot`.
+SPH_KERNEL(velocity_solve_warm_start)(u32 n, u32 slots, u32 slot, u32 solves,
+                                      const u32* __restrict__ kind, const u32* __restrict__ id,
+                                      const u32* __restrict__ recorded_by,
+                                      const float* __restrict__ increment,
+                                      float* __restrict__ pressure) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    const u32 k = id[i] * slots + slot;
+    if (recorded_by[k] == solves) pressure[i] = fmaxf(pressure[i] + increment[k], 0.0f);
+}
+
+/// The solve's increments `P - P_start` of every fluid particle into its record in `slot`,
+/// numbered `next` (`CpuBackend::record_velocity_solve`).
+SPH_KERNEL(velocity_solve_record)(u32 n, u32 slots, u32 slot, u32 next,
+                                  const u32* __restrict__ kind, const u32* __restrict__ id,
+                                  const float* __restrict__ pressure,
+                                  const float* __restrict__ pressure_start,
+                                  u32* __restrict__ recorded_by, float* __restrict__ increment) {
+    u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n || kind[i] != SPH_FLUID) return;
+    const u32 k = id[i] * slots + slot;
+    recorded_by[k] = next;
+    increment[k] = pressure[i] - pressure_start[i];
 }

@@ -2,6 +2,15 @@
 //! (`solver::stage::Stage`); the driver (`solver::step`) walks the plan and calls them, so the
 //! CPU and CUDA backends cannot diverge in the order of stages.
 
+/// Velocity-solve guesses a backend keeps (`Backend::record_velocity_solve`): one per
+/// integrator stage (SSP-RK3 has three).
+pub const VELOCITY_SOLVE_SLOTS: usize = 3;
+
+/// One particle's velocity-solve records (`Backend::record_velocity_solve`): per slot the
+/// increment `P − P_start` [Pa] that the slot's last solve recorded, `None` where it recorded
+/// none for the particle. A checkpoint keeps them (`solver::checkpoint`).
+pub type SolveRecord = [Option<crate::math::Real>; VELOCITY_SOLVE_SLOTS];
+
 pub mod cpu;
 pub mod partition;
 /// The step's parameters, at their home `model::params` (re-exported for the backends' users).
@@ -311,6 +320,13 @@ pub trait Backend<const D: usize> {
     /// lists the fluid's pairs and their spiky gradients here once (`crate::neighbour_list`,
     /// same sums bitwise); the CUDA backend keeps searching the grid.
     fn begin_velocity_solve(&mut self, fields: &mut Fields<D>, params: &StepParams<D>);
+    /// The velocity solve's warm start, right after `begin_velocity_solve`: each fluid particle's
+    /// pressure becomes `max(P_start + ΔP, 0)`, with `ΔP` [Pa] the increment that the last solve of
+    /// the same `slot` (the integrator stage, below [`VELOCITY_SOLVE_SLOTS`]) recorded for the
+    /// particle's id (`record_velocity_solve`); a particle without one keeps `P_start`. The
+    /// caller then sets the velocities with `velocity_from_pressure`. docs/method.md, "The
+    /// velocity solve", says why the guess comes from the same stage.
+    fn warm_start_velocity_solve(&mut self, fields: &mut Fields<D>, slot: usize);
     /// The velocity solve's density: `ρ* = base_i + τ Σ_j m_j (u_i − u_j)·∇W_ρ(x_i − x_j)`
     /// [kg/m³] for fluid particles into `density`, `base_i` from the density remembered by
     /// `begin_velocity_solve` (`physics::density::velocity_solve_base`: ρ0_i inside the fluid,
@@ -329,6 +345,27 @@ pub trait Backend<const D: usize> {
     /// sum (18) remembered by `begin_velocity_solve`); leaves the increments where
     /// `solid_forces` (`SolidForceSource::Correction`) reads them.
     fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32);
+    /// Records each fluid particle's increment `P − P_start` [Pa] of the solve about to end, by
+    /// particle id, as `slot`'s guess for its next solve (`warm_start_velocity_solve`) when the
+    /// solve is kept (`keep`); either way the slot's older records stop counting. Call before
+    /// `end_velocity_solve`.
+    fn record_velocity_solve(&mut self, fields: &mut Fields<D>, slot: usize, keep: bool);
+    /// The records that count (`warm_start_velocity_solve` would use them) of the particles
+    /// `ids`, one per id, for a checkpoint.
+    ///
+    /// # Errors
+    /// [`BackendError::Device`] when the device copy fails.
+    fn velocity_solve_records(&mut self, ids: &[u32]) -> Result<Vec<SolveRecord>, BackendError>;
+    /// Replaces every record with `records` of the particles `ids` (from
+    /// `velocity_solve_records`), as a run resumed from a checkpoint.
+    ///
+    /// # Errors
+    /// [`BackendError::Device`] when the device copy fails.
+    fn restore_velocity_solve_records(
+        &mut self,
+        ids: &[u32],
+        records: &[SolveRecord],
+    ) -> Result<(), BackendError>;
     /// Ends the velocity solve. `keep`: the velocities stay, `acting_pressure` gets the
     /// solve's pressure `P` (what acted over the stage), and every particle's pressure keeps
     /// only what the solve released, `P = min(P, P_start)`. Otherwise velocity and pressure go

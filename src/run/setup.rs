@@ -148,6 +148,7 @@ pub fn correction(scene: &Scene) -> Option<Correction> {
             max_iterations: s.max_iterations,
             strict: s.strict,
             relaxation: s.relaxation,
+            warm_start: s.warm_start,
         }),
     }
 }

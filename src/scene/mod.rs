@@ -244,7 +244,7 @@ impl Scene {
 /// [`Scene`] fields).
 ///
 /// For [`SolverKind::Wcsph`] the `corrected`-only fields (`delta`, `max_iterations`,
-/// `strict`, `relaxation`) hold their defaults and are unused.
+/// `strict`, `relaxation`, `warm_start`) hold their defaults and are unused.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverSettings {
     /// Pressure scheme.
@@ -259,6 +259,8 @@ pub struct SolverSettings {
     pub strict: bool,
     /// Relaxation factor omega of the position correction, in (0, 1].
     pub relaxation: f64,
+    /// Whether the velocity solves start warm (`solver::Correction::warm_start`).
+    pub warm_start: bool,
     /// What a fluid particle outside the domain does (`solver::escape`).
     pub on_escape: crate::solver::escape::EscapePolicy,
     /// The moment `κ` the pressure force divides by (`model::GradientMoment`).
@@ -301,6 +303,7 @@ impl SolverSettings {
             max_iterations: Self::DEFAULT_MAX_ITERATIONS,
             strict: false,
             relaxation: Self::DEFAULT_RELAXATION,
+            warm_start: false,
             on_escape: Default::default(),
             gradient_moment: Self::default_gradient_moment(kind),
         }

@@ -421,6 +421,9 @@ pub struct SolverFile {
     /// `corrected` only: relaxation factor omega of the position correction, in (0, 1];
     /// default 0.5.
     pub relaxation: Option<f64>,
+    /// `corrected` only: whether each velocity solve starts from the increments of the same
+    /// integrator stage's solve at the last step; default false (`solver::Correction`).
+    pub warm_start: Option<bool>,
     /// The first moment of the spiky gradient the pressure force divides by: `lattice` (the
     /// initial lattice's, fixed) or `measured` (on the particles, every integrator stage);
     /// default `measured` for `corrected`, `lattice` for `wcsph` (`model::GradientMoment`).

@@ -69,7 +69,11 @@ impl<const D: usize> Simulation<D> {
         make: impl FnOnce(&Fields<D>, &StepParams<D>) -> Result<Box<dyn Backend<D> + Send>, BackendError>,
     ) -> Result<(), BackendError> {
         self.sync_fields()?;
+        // The velocity solves' records go along (a resumed run switches after the restore).
+        let records = self.backend.velocity_solve_records(&self.fields.id)?;
         self.backend = make(&self.fields, &self.step_params())?;
+        self.backend
+            .restore_velocity_solve_records(&self.fields.id, &records)?;
         self.grid_fresh = false;
         self.density_fresh = false;
         Ok(())

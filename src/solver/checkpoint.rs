@@ -11,14 +11,17 @@
 //! File layout (little endian): the magic `SPHCKPT1`, `u32` dimension, `u64` particle count,
 //! `u64` length and the JSON of [`Header`] (plus the caller's metadata), then the arrays
 //! position, velocity, acceleration (`n·D` f32 each), density, pressure, mass (`n` f32), kind, id
-//! (`n` u32), and an FNV-1a 64-bit checksum of everything before it. It is written to
+//! (`n` u32), where the `corrected` solver's velocity solves kept records (the warm start,
+//! `Backend::record_velocity_solve`) per particle a `u32` mask of the slots that hold one and
+//! `VELOCITY_SOLVE_SLOTS` f32 increments (0 where none), and an FNV-1a 64-bit checksum of
+//! everything before it. It is written to
 //! a unique temporary sibling created exclusively (`output::safe_file`), flushed to disk and
 //! renamed over `<path>`, so `<path>` always holds a complete
 //! checkpoint.
 
 use super::stage::Stage;
 use super::{Clock, RunStats, Simulation};
-use crate::backend::BackendError;
+use crate::backend::{BackendError, SolveRecord, VELOCITY_SOLVE_SLOTS};
 use crate::fields::{FLUID, Fields};
 use crate::math::{Real, Vector};
 use std::io::Write;
@@ -56,6 +59,10 @@ pub struct Checkpoint<const D: usize> {
     /// `velocity_start` are empty: they only live inside a step; so is `normal`, recomputed by
     /// the `surface_normals` stage before every use).
     pub fields: Fields<D>,
+    /// Each particle's velocity-solve records, in the order of `fields`
+    /// (`Backend::velocity_solve_records`); empty where none counts (`wcsph`, a split run, the
+    /// first step).
+    pub solve_records: Vec<SolveRecord>,
 }
 
 /// Errors reading, writing or applying a checkpoint.
@@ -112,6 +119,10 @@ impl<const D: usize> Simulation<D> {
     /// [`CheckpointError::Backend`] when the device copy fails.
     pub fn checkpoint(&mut self, metadata: serde_json::Value) -> Result<Checkpoint<D>, CheckpointError> {
         self.sync_fields()?;
+        let mut solve_records = self.backend.velocity_solve_records(&self.fields.id)?;
+        if solve_records.iter().all(|r| r.iter().all(Option::is_none)) {
+            solve_records.clear();
+        }
         let mut fields = self.fields.clone();
         fields.position_start.clear();
         fields.velocity_start.clear();
@@ -135,6 +146,7 @@ impl<const D: usize> Simulation<D> {
                 metadata,
             },
             fields,
+            solve_records,
         })
     }
 
@@ -211,6 +223,14 @@ impl<const D: usize> Simulation<D> {
                 .map(|&id| ours.rest_density[by_id[id as usize]])
                 .collect()
         };
+        let solve_records = checkpoint.solve_records;
+        if !solve_records.is_empty() && solve_records.len() != checkpoint.fields.len() {
+            return Err(mismatch(format!(
+                "{} velocity-solve records for {} particles",
+                solve_records.len(),
+                checkpoint.fields.len()
+            )));
+        }
         self.fields = checkpoint.fields;
         self.fields.rest_density = rest_density;
         if no_slip {
@@ -254,6 +274,8 @@ impl<const D: usize> Simulation<D> {
         // The solids stand where the checkpoint has them; the next stage places them again.
         self.solids_placed_at = None;
         self.reload_backend()?;
+        self.backend
+            .restore_velocity_solve_records(&self.fields.id, &solve_records)?;
         Ok(())
     }
 }
@@ -330,6 +352,11 @@ impl<const D: usize> Checkpoint<D> {
                 out.extend_from_slice(&x.to_le_bytes());
             }
         }
+        for record in &self.solve_records {
+            let mask = (0..VELOCITY_SOLVE_SLOTS).fold(0u32, |m, s| m | (u32::from(record[s].is_some()) << s));
+            out.extend_from_slice(&mask.to_le_bytes());
+            put_reals(&mut out, record.iter().map(|r| r.unwrap_or(0.0)));
+        }
         let sum = fnv1a(&out, FNV_OFFSET);
         out.extend_from_slice(&sum.to_le_bytes());
         let tmp = crate::output::safe_file::unique_tmp_path(path, "");
@@ -366,9 +393,13 @@ impl<const D: usize> Checkpoint<D> {
             .checked_mul((3 * D + 5) * 4)
             .and_then(|a| a.checked_add(28 + header_len))
             .ok_or_else(|| bad("sizes overflow"))?;
-        if arrays != body.len() {
-            return Err(bad("length does not match its particle count"));
-        }
+        let record_bytes = (1 + VELOCITY_SOLVE_SLOTS) * 4;
+        let with_records = n.checked_mul(record_bytes).and_then(|r| r.checked_add(arrays));
+        let has_records = match body.len() {
+            len if len == arrays => false,
+            len if Some(len) == with_records && n > 0 => true,
+            _ => return Err(bad("length does not match its particle count")),
+        };
         let header: Header =
             serde_json::from_slice(&body[28..28 + header_len]).map_err(|e| bad(&format!("header: {e}")))?;
         let mut at = 28 + header_len;
@@ -389,13 +420,26 @@ impl<const D: usize> Checkpoint<D> {
         let density = reals(n);
         let pressure = reals(n);
         let mass = reals(n);
-        let words: Vec<u32> = body[at..]
+        let words: Vec<u32> = body[at..at + 8 * n]
             .chunks_exact(4)
             .map(|c| u32::from_le_bytes(c.try_into().expect("4 bytes")))
             .collect();
         let (kind, id) = words.split_at(n);
+        let solve_records = if has_records {
+            body[at + 8 * n..]
+                .chunks_exact(record_bytes)
+                .map(|c| {
+                    let word = |k: usize| c[4 * k..4 * k + 4].try_into().expect("4 bytes");
+                    let mask = u32::from_le_bytes(word(0));
+                    std::array::from_fn(|s| (mask >> s & 1 == 1).then(|| Real::from_le_bytes(word(1 + s))))
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Ok(Self {
             header,
+            solve_records,
             fields: Fields {
                 position,
                 velocity,

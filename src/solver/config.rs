@@ -83,6 +83,11 @@ pub struct Correction {
     pub strict: bool,
     /// Relaxation `ω` in (0, 1] of the step scale (`physics::lattice::correction_stiffness`).
     pub relaxation: f64,
+    /// Each velocity solve starts from the increments of the same integrator stage's solve at the
+    /// last step (`Backend::warm_start_velocity_solve`). Off by default: it takes a quarter to a
+    /// third fewer iterations, but the resting tank's pressure sensors then read 2–8 % low
+    /// (docs/method.md, "The velocity solve").
+    pub warm_start: bool,
 }
 
 impl Correction {
@@ -101,6 +106,7 @@ impl Default for Correction {
             max_iterations: Self::DEFAULT_MAX_ITERATIONS,
             strict: false,
             relaxation: Self::DEFAULT_RELAXATION,
+            warm_start: false,
         }
     }
 }

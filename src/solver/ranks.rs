@@ -136,6 +136,12 @@ impl<const D: usize> Simulation<D> {
             .collect();
         if kept.len() < checkpoint.fields.len() {
             checkpoint.fields.keep(&kept);
+            if !checkpoint.solve_records.is_empty() {
+                checkpoint.solve_records = kept
+                    .iter()
+                    .map(|&i| checkpoint.solve_records[i as usize])
+                    .collect();
+            }
         }
         Ok(checkpoint)
     }

@@ -352,19 +352,20 @@ impl Stage {
     }
 
     /// The steps of the velocity solve the driver runs after the correction loop of a stage
-    /// (`Simulation::solve_velocities`): its start, each iteration, its end, its push on the
-    /// solids. Empty for every other
-    /// stage.
+    /// (`Simulation::solve_velocities`): its start and warm start, each iteration, its record and
+    /// end, its push on the solids. Empty for every other stage.
     pub fn velocity_sub_stages(&self, solids: bool) -> Vec<SubStage> {
         if *self != Stage::Correction {
             return Vec::new();
         }
         let mut steps = vec![
             SubStage::BeginVelocitySolve,
+            SubStage::WarmStartVelocitySolve,
             SubStage::PredictedDensity,
             SubStage::CorrectionError,
             SubStage::MixVelocityPressure,
             SubStage::VelocityFromPressure,
+            SubStage::RecordVelocitySolve,
             SubStage::EndVelocitySolve,
         ];
         if solids {

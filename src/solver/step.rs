@@ -362,13 +362,16 @@ impl<const D: usize> Simulation<D> {
     /// `u = u_start + τ a^press(P − P_start)` (a divergence-free projection, as DFSPH's). Each
     /// iteration is a projected Jacobi sweep `max(P + k (ρ* − ρ0), 0)` mixed with the last
     /// iterates by Anderson acceleration (`solver::anderson`), until the residual is below
-    /// [`velocity_tolerance`]` · δ`. The pressure keeps only what the solve released. Given up, with
+    /// [`velocity_tolerance`]` · δ`; with `Correction::warm_start`, started from the increments
+    /// `P − P_start` that stage `slot`'s solve of the last step ended with
+    /// (`Backend::warm_start_velocity_solve`). The pressure keeps only what the solve released. Given up, with
     /// velocity and pressure restored, when the residual doubles, or at `VELOCITY_SOLVE_CAP`
     /// iterations above `δ`. Adds the walls' share to `solid_force` [N], as the position sweeps
     /// do. docs/method.md, "The velocity solve", says why each choice.
     #[allow(clippy::too_many_arguments)]
     fn solve_velocities(
         &mut self,
+        slot: usize,
         tau: f64,
         params: &StepParams<D>,
         stiffness: f32,
@@ -388,6 +391,12 @@ impl<const D: usize> Simulation<D> {
             *drift = 0.0;
         }
         bk.begin_velocity_solve(f, params);
+        let warm = self.config.correction.is_some_and(|c| c.warm_start);
+        if warm {
+            // The same stage's solve of the last step: its increments are most of this one's.
+            bk.warm_start_velocity_solve(f, slot);
+            bk.velocity_from_pressure(f, params, tau as f32);
+        }
         let cap = VELOCITY_SOLVE_CAP.min(max_iterations);
         let tolerance = velocity_tolerance(self.config.integrator) * delta;
         let mut first = None;
@@ -412,10 +421,14 @@ impl<const D: usize> Simulation<D> {
             bk.velocity_from_pressure(f, params, tau as f32);
             iterations += 1;
         };
+        if warm {
+            bk.record_velocity_solve(f, slot, keep);
+        }
         bk.end_velocity_solve(f, keep);
         // The solve's push on the solids from its total increments (the map is linear in them),
         // with the sum (18) back in `density`.
-        if keep && solids > 0 && iterations > 0 {
+        // The increments are the warm start's where no iteration ran.
+        if keep && solids > 0 && (iterations > 0 || warm) {
             let part = bk.solid_forces(f, params, solids, SolidForceSource::Correction);
             for (total, p) in solid_force.iter_mut().zip(&part) {
                 for c in 0..6 {
@@ -447,6 +460,7 @@ impl<const D: usize> Simulation<D> {
             max_iterations,
             strict,
             relaxation,
+            ..
         } = self.config.correction.unwrap_or_default();
         let h = f64::from(params.h);
         let max_step = (MAX_SWEEP_STEP * self.config.spacing) as f32;
@@ -500,6 +514,7 @@ impl<const D: usize> Simulation<D> {
         if kick_tau.is_finite() && error.residual < delta {
             let started = self.stage_seconds.is_some().then(std::time::Instant::now);
             self.solve_velocities(
+                stage,
                 tau,
                 params,
                 stiffness,

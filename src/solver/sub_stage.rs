@@ -55,6 +55,9 @@ pub enum SubStage {
     KeepOut,
     /// The velocity solve's start: remembers velocity, pressure and density.
     BeginVelocitySolve,
+    /// The velocity solve's first pressure: the start's plus the increments the same integrator
+    /// stage's solve ended with at the last step.
+    WarmStartVelocitySolve,
     /// The density `base + τ dρ/dt` the velocities would give `τ` later (`base`: ρ0 inside the
     /// fluid, the particle's own density at the free surface).
     PredictedDensity,
@@ -63,6 +66,8 @@ pub enum SubStage {
     MixVelocityPressure,
     /// The velocity solve's velocities `u_start + τ a^press(P − P_start)`, positions fixed.
     VelocityFromPressure,
+    /// The velocity solve's increments, kept by particle id for the same stage's next solve.
+    RecordVelocitySolve,
     /// The velocity solve's end: pressure keeps only what it released, or everything is restored.
     EndVelocitySolve,
 }
@@ -79,6 +84,8 @@ impl SubStage {
             SubStage::CorrectPositions => "correct_positions",
             SubStage::KeepOut => "keep_out",
             SubStage::BeginVelocitySolve => "begin_velocity_solve",
+            SubStage::WarmStartVelocitySolve => "warm_start_velocity_solve",
+            SubStage::RecordVelocitySolve => "record_velocity_solve",
             SubStage::PredictedDensity => "predicted_density",
             SubStage::MixVelocityPressure => "mix_velocity_pressure",
             SubStage::VelocityFromPressure => "velocity_from_pressure",
@@ -96,7 +103,10 @@ impl SubStage {
             SubStage::SolidForces => "Fig. 4: (16)",
             SubStage::CorrectPositions => "(23), note 7",
             SubStage::KeepOut => "boundary::keep_out",
-            SubStage::BeginVelocitySolve | SubStage::EndVelocitySolve => "velocity solve",
+            SubStage::BeginVelocitySolve
+            | SubStage::WarmStartVelocitySolve
+            | SubStage::RecordVelocitySolve
+            | SubStage::EndVelocitySolve => "velocity solve",
             SubStage::PredictedDensity => "continuity with (18)'s kernel",
             SubStage::MixVelocityPressure => "(19), note 6, [WN11]",
             SubStage::VelocityFromPressure => "(16), positions fixed",
@@ -116,6 +126,12 @@ impl SubStage {
                 "put fluid particles that entered a solid back through the face they came in by (SSP-RK3: from position_start)"
             }
             SubStage::BeginVelocitySolve => "remember velocity, pressure and density",
+            SubStage::WarmStartVelocitySolve => {
+                "fluid pressure = max(P_start + dP, 0), dP the increments of the same stage's last solve, by particle id"
+            }
+            SubStage::RecordVelocitySolve => {
+                "keep each fluid particle's P - P_start by id for the same stage's next solve (none if given up)"
+            }
             SubStage::PredictedDensity => {
                 "density the velocities would give tau later: base + tau drho/dt (base rho0, own density at the free surface)"
             }
@@ -143,6 +159,8 @@ impl SubStage {
             // With SSP-RK3 it also reads PositionStart (`reads_in`).
             SubStage::KeepOut => &[Position, Velocity, Mass, Kind],
             SubStage::BeginVelocitySolve => &[Velocity, Pressure, Density],
+            SubStage::WarmStartVelocitySolve => &[Pressure, Kind, Id],
+            SubStage::RecordVelocitySolve => &[Pressure, Kind, Id],
             SubStage::EndVelocitySolve => &[Velocity, Pressure],
             SubStage::PredictedDensity => &[Position, Velocity, Mass, Kind],
             SubStage::MixVelocityPressure => &[Density, Pressure, Kind],
@@ -174,7 +192,8 @@ impl SubStage {
             SubStage::CorrectionError | SubStage::SolidForces => &[],
             SubStage::CorrectionPressure => &[Pressure],
             SubStage::CorrectPositions | SubStage::KeepOut => &[Position, Velocity],
-            SubStage::BeginVelocitySolve => &[],
+            SubStage::BeginVelocitySolve | SubStage::RecordVelocitySolve => &[],
+            SubStage::WarmStartVelocitySolve => &[Pressure],
             SubStage::PredictedDensity => &[Density],
             SubStage::MixVelocityPressure => &[Pressure],
             SubStage::VelocityFromPressure => &[Velocity, Pressure],

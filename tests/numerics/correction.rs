@@ -233,6 +233,7 @@ fn config<const D: usize>(
             max_iterations: 2000,
             strict: true,
             relaxation: 0.5,
+            warm_start: false,
         }),
         on_escape: Default::default(),
         damping_zone: None,

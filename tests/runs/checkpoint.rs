@@ -162,6 +162,24 @@ fn corrected_restart_is_bit_identical() {
     straight_and_restarted("corrected", &["particles.spacing=0.01"], 15, 15);
 }
 
+/// With `solver.warm_start` the velocity solves' records are state: the checkpoint carries them
+/// (and a checkpoint of the first steps, before any, carries none), and the resumed run warm
+/// starts as the straight one does. Also checks that the warm start is on: fewer velocity
+/// iterations than the same steps without it.
+#[test]
+fn corrected_warm_start_restart_is_bit_identical() {
+    let warm = ["particles.spacing=0.01", "solver.warm_start=true"];
+    straight_and_restarted("corrected_warm", &warm, 15, 15);
+    straight_and_restarted("corrected_warm_early", &warm, 1, 5);
+    let iterations = |sets: &[&str]| {
+        let mut s = sim(sets);
+        steps(&mut s, 30);
+        s.stats().correction.velocity_iterations
+    };
+    let (cold, warm) = (iterations(&["particles.spacing=0.01"]), iterations(&warm));
+    assert!(warm < cold, "velocity iterations: {warm} warm, {cold} cold");
+}
+
 #[test]
 fn damaged_and_foreign_checkpoints_are_refused() {
     let dir = scratch("damaged");

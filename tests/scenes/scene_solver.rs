@@ -22,7 +22,7 @@ static WCSPH: LazyLock<String> = LazyLock::new(|| Tank2d::default().text());
 /// The same scene with the `corrected` solver, every solver key and two probes.
 static CORRECTED: LazyLock<String> = LazyLock::new(|| {
     Tank2d {
-        solver: "kind = \"corrected\"\nintegrator = \"symplectic_euler\"\ndelta = 1e-3\nmax_iterations = 50\nstrict = true\nrelaxation = 0.8\nend_time = 1.0\n",
+        solver: "kind = \"corrected\"\nintegrator = \"symplectic_euler\"\ndelta = 1e-3\nmax_iterations = 50\nstrict = true\nrelaxation = 0.8\nwarm_start = true\nend_time = 1.0\n",
         tail: r#"
 [[probe]]
 name = "surge"
@@ -65,6 +65,7 @@ fn wcsph_defaults() {
             max_iterations: 200,
             strict: false,
             relaxation: 0.5,
+            warm_start: false,
             on_escape: EscapePolicy::Remove,
             gradient_moment: SolverSettings::default_gradient_moment(SolverKind::Wcsph),
         }
@@ -86,6 +87,7 @@ fn corrected_defaults() {
             max_iterations: 200,
             strict: false,
             relaxation: 0.5,
+            warm_start: false,
             on_escape: EscapePolicy::Remove,
             gradient_moment: SolverSettings::default_gradient_moment(SolverKind::Corrected),
         }
@@ -109,6 +111,7 @@ fn corrected_with_every_key_and_probes() {
             max_iterations: 50,
             strict: true,
             relaxation: 0.8,
+            warm_start: true,
             on_escape: EscapePolicy::Remove,
             gradient_moment: SolverSettings::default_gradient_moment(SolverKind::Corrected),
         }
@@ -515,6 +518,7 @@ fn overrides_set_the_new_solver_keys() {
             max_iterations: 25,
             strict: true,
             relaxation: 0.25,
+            warm_start: false,
             on_escape: EscapePolicy::Remove,
             gradient_moment: SolverSettings::default_gradient_moment(SolverKind::Corrected),
         }
@@ -547,7 +551,7 @@ fn overrides_set_the_new_solver_keys() {
     assert_eq!(s.solver.kind, SolverKind::Wcsph);
     // Back to wcsph from the corrected scene requires dropping its corrected-only keys.
     let ps = problems(parse_set(&CORRECTED, &["solver.kind=wcsph"]));
-    assert_eq!(ps.len(), 4, "{ps:#?}");
+    assert_eq!(ps.len(), 5, "{ps:#?}");
     assert_eq!(
         with_key(&ps, "solver.delta").location,
         Location::Line {

@@ -33,4 +33,5 @@ mod sort_by_cell;
 mod state_extremes;
 mod surface_tension;
 mod velocity_solve;
+mod warm_start;
 mod wrap_positions;

@@ -35,7 +35,7 @@ const SWEEPS: usize = WINDOW + 3;
 /// `setup::scene` for the solve: the density kernel `kernel`; the densities (18) remembered at
 /// the start spread over `(0.98 ± 0.03) ρ0_i`, so that both sides of `velocity_solve_base` are
 /// taken; with `Phases::Multi` two phases (`correction::two_phases`).
-fn solve_scene<const D: usize>(
+pub(super) fn solve_scene<const D: usize>(
     seed: u64,
     kernel: DensityKernel,
     phases: Phases,

@@ -21,6 +21,7 @@ use crate::neighbour_list::{NeighbourList, WetSolidPairs};
 use crate::physics::damping_zone::DampingZone;
 use crate::physics::gradient_moment::MomentSums;
 use anderson::AndersonBuffers;
+use warm_start::VelocitySolveRecords;
 
 mod anderson;
 mod correction;
@@ -36,6 +37,7 @@ mod sort_by_cell;
 mod state_extremes;
 mod surface_tension;
 mod wall_pressure;
+mod warm_start;
 mod wrap_positions;
 
 /// CPU backend state: the neighbour grid and reusable scratch buffers.
@@ -80,6 +82,8 @@ pub struct CpuBackend<const D: usize> {
     wet_pairs: WetSolidPairs<D>,
     /// The velocity solve's Anderson acceleration (`anderson.rs`).
     anderson: AndersonBuffers,
+    /// Each stage's last velocity solve, its warm start (`warm_start.rs`).
+    solve_records: VelocitySolveRecords,
     /// The whole simulation, or one rank's share (`backend::partition`): which particles the
     /// reductions count and how they add across ranks.
     partition: Partition,
@@ -109,6 +113,7 @@ impl<const D: usize> CpuBackend<D> {
             + self.velocity_neighbours.heap_bytes()
             + self.wet_pairs.heap_bytes()
             + self.anderson.heap_bytes()
+            + self.solve_records.heap_bytes()
     }
 }
 
@@ -123,9 +128,12 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn reload(&mut self, _fields: &Fields<D>, _params: &StepParams<D>) -> Result<(), BackendError> {
         // A rank's share stays one: its owned particles are set again after the next sort.
+        // The velocity solves' records are by id, which a reload keeps.
         let partition = std::mem::take(&mut self.partition);
+        let records = std::mem::take(&mut self.solve_records);
         *self = Self::new();
         self.partition = partition;
+        self.solve_records = records;
         Ok(())
     }
 
@@ -288,6 +296,27 @@ impl<const D: usize> Backend<D> for CpuBackend<D> {
 
     fn velocity_from_pressure(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
         CpuBackend::velocity_from_pressure(self, fields, params, tau)
+    }
+
+    fn warm_start_velocity_solve(&mut self, fields: &mut Fields<D>, slot: usize) {
+        CpuBackend::warm_start_velocity_solve(self, fields, slot)
+    }
+
+    fn record_velocity_solve(&mut self, fields: &mut Fields<D>, slot: usize, keep: bool) {
+        CpuBackend::record_velocity_solve(self, fields, slot, keep)
+    }
+
+    fn velocity_solve_records(&mut self, ids: &[u32]) -> Result<Vec<super::SolveRecord>, BackendError> {
+        Ok(CpuBackend::velocity_solve_records(self, ids))
+    }
+
+    fn restore_velocity_solve_records(
+        &mut self,
+        ids: &[u32],
+        records: &[super::SolveRecord],
+    ) -> Result<(), BackendError> {
+        CpuBackend::restore_velocity_solve_records(self, ids, records);
+        Ok(())
     }
 
     fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {

@@ -7,7 +7,8 @@
 //! This file holds the buffers, the construction, the transfers and the `Backend` methods, which
 //! call one `launch_<stage>` per stage; the stages live in child modules named as the kernel files
 //! they launch (`sort_by_cell`, `density`, `density_rate`, `wall_pressure`, `move_solids`, `forces`,
-//! `solid_forces`, `surface_tension`, `state_extremes`, `integrate`, `correction`, `anderson`),
+//! `solid_forces`, `surface_tension`, `state_extremes`, `integrate`, `correction`, `anderson`,
+//! `warm_start`),
 //! as those of the CPU backend.
 
 use super::compile::{arch_for, compile_all};
@@ -157,6 +158,11 @@ pub struct CudaBackend<const D: usize, K: Launch<D> = Gpu> {
     /// The partition's mask on the device, in the current order: 1 for a particle the
     /// reductions count, 0 for a ghost (all ones for the whole simulation).
     owned: K::Buf<u32>,
+    /// One more than the largest particle id uploaded: the ids the velocity solves' records
+    /// must hold.
+    id_bound: usize,
+    /// Each stage's last velocity solve, its warm start (`warm_start`).
+    solve_records: warm_start::VelocitySolveRecords<K>,
     error: Option<BackendError>,
 }
 
@@ -294,6 +300,8 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             },
             partition: Partition::Whole,
             owned: upload_u32(&dev, &vec![1; n.max(1)])?,
+            id_bound: fields.id.iter().map(|&k| k as usize + 1).max().unwrap_or(0),
+            solve_records: warm_start::VelocitySolveRecords::default(),
             error: None,
             dev,
         };
@@ -351,6 +359,8 @@ mod state_extremes;
 mod surface_tension;
 #[path = "wall_pressure.rs"]
 mod wall_pressure;
+#[path = "warm_start.rs"]
+mod warm_start;
 #[path = "wrap_positions.rs"]
 mod wrap_positions;
 
@@ -367,11 +377,14 @@ impl<const D: usize, K: Launch<D> + Clone> Backend<D> for CudaBackend<D, K> {
         // The device and its compiled kernels stay; every buffer is made again. A rank's share
         // stays one (its owned particles are set again after the next sort), and a failure
         // not yet reported stays reported.
+        // The velocity solves' records are by id, which a reload keeps.
         let partition = std::mem::take(&mut self.partition);
         let error = self.error.take();
+        let records = std::mem::take(&mut self.solve_records);
         *self = Self::on_device(self.dev.clone(), fields, params)?;
         self.partition = partition;
         self.error = error;
+        self.solve_records = records;
         self.upload_owned()
     }
 
@@ -572,6 +585,29 @@ impl<const D: usize, K: Launch<D> + Clone> Backend<D> for CudaBackend<D, K> {
 
     fn begin_velocity_solve(&mut self, _fields: &mut Fields<D>, _params: &StepParams<D>) {
         self.launch_begin_velocity_solve()
+    }
+
+    fn warm_start_velocity_solve(&mut self, _fields: &mut Fields<D>, slot: usize) {
+        self.launch_warm_start_velocity_solve(slot)
+    }
+
+    fn record_velocity_solve(&mut self, _fields: &mut Fields<D>, slot: usize, keep: bool) {
+        self.launch_record_velocity_solve(slot, keep)
+    }
+
+    fn velocity_solve_records(
+        &mut self,
+        ids: &[u32],
+    ) -> Result<Vec<crate::backend::SolveRecord>, BackendError> {
+        CudaBackend::velocity_solve_records(self, ids)
+    }
+
+    fn restore_velocity_solve_records(
+        &mut self,
+        ids: &[u32],
+        records: &[crate::backend::SolveRecord],
+    ) -> Result<(), BackendError> {
+        CudaBackend::restore_velocity_solve_records(self, ids, records)
     }
 
     fn end_velocity_solve(&mut self, _fields: &mut Fields<D>, keep: bool) {

@@ -44,7 +44,8 @@ impl<const D: usize, K: Launch<D>> CudaBackend<D, K> {
             + self.density_start.as_ref().map_or(0, |b| b.num_bytes())
             + self.f.rest_density.as_ref().map_or(0, |b| b.num_bytes())
             + self.f.acting_pressure.as_ref().map_or(0, |b| b.num_bytes())
-            + self.anderson_buffers.as_ref().map_or(0, |b| b.num_bytes());
+            + self.anderson_buffers.as_ref().map_or(0, |b| b.num_bytes())
+            + self.solve_records.num_bytes();
         if let Some(g) = &self.grid {
             bytes += [
                 &g.key,

@@ -231,6 +231,11 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
         self.inner.begin_velocity_solve(fields, params);
     }
 
+    fn warm_start_velocity_solve(&mut self, _fields: &mut Fields<D>, _slot: usize) {
+        // A split run starts every velocity solve from `P_start`: records kept by id on one
+        // rank go stale as particles change ranks, and a split checkpoint's pieces hold none.
+    }
+
     fn predicted_density(&mut self, fields: &mut Fields<D>, params: &StepParams<D>, tau: f32) {
         self.summing(fields, "predicted_density", &[Field::Density], |b, f| {
             b.predicted_density(f, params, tau)
@@ -250,6 +255,25 @@ impl<const D: usize> Backend<D> for RankBackend<D> {
             &[Field::Velocity, Field::Pressure],
             |b, f| b.velocity_from_pressure(f, params, tau),
         );
+    }
+
+    fn record_velocity_solve(&mut self, _fields: &mut Fields<D>, _slot: usize, _keep: bool) {
+        // None kept (`warm_start_velocity_solve`).
+    }
+
+    fn velocity_solve_records(
+        &mut self,
+        ids: &[u32],
+    ) -> Result<Vec<crate::backend::SolveRecord>, BackendError> {
+        Ok(vec![Default::default(); ids.len()])
+    }
+
+    fn restore_velocity_solve_records(
+        &mut self,
+        _ids: &[u32],
+        _records: &[crate::backend::SolveRecord],
+    ) -> Result<(), BackendError> {
+        Ok(())
     }
 
     fn end_velocity_solve(&mut self, fields: &mut Fields<D>, keep: bool) {

@@ -40,6 +40,7 @@ pub(super) fn check_solver(c: &mut Checker, sp: &KeyPath, sv: &SolverFile) -> Op
         ("max_iterations", sv.max_iterations.is_some()),
         ("strict", sv.strict.is_some()),
         ("relaxation", sv.relaxation.is_some()),
+        ("warm_start", sv.warm_start.is_some()),
     ];
     for (key, present) in given {
         if present && !corrected {
@@ -76,6 +77,9 @@ pub(super) fn check_solver(c: &mut Checker, sp: &KeyPath, sv: &SolverFile) -> Op
     }
     if let Some(strict) = sv.strict {
         settings.strict = strict;
+    }
+    if let Some(warm) = sv.warm_start {
+        settings.warm_start = warm;
     }
     if let Some(moment) = sv.gradient_moment {
         settings.gradient_moment = moment;

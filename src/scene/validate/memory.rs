@@ -72,7 +72,9 @@ pub fn particle_bytes(dim: usize, solver: crate::scene::SolverKind) -> ParticleB
 /// where the `density_diffusion` effect is on: the rate on every particle and, under SSP-RK3,
 /// the step-start density (`Field::DensityRate`, `Field::DensityStart`, one `f32` each), and
 /// with `corrected` the pressure that acted over the last stage (`Field::ActingPressure`, one
-/// `f32`, not in the calibration above) \[B\].
+/// `f32`) and the velocity solves' records by particle id (`Backend::record_velocity_solve`: a
+/// `u32` and an `f32` per integrator stage's slot, `VELOCITY_SOLVE_SLOTS` of them), neither in
+/// the calibration above \[B\].
 pub fn solver_particle_bytes(scene: &Scene) -> ParticleBytes {
     let mut bytes = particle_bytes(scene.dimension, scene.solver.kind);
     if scene.density_diffusion.is_some() {
@@ -83,7 +85,8 @@ pub fn solver_particle_bytes(scene: &Scene) -> ParticleBytes {
         bytes.per_particle += copies * std::mem::size_of::<crate::math::Real>() as u64;
     }
     if scene.solver.kind == crate::scene::SolverKind::Corrected {
-        bytes.per_particle += std::mem::size_of::<crate::math::Real>() as u64;
+        let records = 8 * crate::backend::VELOCITY_SOLVE_SLOTS as u64;
+        bytes.per_particle += std::mem::size_of::<crate::math::Real>() as u64 + records;
     }
     let touching = scene
         .solids
